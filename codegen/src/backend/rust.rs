@@ -1,0 +1,470 @@
+//! Rust printer: the Plan as plain Rust over `glam::Vec3`.
+//!
+//! Resources become slices: read-only mesh data and the table come in one
+//! `&Inputs`, the array a stage writes is `out: &mut [Vec3]`, and control
+//! points being evaluated are `cp: &[Vec3]`. Rust never contracts `a * b + c`
+//! into an FMA, so the CPU path computes exactly the Plan's operations.
+
+use super::{header_lines, resources_of};
+use crate::plan::*;
+use std::fmt::Write;
+
+pub struct Writer<'a> {
+    plan: &'a Plan,
+    out: String,
+    indent: usize,
+}
+
+/// Print the whole plan as one Rust file.
+pub fn write(plan: &Plan, command: &str) -> String {
+    let mut w = Writer {
+        plan,
+        out: String::new(),
+        indent: 0,
+    };
+    w.file(command);
+    w.out
+}
+
+fn ty(plan: &Plan, t: &Ty) -> String {
+    match t {
+        Ty::F32 => "f32".into(),
+        Ty::U32 => "u32".into(),
+        Ty::Bool => "bool".into(),
+        Ty::Vec3 => "Vec3".into(),
+        Ty::Struct(i) => plan.common.structs[*i].name.clone(),
+    }
+}
+
+fn f32_lit(x: f32) -> String {
+    let s = format!("{x:?}f32");
+    if x.is_sign_negative() {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
+fn binop(op: BinOp) -> &'static str {
+    match op {
+        BinOp::Add => "+",
+        BinOp::Sub => "-",
+        BinOp::Mul => "*",
+        BinOp::Div => "/",
+        BinOp::Rem => "%",
+        BinOp::Eq => "==",
+        BinOp::Ne => "!=",
+        BinOp::Lt => "<",
+        BinOp::Le => "<=",
+        BinOp::Gt => ">",
+        BinOp::Ge => ">=",
+        BinOp::And => "&&",
+        BinOp::Or => "||",
+    }
+}
+
+/// Which slice parameters a function takes.
+struct Params {
+    inputs: bool,
+    cp: bool,
+    out: bool,
+}
+
+impl<'a> Writer<'a> {
+    fn line(&mut self, s: &str) {
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn doc(&mut self, doc: &str) {
+        for l in doc.lines() {
+            self.line(&format!("/// {l}").trim_end().to_string());
+        }
+    }
+
+    fn params(&self, module: &Module, f: &Function) -> Params {
+        let (res, table) = resources_of(self.plan, module, f);
+        let cp_read = res.contains(&(Resource::ControlPoints, false));
+        let out = res.iter().any(|(_, w)| *w);
+        let inputs = table
+            || res
+                .iter()
+                .any(|(r, w)| !*w && *r != Resource::ControlPoints);
+        Params {
+            inputs,
+            cp: cp_read,
+            out,
+        }
+    }
+
+    fn file(&mut self, command: &str) {
+        for h in header_lines(command) {
+            self.line(&format!("// {h}"));
+        }
+        self.line("//");
+        self.line("// CPU kernels for every scheme, printed from the same Plan as the shaders.");
+        self.line("// Include with `include!(concat!(env!(\"OUT_DIR\"), \"/tessgen.rs\"));`.");
+        self.line("");
+        let plan = self.plan;
+        self.module(&plan.common, None);
+        for (m, e) in &plan.schemes {
+            self.line("");
+            self.module(m, Some(e));
+        }
+        self.line("");
+        self.line("/// Every scheme in this file.");
+        let list: Vec<String> = plan
+            .schemes
+            .iter()
+            .map(|(m, _)| format!("&{}::KERNELS", m.name))
+            .collect();
+        self.line(&format!(
+            "pub const SCHEMES: &[&common::SchemeKernels] = &[{}];",
+            list.join(", ")
+        ));
+    }
+
+    fn module(&mut self, m: &Module, entries: Option<&Entries>) {
+        self.doc(&m.doc);
+        self.line("#[allow(unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]");
+        self.line(&format!("pub mod {} {{", m.name));
+        self.indent += 1;
+        self.line("use glam::Vec3;");
+        if entries.is_some() {
+            self.line("use super::common::*;");
+        }
+        for c in &m.consts {
+            self.line("");
+            self.doc(&c.doc);
+            match &c.value {
+                ConstValue::U32(x) => self.line(&format!("pub const {}: u32 = {x};", c.name)),
+                ConstValue::U32Array(xs) => {
+                    let body: Vec<String> = xs.iter().map(|x| x.to_string()).collect();
+                    self.line(&format!(
+                        "pub const {}: [u32; {}] = [{}];",
+                        c.name,
+                        xs.len(),
+                        body.join(", ")
+                    ));
+                }
+            }
+        }
+        for s in &m.structs {
+            self.line("");
+            self.line("#[derive(Clone, Copy, Debug, PartialEq)]");
+            self.line(&format!("pub struct {} {{", s.name));
+            for (n, t) in &s.fields {
+                self.line(&format!("    pub {n}: {},", ty(self.plan, t)));
+            }
+            self.line("}");
+        }
+        if entries.is_none() {
+            self.rust_support();
+        }
+        for f in &m.functions {
+            self.line("");
+            self.function(m, f);
+        }
+        if let Some(e) = entries {
+            self.line("");
+            self.kernels(m, e);
+        }
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    /// The Rust-only glue types: the inputs struct and the kernel registry.
+    fn rust_support(&mut self) {
+        let text = r#"
+/// Everything the kernels read, as flat slices (the GPU binds the same
+/// arrays as buffers and the table as a texture).
+#[derive(Clone, Copy, Debug)]
+pub struct Inputs<'a> {
+    pub positions: &'a [Vec3],
+    pub valence: &'a [u32],
+    pub ring_offsets: &'a [u32],
+    pub ring: &'a [u32],
+    pub vertex_out_offsets: &'a [u32],
+    pub vertex_out: &'a [Vec3],
+    pub corner_vertex: &'a [u32],
+    pub corner_sector: &'a [u32],
+    /// The stencil table, row-major, TABLE_WIDTH columns.
+    pub table: &'a [f32],
+}
+
+/// Patch stage of one facet class.
+#[derive(Clone, Copy, Debug)]
+pub struct ClassKernels {
+    pub class: &'static str,
+    pub form: &'static str,
+    pub control_points: u32,
+    /// `(inputs, out, face, cp_base)`
+    pub patch: fn(&Inputs, &mut [Vec3], u32, u32),
+}
+
+/// Entry points of one scheme.
+#[derive(Clone, Copy, Debug)]
+pub struct SchemeKernels {
+    pub name: &'static str,
+    /// Vertex-stage outputs per vertex: rows_per_n·n + rows_fixed.
+    pub rows_per_n: u32,
+    pub rows_fixed: u32,
+    /// `(inputs, out, vertex, out_base)`
+    pub vertex_stage: fn(&Inputs, &mut [Vec3], u32, u32),
+    pub classes: &'static [ClassKernels],
+    /// `(cp, class, cp_base, iu, iv, level)`
+    pub eval: fn(&[Vec3], u32, u32, u32, u32, u32) -> Sample,
+}"#;
+        for l in text.lines().skip(1) {
+            if l.is_empty() {
+                self.line("");
+            } else {
+                self.line(l);
+            }
+        }
+    }
+
+    fn kernels(&mut self, m: &Module, e: &Entries) {
+        let (ra, rb) = {
+            let get = |n: &str| {
+                m.consts
+                    .iter()
+                    .find(|c| c.name == n)
+                    .map(|c| match &c.value {
+                        ConstValue::U32(x) => *x,
+                        ConstValue::U32Array(_) => 0,
+                    })
+            };
+            (
+                get("ROWS_PER_N").unwrap_or(0),
+                get("ROWS_FIXED").unwrap_or(0),
+            )
+        };
+        self.line("/// Entry points of this scheme.");
+        self.line("pub const KERNELS: SchemeKernels = SchemeKernels {");
+        self.line(&format!("    name: \"{}\",", m.name));
+        self.line(&format!("    rows_per_n: {ra},"));
+        self.line(&format!("    rows_fixed: {rb},"));
+        self.line(&format!(
+            "    vertex_stage: {},",
+            m.functions[e.vertex_stage].name
+        ));
+        self.line("    classes: &[");
+        for p in &e.patches {
+            self.line(&format!(
+                "        ClassKernels {{ class: \"{}\", form: \"{}\", control_points: {}, patch: {} }},",
+                p.class.name(),
+                p.form.name(),
+                p.control_points,
+                m.functions[p.function].name
+            ));
+        }
+        self.line("    ],");
+        self.line(&format!("    eval: {},", m.functions[e.eval].name));
+        self.line("};");
+    }
+
+    fn function(&mut self, m: &Module, f: &Function) {
+        self.doc(&f.doc);
+        let p = self.params(m, f);
+        let mut args = Vec::new();
+        if p.inputs {
+            args.push("inputs: &Inputs".to_string());
+        }
+        if p.out {
+            args.push("out: &mut [Vec3]".to_string());
+        }
+        if p.cp {
+            args.push("cp: &[Vec3]".to_string());
+        }
+        for id in &f.params {
+            let loc = &f.locals[id.0];
+            args.push(format!("{}: {}", loc.name, ty(self.plan, &loc.ty)));
+        }
+        let ret = f
+            .ret
+            .as_ref()
+            .map(|t| format!(" -> {}", ty(self.plan, t)))
+            .unwrap_or_default();
+        self.line(&format!("pub fn {}({}){ret} {{", f.name, args.join(", ")));
+        self.indent += 1;
+        self.stmts(m, f, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
+        for s in body {
+            match s {
+                Stmt::Let(id, e) => {
+                    let l = &f.locals[id.0];
+                    let s = format!(
+                        "let {}: {} = {};",
+                        l.name,
+                        ty(self.plan, &l.ty),
+                        self.expr(m, f, e)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Var(id, e) => {
+                    let l = &f.locals[id.0];
+                    let s = format!(
+                        "let mut {}: {} = {};",
+                        l.name,
+                        ty(self.plan, &l.ty),
+                        self.expr(m, f, e)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Assign(id, e) => {
+                    let s = format!("{} = {};", f.locals[id.0].name, self.expr(m, f, e));
+                    self.line(&s);
+                }
+                Stmt::AssignField(id, k, e) => {
+                    let field = self.field_name(&f.locals[id.0].ty, *k);
+                    let s = format!("{}.{field} = {};", f.locals[id.0].name, self.expr(m, f, e));
+                    self.line(&s);
+                }
+                Stmt::Store(_, i, v) => {
+                    let s = format!(
+                        "out[({}) as usize] = {};",
+                        self.expr(m, f, i),
+                        self.expr(m, f, v)
+                    );
+                    self.line(&s);
+                }
+                Stmt::If(c, a, b) => {
+                    let s = format!("if {} {{", self.expr(m, f, c));
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, a);
+                    self.indent -= 1;
+                    if b.is_empty() {
+                        self.line("}");
+                    } else {
+                        self.line("} else {");
+                        self.indent += 1;
+                        self.stmts(m, f, b);
+                        self.indent -= 1;
+                        self.line("}");
+                    }
+                }
+                Stmt::For(id, a, b, body) => {
+                    let s = format!(
+                        "for {} in ({})..({}) {{",
+                        f.locals[id.0].name,
+                        self.expr(m, f, a),
+                        self.expr(m, f, b)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
+                Stmt::Return(e) => {
+                    let s = format!("return {};", self.expr(m, f, e));
+                    self.line(&s);
+                }
+            }
+        }
+    }
+
+    fn field_name(&self, t: &Ty, k: usize) -> String {
+        match t {
+            Ty::Struct(i) => self.plan.common.structs[*i].fields[k].0.clone(),
+            _ => format!("field{k}"),
+        }
+    }
+
+    fn expr_ty(&self, f: &Function, e: &Expr) -> Option<Ty> {
+        match e {
+            Expr::Local(id) => Some(f.locals[id.0].ty.clone()),
+            _ => None,
+        }
+    }
+
+    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
+        match e {
+            Expr::F32(x) => f32_lit(*x),
+            Expr::U32(x) => format!("{x}u32"),
+            Expr::Local(id) => f.locals[id.0].name.clone(),
+            Expr::ConstIndex(c, i) => {
+                format!("{}[({}) as usize]", m.consts[*c].name, self.expr(m, f, i))
+            }
+            Expr::Const(c) => m.consts[*c].name.clone(),
+            Expr::Binary(op, a, b) => {
+                format!(
+                    "({} {} {})",
+                    self.expr(m, f, a),
+                    binop(*op),
+                    self.expr(m, f, b)
+                )
+            }
+            Expr::Neg(a) => format!("(-{})", self.expr(m, f, a)),
+            Expr::Call(b, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
+                match b {
+                    Builtin::F32FromU32 => format!("({} as f32)", a[0]),
+                    Builtin::Sqrt => format!("{}.sqrt()", a[0]),
+                    Builtin::Cos => format!("{}.cos()", a[0]),
+                    Builtin::Sin => format!("{}.sin()", a[0]),
+                    Builtin::Dot => format!("{}.dot({})", a[0], a[1]),
+                    Builtin::Cross => format!("{}.cross({})", a[0], a[1]),
+                    Builtin::Vec3 => format!("Vec3::new({}, {}, {})", a[0], a[1], a[2]),
+                }
+            }
+            Expr::CallFn(r, xs) => {
+                let (module, callee) = match r {
+                    FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[*i]),
+                    FnRef::Local(i) => (m, &m.functions[*i]),
+                };
+                let p = self.params(module, callee);
+                let mut a = Vec::new();
+                if p.inputs {
+                    a.push("inputs".to_string());
+                }
+                if p.out {
+                    a.push("out".to_string());
+                }
+                if p.cp {
+                    a.push("cp".to_string());
+                }
+                a.extend(xs.iter().map(|x| self.expr(m, f, x)));
+                format!("{}({})", callee.name, a.join(", "))
+            }
+            Expr::Field(a, k) => {
+                let t = self.expr_ty(f, a).unwrap_or(Ty::F32);
+                format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
+            }
+            Expr::Make(s, xs) => {
+                let sd = &self.plan.common.structs[*s];
+                let mut parts = Vec::new();
+                for ((name, _), x) in sd.fields.iter().zip(xs) {
+                    parts.push(format!("{name}: {}", self.expr(m, f, x)));
+                }
+                format!("{} {{ {} }}", sd.name, parts.join(", "))
+            }
+            Expr::Fetch(r, i) => {
+                let idx = self.expr(m, f, i);
+                match r {
+                    Resource::ControlPoints => format!("cp[({idx}) as usize]"),
+                    other => format!("inputs.{}[({idx}) as usize]", other.name()),
+                }
+            }
+            Expr::TableWeight(row, col) => {
+                let mut s = String::new();
+                let _ = write!(
+                    s,
+                    "inputs.table[((({}) * TABLE_WIDTH) + ({})) as usize]",
+                    self.expr(m, f, row),
+                    self.expr(m, f, col)
+                );
+                s
+            }
+        }
+    }
+}

@@ -1,0 +1,998 @@
+//! Lowering: Scheme IR → Plan.
+//!
+//! All operation order is decided here, once, for every backend:
+//! * the vertex stage sums ring slots 0, 1, …, 2n in ring order with the f32
+//!   table weights, skipping exact zeros (DESIGN.md Rule 1);
+//! * the patch stage unrolls the scheme's per-corner definitions in source
+//!   order, folding number arithmetic in f64 before it becomes an f32 literal;
+//! * evaluation forms every weight pair from integer tessellation
+//!   coordinates and evaluates shared boundaries through one edge evaluator
+//!   (symmetric de Casteljau; `spec/watertight.md` Rule 2).
+
+use crate::form::Form;
+use crate::plan::build::*;
+use crate::plan::{self, *};
+use crate::scheme::{self, Class, Scheme, CORNER_VAR};
+use crate::sym::{self, Sym};
+use crate::table::{SchemeRows, StencilTable};
+use std::collections::BTreeMap;
+
+/// Indices of the common module's functions.
+pub mod common_fn {
+    pub const NORMALIZE: usize = 0;
+    pub const CUBIC: usize = 1;
+    pub const EDGE: usize = 2;
+}
+
+/// Name of the single shared edge evaluator.
+pub const EDGE_FN: &str = "tessgen_edge";
+
+/// The common module: the shared structs, table constants and evaluators
+/// every scheme uses.
+pub fn common_module(table: &StencilTable) -> Module {
+    let mut m = Module {
+        name: "common".into(),
+        doc:
+            "Shared by every scheme: the edge evaluator, the cubic de Casteljau step, table layout."
+                .into(),
+        ..Default::default()
+    };
+    m.add_const(
+        "TABLE_WIDTH",
+        "Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).",
+        ConstValue::U32(table.width),
+    );
+    m.add_const(
+        "MAX_VALENCE",
+        "Largest valence the table covers.",
+        ConstValue::U32(table.max_valence),
+    );
+    m.structs.push(StructDecl {
+        name: "Sample".into(),
+        fields: vec![("position".into(), Ty::Vec3), ("normal".into(), Ty::Vec3)],
+    });
+    m.structs.push(StructDecl {
+        name: "Curve".into(),
+        fields: vec![("point".into(), Ty::Vec3), ("tangent".into(), Ty::Vec3)],
+    });
+
+    // normalize with a guard for degenerate (zero-length) normals.
+    let mut f = Function::new(
+        "tessgen_normalize",
+        "Unit vector along `x`; a zero vector stays zero instead of becoming NaN.",
+    );
+    let x = f.param("x", Ty::Vec3);
+    let len2 = f.local("len2", Ty::F32);
+    f.ret = Some(Ty::Vec3);
+    f.body = vec![
+        Stmt::Let(len2, Expr::Call(Builtin::Dot, vec![l(x), l(x)])),
+        Stmt::If(
+            bin(BinOp::Gt, l(len2), f32c(0.0)),
+            vec![Stmt::Return(div(
+                l(x),
+                Expr::Call(Builtin::Sqrt, vec![l(len2)]),
+            ))],
+            vec![],
+        ),
+        Stmt::Return(l(x)),
+    ];
+    m.functions.push(f);
+
+    // One cubic de Casteljau step with its derivative.
+    let mut f = Function::new(
+        "tessgen_cubic",
+        "Cubic Bézier point and derivative by symmetric de Casteljau: every lerp is `x·l + y·r`.",
+    );
+    let b: Vec<LocalId> = (0..4).map(|i| f.param(format!("b{i}"), Ty::Vec3)).collect();
+    let (wl, wr) = (f.param("l", Ty::F32), f.param("r", Ty::F32));
+    f.ret = Some(Ty::Struct(plan::common::CURVE));
+    let c: Vec<LocalId> = (0..3).map(|i| f.local(format!("c{i}"), Ty::Vec3)).collect();
+    let d: Vec<LocalId> = (0..2).map(|i| f.local(format!("d{i}"), Ty::Vec3)).collect();
+    for i in 0..3 {
+        f.body
+            .push(Stmt::Let(c[i], lerp(l(b[i]), l(b[i + 1]), wl, wr)));
+    }
+    for i in 0..2 {
+        f.body
+            .push(Stmt::Let(d[i], lerp(l(c[i]), l(c[i + 1]), wl, wr)));
+    }
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::CURVE,
+        vec![
+            lerp(l(d[0]), l(d[1]), wl, wr),
+            mul(sub(l(d[1]), l(d[0])), f32c(3.0)),
+        ],
+    )));
+    m.functions.push(f);
+
+    // The shared edge evaluator.
+    let mut f = Function::new(
+        EDGE_FN,
+        "Point `i/level` along the cubic boundary curve `b0..b3`. The two patches of an edge \
+         call this with reversed points and `level - i`; both weights come from integers, so \
+         every lerp is `x·l + y·r` on one side and `y·r + x·l` on the other: the same bits. \
+         Corners return the corner point itself.",
+    );
+    f.precise = true;
+    let b: Vec<LocalId> = (0..4).map(|i| f.param(format!("b{i}"), Ty::Vec3)).collect();
+    let i = f.param("i", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Vec3);
+    let wl = f.local("l", Ty::F32);
+    let wr = f.local("r", Ty::F32);
+    let curve = f.local("curve", Ty::Struct(plan::common::CURVE));
+    f.body = vec![
+        Stmt::If(
+            bin(BinOp::Eq, l(i), u(0)),
+            vec![Stmt::Return(l(b[0]))],
+            vec![],
+        ),
+        Stmt::If(
+            bin(BinOp::Eq, l(i), l(level)),
+            vec![Stmt::Return(l(b[3]))],
+            vec![],
+        ),
+        Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
+        Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
+        Stmt::Let(
+            curve,
+            call(
+                FnRef::Common(common_fn::CUBIC),
+                vec![l(b[0]), l(b[1]), l(b[2]), l(b[3]), l(wl), l(wr)],
+            ),
+        ),
+        Stmt::Return(Expr::Field(Box::new(l(curve)), 0)),
+    ];
+    m.functions.push(f);
+    m
+}
+
+fn f32c(x: f64) -> Expr {
+    Expr::F32(x as f32)
+}
+
+/// Lower one scheme to its module.
+pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
+    let mut m = Module {
+        name: s.name.clone(),
+        doc: s.doc.clone(),
+        ..Default::default()
+    };
+    let row_base = m.add_const(
+        "ROW_BASE",
+        "First stencil-table row of each valence's vertex-stage block (index = valence).",
+        ConstValue::U32Array(rows.valence_row_base.clone()),
+    );
+    let const_row = m.add_const(
+        "CONST_ROW_BASE",
+        "Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.",
+        ConstValue::U32(rows.const_row_base),
+    );
+    let (ra, rb) = s.rows_linear();
+    m.add_const(
+        "ROWS_PER_N",
+        "Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.",
+        ConstValue::U32(ra),
+    );
+    m.add_const("ROWS_FIXED", "See ROWS_PER_N.", ConstValue::U32(rb));
+
+    let vertex_stage = m.functions.len();
+    m.functions.push(vertex_stage_fn(s, row_base, ra, rb));
+
+    let mut patches = Vec::new();
+    for pc in &s.patches {
+        let idx = m.functions.len();
+        m.functions.push(patch_fn(s, pc, const_row));
+        patches.push(PatchEntry {
+            class: pc.class,
+            form: pc.form,
+            control_points: pc.form.num_points() as u32,
+            function: idx,
+        });
+    }
+    // Boundary curves of every class, flattened: [class][edge][4].
+    let mut curves = Vec::new();
+    for pe in &patches {
+        for e in 0..4 {
+            curves.extend(pe.form.edge_curve(e).iter().map(|&x| x as u32));
+        }
+    }
+    let curve_const = m.add_const(
+        "EDGE_CURVE",
+        "Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.",
+        ConstValue::U32Array(curves),
+    );
+    let mut surfaces = Vec::new();
+    for pe in &patches {
+        let idx = m.functions.len();
+        m.functions.push(match pe.form {
+            Form::Bicubic => bicubic_surface(pe.class),
+            Form::CPatch => cpatch_surface(pe.class),
+        });
+        surfaces.push(idx);
+    }
+    let eval = m.functions.len();
+    m.functions.push(eval_fn(&patches, &surfaces, curve_const));
+    (
+        m,
+        Entries {
+            vertex_stage,
+            patches,
+            eval,
+        },
+    )
+}
+
+fn vertex_stage_fn(s: &Scheme, row_base: usize, ra: u32, rb: u32) -> Function {
+    let mut f = Function::new(
+        "vertex_stage",
+        format!(
+            "Vertex stage of `{}`: every output row of this vertex's valence, each the sum over \
+             ring slots 0..2n in ring order (stored once per vertex, canonical start) of \
+             table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points \
+             from `out_base`.",
+            s.name
+        ),
+    );
+    let vertex = f.param("vertex", Ty::U32);
+    let out_base = f.param("out_base", Ty::U32);
+    let n = f.local("n", Ty::U32);
+    let ring_base = f.local("ring_base", Ty::U32);
+    let base = f.local("row_base", Ty::U32);
+    let rows = f.local("rows", Ty::U32);
+    let slots = f.local("slots", Ty::U32);
+    let r = f.local("r", Ty::U32);
+    let acc = f.local("acc", Ty::Vec3);
+    let k = f.local("k", Ty::U32);
+    let w = f.local("w", Ty::F32);
+    f.body = vec![
+        Stmt::Let(n, fetch(Resource::Valence, l(vertex))),
+        Stmt::Let(ring_base, fetch(Resource::RingOffsets, l(vertex))),
+        Stmt::Let(base, Expr::ConstIndex(row_base, Box::new(l(n)))),
+        Stmt::Let(rows, add(mul(u(ra), l(n)), u(rb))),
+        Stmt::Let(slots, add(mul(u(2), l(n)), u(1))),
+        Stmt::For(
+            r,
+            u(0),
+            l(rows),
+            vec![
+                Stmt::Var(
+                    acc,
+                    Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+                ),
+                Stmt::For(
+                    k,
+                    u(0),
+                    l(slots),
+                    vec![
+                        Stmt::Let(
+                            w,
+                            Expr::TableWeight(Box::new(add(l(base), l(r))), Box::new(l(k))),
+                        ),
+                        Stmt::If(
+                            bin(BinOp::Ne, l(w), f32c(0.0)),
+                            vec![Stmt::Assign(
+                                acc,
+                                add(
+                                    l(acc),
+                                    mul(
+                                        fetch(
+                                            Resource::Positions,
+                                            fetch(Resource::Ring, add(l(ring_base), l(k))),
+                                        ),
+                                        l(w),
+                                    ),
+                                ),
+                            )],
+                            vec![],
+                        ),
+                    ],
+                ),
+                Stmt::Store(Resource::VertexOut, add(l(out_base), l(r)), l(acc)),
+            ],
+        ),
+    ];
+    f
+}
+
+/// Per-corner values loaded once at the top of a patch function.
+struct CornerLocals {
+    n: [LocalId; 4],
+    sector: [LocalId; 4],
+    out_base: [LocalId; 4],
+}
+
+/// Lowering state of one patch function.
+struct PatchLower<'a> {
+    s: &'a Scheme,
+    f: Function,
+    corners: CornerLocals,
+    const_row: usize,
+    /// `(const, corner)` → local.
+    consts: BTreeMap<(usize, usize), LocalId>,
+    valences: BTreeMap<usize, LocalId>,
+    /// `(output, corner, offset)` → local.
+    data: BTreeMap<(usize, usize, i64), LocalId>,
+    /// `(def, corner or None)` → local.
+    defs: BTreeMap<(usize, Option<usize>), LocalId>,
+    /// Statements loading corner data and constants, emitted before the body.
+    loads: Vec<Stmt>,
+    body: Vec<Stmt>,
+}
+
+/// A lowered value: a number still foldable in f64, or an expression.
+enum Val {
+    Num(f64),
+    Ex(Expr, bool),
+}
+
+impl Val {
+    fn expr(self) -> Expr {
+        match self {
+            Val::Num(x) => f32c(x),
+            Val::Ex(e, _) => e,
+        }
+    }
+}
+
+fn corner_of(s: &Sym) -> usize {
+    match s {
+        Sym::Num(x) => (*x as i64).rem_euclid(4) as usize,
+        other => panic!("corner index did not fold to a number: {other:?}"),
+    }
+}
+
+fn int_of(s: &Sym) -> i64 {
+    match s {
+        Sym::Num(x) => *x as i64,
+        other => panic!("index did not fold to a number: {other:?}"),
+    }
+}
+
+impl PatchLower<'_> {
+    fn corner_const(&mut self, k: usize, c: usize) -> LocalId {
+        if let Some(id) = self.consts.get(&(k, c)) {
+            return *id;
+        }
+        let id = self
+            .f
+            .local(format!("{}_{c}", self.s.consts[k].name), Ty::F32);
+        let row = sub(add(Expr::Const(self.const_row), l(self.corners.n[c])), u(3));
+        self.loads.push(Stmt::Let(
+            id,
+            Expr::TableWeight(Box::new(row), Box::new(u(k as u32))),
+        ));
+        self.consts.insert((k, c), id);
+        id
+    }
+
+    fn valence(&mut self, c: usize) -> LocalId {
+        if let Some(id) = self.valences.get(&c) {
+            return *id;
+        }
+        let id = self.f.local(format!("nf_{c}"), Ty::F32);
+        self.loads.push(Stmt::Let(id, to_f32(l(self.corners.n[c]))));
+        self.valences.insert(c, id);
+        id
+    }
+
+    fn datum(&mut self, output: usize, c: usize, offset: Option<i64>) -> LocalId {
+        let key = (output, c, offset.unwrap_or(i64::MIN));
+        if let Some(id) = self.data.get(&key) {
+            return *id;
+        }
+        let def = &self.s.vertex[output];
+        let name = match offset {
+            Some(o) if o >= 0 => format!("{}_{c}_{o}", def.name),
+            Some(o) => format!("{}_{c}_m{}", def.name, -o),
+            None => format!("{}_{c}", def.name),
+        };
+        let id = self.f.local(name, Ty::Vec3);
+        let (a, b) = self.s.output_offset(output);
+        let n = self.corners.n[c];
+        // out_base + a·n + b (+ (sector + offset) mod n for families)
+        let mut idx = add(l(self.corners.out_base[c]), add(mul(u(a), l(n)), u(b)));
+        if let Some(o) = offset {
+            let o = o.rem_euclid(1 << 20) as u32; // offsets are small; keep the sum non-negative
+            let sector = if o == 0 {
+                l(self.corners.sector[c])
+            } else {
+                bin(BinOp::Rem, add(l(self.corners.sector[c]), u(o)), l(n))
+            };
+            idx = add(idx, sector);
+        }
+        self.loads
+            .push(Stmt::Let(id, fetch(Resource::VertexOut, idx)));
+        self.data.insert(key, id);
+        id
+    }
+
+    fn def_local(&mut self, def: usize, corner: Option<usize>) -> LocalId {
+        match self.defs.get(&(def, corner)) {
+            Some(id) => *id,
+            None => panic!("definition {def} used before it is lowered"),
+        }
+    }
+
+    fn lower(&mut self, s: &Sym) -> Val {
+        match s {
+            Sym::Num(x) => Val::Num(*x),
+            Sym::Neg(a) => match self.lower(a) {
+                Val::Num(x) => Val::Num(-x),
+                Val::Ex(e, p) => Val::Ex(Expr::Neg(Box::new(e)), p),
+            },
+            Sym::Bin(op, a, b) => {
+                let (a, b) = (self.lower(a), self.lower(b));
+                match (a, b) {
+                    (Val::Num(x), Val::Num(y)) => Val::Num(match op {
+                        sym::BinOp::Add => x + y,
+                        sym::BinOp::Sub => x - y,
+                        sym::BinOp::Mul => x * y,
+                        sym::BinOp::Div => x / y,
+                    }),
+                    (a, b) => {
+                        let point = matches!(a, Val::Ex(_, true)) || matches!(b, Val::Ex(_, true));
+                        let pop = match op {
+                            sym::BinOp::Add => BinOp::Add,
+                            sym::BinOp::Sub => BinOp::Sub,
+                            sym::BinOp::Mul => BinOp::Mul,
+                            sym::BinOp::Div => BinOp::Div,
+                        };
+                        Val::Ex(bin(pop, a.expr(), b.expr()), point)
+                    }
+                }
+            }
+            Sym::Func(fun, a) => match self.lower(a) {
+                Val::Num(x) => Val::Num(fun.apply(x)),
+                Val::Ex(e, p) => {
+                    let b = match fun {
+                        sym::Func::Cos => Builtin::Cos,
+                        sym::Func::Sin => Builtin::Sin,
+                        sym::Func::Sqrt => Builtin::Sqrt,
+                    };
+                    Val::Ex(Expr::Call(b, vec![e]), p)
+                }
+            },
+            Sym::CornerConst { konst, corner } => {
+                let id = self.corner_const(*konst, corner_of(corner));
+                Val::Ex(l(id), false)
+            }
+            Sym::CornerValence(c) => {
+                let id = self.valence(corner_of(c));
+                Val::Ex(l(id), false)
+            }
+            Sym::Def { def, index } => {
+                let corner = index.as_ref().map(|i| corner_of(i));
+                let id = self.def_local(*def, corner);
+                let point = self.f.locals[id.0].ty == Ty::Vec3;
+                Val::Ex(l(id), point)
+            }
+            Sym::CornerData {
+                output,
+                corner,
+                offset,
+            } => {
+                let id = self.datum(
+                    *output,
+                    corner_of(corner),
+                    offset.as_ref().map(|o| int_of(o)),
+                );
+                Val::Ex(l(id), true)
+            }
+            Sym::Sum { var, body } => {
+                // Unrolled over the four corners, left to right: ((a + b) + c) + d.
+                let mut acc: Option<Val> = None;
+                for k in 0..4 {
+                    let term = self.lower(&sym::substitute(body, *var, k));
+                    acc = Some(match acc {
+                        None => term,
+                        Some(Val::Num(x)) if matches!(term, Val::Num(_)) => {
+                            Val::Num(x + if let Val::Num(y) = term { y } else { 0.0 })
+                        }
+                        Some(a) => {
+                            let point =
+                                matches!(a, Val::Ex(_, true)) || matches!(term, Val::Ex(_, true));
+                            Val::Ex(add(a.expr(), term.expr()), point)
+                        }
+                    });
+                }
+                acc.unwrap_or(Val::Num(0.0))
+            }
+            Sym::Var(_)
+            | Sym::Valence
+            | Sym::Const(_)
+            | Sym::If { .. }
+            | Sym::Center
+            | Sym::Ring(_) => panic!("not a patch-stage expression: {s:?}"),
+        }
+    }
+}
+
+fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) -> Function {
+    let mut f = Function::new(
+        format!("{}_patch", pc.class.name()),
+        format!(
+            "Patch stage of `{}` for {} quads: the {} control points of a {} patch from the \
+             four corners' vertex-stage outputs, written from `cp_base`.",
+            s.name,
+            pc.class.name(),
+            pc.form.num_points(),
+            pc.form.name()
+        ),
+    );
+    let face = f.param("face", Ty::U32);
+    let cp_base = f.param("cp_base", Ty::U32);
+    let mut head = Vec::new();
+    let mut n = [LocalId(0); 4];
+    let mut sector = [LocalId(0); 4];
+    let mut out_base = [LocalId(0); 4];
+    for c in 0..4 {
+        let vtx = f.local(format!("vertex_{c}"), Ty::U32);
+        n[c] = f.local(format!("n_{c}"), Ty::U32);
+        sector[c] = f.local(format!("sector_{c}"), Ty::U32);
+        out_base[c] = f.local(format!("out_base_{c}"), Ty::U32);
+        let slot = add(mul(l(face), u(4)), u(c as u32));
+        head.push(Stmt::Let(vtx, fetch(Resource::CornerVertex, slot.clone())));
+        head.push(Stmt::Let(sector[c], fetch(Resource::CornerSector, slot)));
+        head.push(Stmt::Let(n[c], fetch(Resource::Valence, l(vtx))));
+        head.push(Stmt::Let(
+            out_base[c],
+            fetch(Resource::VertexOutOffsets, l(vtx)),
+        ));
+    }
+    let mut pl = PatchLower {
+        s,
+        f,
+        corners: CornerLocals {
+            n,
+            sector,
+            out_base,
+        },
+        const_row,
+        consts: BTreeMap::new(),
+        valences: BTreeMap::new(),
+        data: BTreeMap::new(),
+        defs: BTreeMap::new(),
+        loads: Vec::new(),
+        body: Vec::new(),
+    };
+    for (di, d) in pc.defs.iter().enumerate() {
+        let corners: Vec<Option<usize>> = if d.indexed {
+            (0..4).map(Some).collect()
+        } else {
+            vec![None]
+        };
+        for c in corners {
+            let expr = match c {
+                Some(c) => sym::substitute(&d.expr, CORNER_VAR, c as i64),
+                None => d.expr.clone(),
+            };
+            let value = pl.lower(&expr).expr();
+            if d.out {
+                let slot = pc.slots.iter().position(|&k| k == di).unwrap_or(0);
+                let corner = c.unwrap_or(0);
+                let idx = pc.form.storage_index(corner, slot) as u32;
+                pl.body.push(Stmt::Store(
+                    Resource::ControlPoints,
+                    add(l(cp_base), u(idx)),
+                    value,
+                ));
+            } else {
+                let ty = if d.ty == scheme::Ty::Point {
+                    Ty::Vec3
+                } else {
+                    Ty::F32
+                };
+                let name = match c {
+                    Some(c) => format!("{}_{c}", d.name),
+                    None => d.name.clone(),
+                };
+                let id = pl.f.local(name, ty);
+                pl.body.push(Stmt::Let(id, value));
+                pl.defs.insert((di, c), id);
+            }
+        }
+    }
+    let mut f = pl.f;
+    f.body = head;
+    f.body.extend(pl.loads);
+    f.body.extend(pl.body);
+    f
+}
+
+/// Integer-formed weight pair `((level - i)/level, i/level)`.
+fn weights(
+    f: &mut Function,
+    name: &str,
+    i: LocalId,
+    level: LocalId,
+) -> (LocalId, LocalId, Vec<Stmt>) {
+    let wl = f.local(format!("l{name}"), Ty::F32);
+    let wr = f.local(format!("r{name}"), Ty::F32);
+    let st = vec![
+        Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
+        Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
+    ];
+    (wl, wr, st)
+}
+
+fn surface_params(f: &mut Function) -> (LocalId, LocalId, LocalId, LocalId) {
+    let cp = f.param("cp_base", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    (cp, iu, iv, level)
+}
+
+fn bicubic_surface(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface", class.name()),
+        "Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the \
+         four rows, then along v on the row points (position, ∂/∂v) and on the row \
+         derivatives (∂/∂u); normal = normalize(∂u × ∂v).",
+    );
+    let (cp, iu, iv, level) = surface_params(&mut f);
+    let (lu, ru, st) = weights(&mut f, "u", iu, level);
+    f.body.extend(st);
+    let (lv, rv, st) = weights(&mut f, "v", iv, level);
+    f.body.extend(st);
+    let g = |k: u32, lrow: u32| fetch(Resource::ControlPoints, add(l(cp), u(4 * k + lrow)));
+    let mut rows = Vec::new();
+    for row in 0..4u32 {
+        let id = f.local(format!("row{row}"), Ty::Struct(plan::common::CURVE));
+        f.body.push(Stmt::Let(
+            id,
+            call(
+                FnRef::Common(common_fn::CUBIC),
+                vec![g(0, row), g(1, row), g(2, row), g(3, row), l(lu), l(ru)],
+            ),
+        ));
+        rows.push(id);
+    }
+    let field = |id: LocalId, k: usize| Expr::Field(Box::new(l(id)), k);
+    let along_v = f.local("along_v", Ty::Struct(plan::common::CURVE));
+    let along_u = f.local("along_u", Ty::Struct(plan::common::CURVE));
+    f.body.push(Stmt::Let(
+        along_v,
+        call(
+            FnRef::Common(common_fn::CUBIC),
+            vec![
+                field(rows[0], 0),
+                field(rows[1], 0),
+                field(rows[2], 0),
+                field(rows[3], 0),
+                l(lv),
+                l(rv),
+            ],
+        ),
+    ));
+    f.body.push(Stmt::Let(
+        along_u,
+        call(
+            FnRef::Common(common_fn::CUBIC),
+            vec![
+                field(rows[0], 1),
+                field(rows[1], 1),
+                field(rows[2], 1),
+                field(rows[3], 1),
+                l(lv),
+                l(rv),
+            ],
+        ),
+    ));
+    let normal = call(
+        FnRef::Common(common_fn::NORMALIZE),
+        vec![Expr::Call(
+            Builtin::Cross,
+            vec![field(along_u, 0), field(along_v, 1)],
+        )],
+    );
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::SAMPLE,
+        vec![field(along_v, 0), normal],
+    )));
+    f
+}
+
+fn cpatch_surface(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface", class.name()),
+        "C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer \
+         comparisons, form its barycentric weights from integers, build its 15-point net from \
+         the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points.",
+    );
+    let (cp, iu, iv, level) = surface_params(&mut f);
+    let piece = f.local("piece", Ty::U32);
+    let la = f.local("la", Ty::F32);
+    let lb = f.local("lb", Ty::F32);
+    let lc = f.local("lc", Ty::F32);
+    let nf = f.local("nf", Ty::F32);
+    let diag = f.local("sum_uv", Ty::U32);
+    let lvl = |x| l(x);
+    f.body.push(Stmt::Let(nf, to_f32(l(level))));
+    f.body.push(Stmt::Let(diag, add(l(iu), l(iv))));
+    let bary = |a: Expr, b: Expr, c: Expr| -> Vec<Stmt> {
+        vec![
+            Stmt::Assign(la, div(to_f32(a), l(nf))),
+            Stmt::Assign(lb, div(to_f32(b), l(nf))),
+            Stmt::Assign(lc, div(to_f32(c), l(nf))),
+        ]
+    };
+    let two = |x: Expr| mul(u(2), x);
+    // piece 0: (1-u-v, u-v, 2v); 1: (u-v, u+v-1, 2-2u); 2: (u+v-1, v-u, 2-2v); 3: (v-u, 1-u-v, 2u)
+    let p0 = bary(sub(l(level), l(diag)), sub(l(iu), l(iv)), two(l(iv)));
+    let p1 = bary(
+        sub(l(iu), l(iv)),
+        sub(l(diag), l(level)),
+        two(sub(lvl(level), l(iu))),
+    );
+    let p2 = bary(
+        sub(l(diag), l(level)),
+        sub(l(iv), l(iu)),
+        two(sub(lvl(level), l(iv))),
+    );
+    let p3 = bary(sub(l(iv), l(iu)), sub(l(level), l(diag)), two(l(iu)));
+    f.body.push(Stmt::Var(piece, u(0)));
+    f.body.push(Stmt::Var(la, f32c(0.0)));
+    f.body.push(Stmt::Var(lb, f32c(0.0)));
+    f.body.push(Stmt::Var(lc, f32c(0.0)));
+    let set = |p: u32, mut b: Vec<Stmt>| {
+        b.insert(0, Stmt::Assign(piece, u(p)));
+        b
+    };
+    f.body.push(Stmt::If(
+        bin(BinOp::Le, l(iv), l(iu)),
+        vec![Stmt::If(
+            bin(BinOp::Le, l(diag), l(level)),
+            set(0, p0),
+            set(1, p1),
+        )],
+        vec![Stmt::If(
+            bin(BinOp::Ge, l(diag), l(level)),
+            set(2, p2),
+            set(3, p3),
+        )],
+    ));
+    // Corners of the piece: a = piece, b = piece + 1, p = piece - 1 (mod 4).
+    let ca = f.local("ca", Ty::U32);
+    let cb = f.local("cb", Ty::U32);
+    let cpv = f.local("cprev", Ty::U32);
+    f.body.push(Stmt::Let(ca, add(l(cp), mul(l(piece), u(6)))));
+    f.body.push(Stmt::Let(
+        cb,
+        add(l(cp), mul(bin(BinOp::Rem, add(l(piece), u(1)), u(4)), u(6))),
+    ));
+    f.body.push(Stmt::Let(
+        cpv,
+        add(l(cp), mul(bin(BinOp::Rem, add(l(piece), u(3)), u(4)), u(6))),
+    ));
+    let at = |base: LocalId, k: u32| fetch(Resource::ControlPoints, add(l(base), u(k)));
+    let coef = |f: &mut Function, name: &str, e: Expr| {
+        let id = f.local(name, Ty::Vec3);
+        f.body.push(Stmt::Let(id, e));
+        id
+    };
+    let va = coef(&mut f, "va", at(ca, 0));
+    let t0a = coef(&mut f, "t0a", at(ca, 1));
+    let t1a = coef(&mut f, "t1a", at(ca, 2));
+    let b211a = coef(&mut f, "b211a", at(ca, 3));
+    let b121a = coef(&mut f, "b121a", at(ca, 4));
+    let b112a = coef(&mut f, "b112a", at(ca, 5));
+    let vb = coef(&mut f, "vb", at(cb, 0));
+    let t0b = coef(&mut f, "t0b", at(cb, 1));
+    let t1b = coef(&mut f, "t1b", at(cb, 2));
+    let b211b = coef(&mut f, "b211b", at(cb, 3));
+    let b112b = coef(&mut f, "b112b", at(cb, 5));
+    let b121p = coef(&mut f, "b121p", at(cpv, 4));
+    let b112p = coef(&mut f, "b112p", at(cpv, 5));
+    let centre = add(
+        add(
+            add(
+                fetch(Resource::ControlPoints, add(l(cp), u(5))),
+                fetch(Resource::ControlPoints, add(l(cp), u(11))),
+            ),
+            fetch(Resource::ControlPoints, add(l(cp), u(17))),
+        ),
+        fetch(Resource::ControlPoints, add(l(cp), u(23))),
+    );
+    // The 15-point net b_klm (k toward V_a, l toward V_b, m toward the centre).
+    let mut net: BTreeMap<(u32, u32, u32), Expr> = BTreeMap::new();
+    let half = |a: LocalId, b: LocalId| div(add(l(a), l(b)), f32c(2.0));
+    net.insert((4, 0, 0), l(va));
+    net.insert((0, 4, 0), l(vb));
+    net.insert(
+        (3, 1, 0),
+        div(add(l(va), mul(l(t0a), f32c(3.0))), f32c(4.0)),
+    );
+    net.insert(
+        (1, 3, 0),
+        div(add(l(vb), mul(l(t1b), f32c(3.0))), f32c(4.0)),
+    );
+    net.insert((2, 2, 0), half(t0a, t1b));
+    net.insert((2, 1, 1), l(b211a));
+    net.insert((1, 2, 1), l(b121a));
+    net.insert((1, 1, 2), l(b112a));
+    net.insert(
+        (3, 0, 1),
+        div(
+            add(
+                add(mul(l(va), f32c(2.0)), mul(l(t0a), f32c(3.0))),
+                mul(l(t1a), f32c(3.0)),
+            ),
+            f32c(8.0),
+        ),
+    );
+    net.insert(
+        (0, 3, 1),
+        div(
+            add(
+                add(mul(l(vb), f32c(2.0)), mul(l(t1b), f32c(3.0))),
+                mul(l(t0b), f32c(3.0)),
+            ),
+            f32c(8.0),
+        ),
+    );
+    net.insert((2, 0, 2), half(b211a, b121p));
+    net.insert((0, 2, 2), half(b121a, b211b));
+    net.insert((1, 0, 3), half(b112a, b112p));
+    net.insert((0, 1, 3), half(b112a, b112b));
+    net.insert((0, 0, 4), div(centre, f32c(4.0)));
+    let mut cur: BTreeMap<(u32, u32, u32), LocalId> = BTreeMap::new();
+    for (k, e) in net {
+        let id = f.local(format!("n{}{}{}", k.0, k.1, k.2), Ty::Vec3);
+        f.body.push(Stmt::Let(id, e));
+        cur.insert(k, id);
+    }
+    for deg in (1..4u32).rev() {
+        let mut next = BTreeMap::new();
+        for kk in (0..=deg).rev() {
+            for ll in (0..=deg - kk).rev() {
+                let mm = deg - kk - ll;
+                let e = add(
+                    add(
+                        mul(l(cur[&(kk + 1, ll, mm)]), l(la)),
+                        mul(l(cur[&(kk, ll + 1, mm)]), l(lb)),
+                    ),
+                    mul(l(cur[&(kk, ll, mm + 1)]), l(lc)),
+                );
+                let id = f.local(format!("s{deg}_{kk}{ll}{mm}"), Ty::Vec3);
+                f.body.push(Stmt::Let(id, e));
+                next.insert((kk, ll, mm), id);
+            }
+        }
+        cur = next;
+    }
+    let (qa, qb, qc) = (cur[&(1, 0, 0)], cur[&(0, 1, 0)], cur[&(0, 0, 1)]);
+    let pos = add(add(mul(l(qa), l(la)), mul(l(qb), l(lb))), mul(l(qc), l(lc)));
+    let normal = call(
+        FnRef::Common(common_fn::NORMALIZE),
+        vec![Expr::Call(
+            Builtin::Cross,
+            vec![sub(l(qb), l(qa)), sub(l(qc), l(qa))],
+        )],
+    );
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::SAMPLE,
+        vec![pos, normal],
+    )));
+    f
+}
+
+fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize) -> Function {
+    let mut f = Function::new(
+        "eval",
+        "Position and normal at (iu, iv)/level of a patch of facet class `class` (index into \
+         the scheme's patch classes). Samples on the patch boundary take their position from \
+         the one shared edge evaluator, whose curve and parameter both patches of an edge \
+         form identically; the normal comes from the patch.",
+    );
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
+    let args = vec![l(cp), l(iu), l(iv), l(level)];
+    // class dispatch: if class == 0 { … } else if … (last one unconditional)
+    let mut chain: Vec<Stmt> = vec![Stmt::Assign(
+        sample,
+        call(FnRef::Local(*surfaces.last().unwrap_or(&0)), args.clone()),
+    )];
+    for k in (0..patches.len().saturating_sub(1)).rev() {
+        chain = vec![Stmt::If(
+            bin(BinOp::Eq, l(class), u(k as u32)),
+            vec![Stmt::Assign(
+                sample,
+                call(FnRef::Local(surfaces[k]), args.clone()),
+            )],
+            chain,
+        )];
+    }
+    f.body.push(Stmt::Var(
+        sample,
+        Expr::Make(
+            plan::common::SAMPLE,
+            vec![
+                Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+                Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+            ],
+        ),
+    ));
+    f.body.extend(chain);
+    let edge = f.local("edge", Ty::U32);
+    let t = f.local("t", Ty::U32);
+    let on_boundary = bin(
+        BinOp::Or,
+        bin(
+            BinOp::Or,
+            bin(BinOp::Eq, l(iu), u(0)),
+            bin(BinOp::Eq, l(iu), l(level)),
+        ),
+        bin(
+            BinOp::Or,
+            bin(BinOp::Eq, l(iv), u(0)),
+            bin(BinOp::Eq, l(iv), l(level)),
+        ),
+    );
+    let base = f.local("curve", Ty::U32);
+    let b: Vec<LocalId> = (0..4).map(|i| f.local(format!("b{i}"), Ty::Vec3)).collect();
+    let mut boundary = vec![
+        // Edge 0 (v = 0, t = u), edge 1 (u = 1, t = v), edge 2 (v = 1, t = 1 - u),
+        // edge 3 (u = 0, t = 1 - v), all from integers.
+        Stmt::Var(edge, u(3)),
+        Stmt::Var(t, sub(l(level), l(iv))),
+        Stmt::If(
+            bin(BinOp::Eq, l(iv), u(0)),
+            vec![Stmt::Assign(edge, u(0)), Stmt::Assign(t, l(iu))],
+            vec![Stmt::If(
+                bin(BinOp::Eq, l(iu), l(level)),
+                vec![Stmt::Assign(edge, u(1)), Stmt::Assign(t, l(iv))],
+                vec![Stmt::If(
+                    bin(BinOp::Eq, l(iv), l(level)),
+                    vec![
+                        Stmt::Assign(edge, u(2)),
+                        Stmt::Assign(t, sub(l(level), l(iu))),
+                    ],
+                    vec![],
+                )],
+            )],
+        ),
+        Stmt::Let(base, add(mul(l(class), u(16)), mul(l(edge), u(4)))),
+    ];
+    for (k, bk) in b.iter().enumerate() {
+        boundary.push(Stmt::Let(
+            *bk,
+            fetch(
+                Resource::ControlPoints,
+                add(
+                    l(cp),
+                    Expr::ConstIndex(curve_const, Box::new(add(l(base), u(k as u32)))),
+                ),
+            ),
+        ));
+    }
+    boundary.push(Stmt::AssignField(
+        sample,
+        0,
+        call(
+            FnRef::Common(common_fn::EDGE),
+            vec![l(b[0]), l(b[1]), l(b[2]), l(b[3]), l(t), l(level)],
+        ),
+    ));
+    f.body.push(Stmt::If(on_boundary, boundary, vec![]));
+    f.body.push(Stmt::Return(l(sample)));
+    f
+}
+
+/// Lower every scheme against one stencil table.
+pub fn plan(schemes: &[Scheme], table: &StencilTable) -> Plan {
+    let common = common_module(table);
+    let schemes = schemes
+        .iter()
+        .zip(&table.schemes)
+        .map(|(s, rows)| scheme_module(s, rows))
+        .collect();
+    Plan { common, schemes }
+}

@@ -1,0 +1,405 @@
+//! The Plan: one ordered list of statements per function, in a tiny typed
+//! imperative IR that every printer walks without deciding anything.
+//!
+//! Every sum is written with explicit association (`((a + b) + c)` is a
+//! nested [`Expr::Binary`]), every weight pair of a lerp is formed once from
+//! integers, every memory access is a [`Resource`] fetch with an explicit
+//! index. A printer's job is only to spell these in its language; if two
+//! printers disagree on a result, the bug is in a printer.
+
+/// Value types.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Ty {
+    F32,
+    U32,
+    Bool,
+    Vec3,
+    /// A struct declared in [`Module::structs`].
+    Struct(usize),
+}
+
+/// Global data a function reads or writes. Every backend binds these in its
+/// own way (slices, storage buffers, textures, patch inputs); the Plan only
+/// says which element.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Resource {
+    /// `vec3` control-mesh position, by vertex.
+    Positions,
+    /// `u32` valence, by vertex.
+    Valence,
+    /// `u32` start of a vertex's ring in [`Resource::Ring`], by vertex.
+    RingOffsets,
+    /// `u32` vertex indices of every ring `[p, p_0 … p_{2n-1}]`, flat.
+    Ring,
+    /// `u32` start of a vertex's vertex-stage outputs, by vertex.
+    VertexOutOffsets,
+    /// `vec3` vertex-stage outputs, flat (written by the vertex stage).
+    VertexOut,
+    /// `u32` corner vertex, by `4·face + corner`.
+    CornerVertex,
+    /// `u32` corner sector index `j_i`, by `4·face + corner`.
+    CornerSector,
+    /// `vec3` patch control points (written by the patch stage).
+    ControlPoints,
+}
+
+impl Resource {
+    pub fn ty(self) -> Ty {
+        match self {
+            Resource::Positions | Resource::VertexOut | Resource::ControlPoints => Ty::Vec3,
+            _ => Ty::U32,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Resource::Positions => "positions",
+            Resource::Valence => "valence",
+            Resource::RingOffsets => "ring_offsets",
+            Resource::Ring => "ring",
+            Resource::VertexOutOffsets => "vertex_out_offsets",
+            Resource::VertexOut => "vertex_out",
+            Resource::CornerVertex => "corner_vertex",
+            Resource::CornerSector => "corner_sector",
+            Resource::ControlPoints => "control_points",
+        }
+    }
+    pub const ALL: [Resource; 9] = [
+        Resource::Positions,
+        Resource::Valence,
+        Resource::RingOffsets,
+        Resource::Ring,
+        Resource::VertexOutOffsets,
+        Resource::VertexOut,
+        Resource::CornerVertex,
+        Resource::CornerSector,
+        Resource::ControlPoints,
+    ];
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Rem,
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    And,
+    Or,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Builtin {
+    /// `f32` from `u32` (exact for the integers we convert).
+    F32FromU32,
+    Sqrt,
+    Cos,
+    Sin,
+    Dot,
+    Cross,
+    /// `vec3(x, y, z)` from three f32.
+    Vec3,
+}
+
+/// Index of a local in [`Function::locals`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct LocalId(pub usize);
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expr {
+    F32(f32),
+    U32(u32),
+    Local(LocalId),
+    /// Element of a module constant array: `CONST[index]`.
+    ConstIndex(usize, Box<Expr>),
+    /// A scalar module constant.
+    Const(usize),
+    Binary(BinOp, Box<Expr>, Box<Expr>),
+    Neg(Box<Expr>),
+    Call(Builtin, Vec<Expr>),
+    /// Call of another function of the module (or the common module).
+    CallFn(FnRef, Vec<Expr>),
+    Field(Box<Expr>, usize),
+    /// Construct a struct from its fields, in order.
+    Make(usize, Vec<Expr>),
+    Fetch(Resource, Box<Expr>),
+    /// Stencil table texel `(row, column)`.
+    TableWeight(Box<Expr>, Box<Expr>),
+}
+
+/// Reference to a function: in the scheme's own module or the common one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum FnRef {
+    Common(usize),
+    Local(usize),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stmt {
+    /// Immutable binding.
+    Let(LocalId, Expr),
+    /// Mutable binding.
+    Var(LocalId, Expr),
+    Assign(LocalId, Expr),
+    /// `local.field = value`.
+    AssignField(LocalId, usize, Expr),
+    Store(Resource, Expr, Expr),
+    If(Expr, Vec<Stmt>, Vec<Stmt>),
+    /// `for local in start..end` over u32.
+    For(LocalId, Expr, Expr, Vec<Stmt>),
+    Return(Expr),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Local {
+    pub name: String,
+    pub ty: Ty,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Function {
+    pub name: String,
+    pub doc: String,
+    pub params: Vec<LocalId>,
+    pub ret: Option<Ty>,
+    pub locals: Vec<Local>,
+    pub body: Vec<Stmt>,
+    /// Shared-boundary arithmetic: printers mark it `precise` (GLSL/HLSL)
+    /// so no backend contracts or reorders it.
+    pub precise: bool,
+}
+
+impl Function {
+    pub fn new(name: impl Into<String>, doc: impl Into<String>) -> Self {
+        Function {
+            name: name.into(),
+            doc: doc.into(),
+            params: vec![],
+            ret: None,
+            locals: vec![],
+            body: vec![],
+            precise: false,
+        }
+    }
+    pub fn local(&mut self, name: impl Into<String>, ty: Ty) -> LocalId {
+        self.locals.push(Local {
+            name: name.into(),
+            ty,
+        });
+        LocalId(self.locals.len() - 1)
+    }
+    pub fn param(&mut self, name: impl Into<String>, ty: Ty) -> LocalId {
+        let id = self.local(name, ty);
+        self.params.push(id);
+        id
+    }
+    /// Resources this function reads (`false`) or writes (`true`).
+    pub fn resources(&self) -> Vec<(Resource, bool)> {
+        let mut out = Vec::new();
+        fn add(out: &mut Vec<(Resource, bool)>, r: Resource, w: bool) {
+            if !out.contains(&(r, w)) {
+                out.push((r, w));
+            }
+        }
+        fn expr(e: &Expr, out: &mut Vec<(Resource, bool)>) {
+            match e {
+                Expr::Fetch(r, i) => {
+                    add(out, *r, false);
+                    expr(i, out);
+                }
+                Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
+                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) => {
+                    expr(a, out);
+                    expr(b, out);
+                }
+                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
+                    xs.iter().for_each(|x| expr(x, out))
+                }
+                Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) => {}
+            }
+        }
+        fn stmts(s: &[Stmt], out: &mut Vec<(Resource, bool)>) {
+            for s in s {
+                match s {
+                    Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => {
+                        expr(e, out)
+                    }
+                    Stmt::AssignField(_, _, e) => expr(e, out),
+                    Stmt::Store(r, i, v) => {
+                        add(out, *r, true);
+                        expr(i, out);
+                        expr(v, out);
+                    }
+                    Stmt::If(c, a, b) => {
+                        expr(c, out);
+                        stmts(a, out);
+                        stmts(b, out);
+                    }
+                    Stmt::For(_, a, b, body) => {
+                        expr(a, out);
+                        expr(b, out);
+                        stmts(body, out);
+                    }
+                }
+            }
+        }
+        stmts(&self.body, &mut out);
+        out.sort();
+        out
+    }
+    /// Whether the function reads the stencil table.
+    pub fn reads_table(&self) -> bool {
+        fn expr(e: &Expr) -> bool {
+            match e {
+                Expr::TableWeight(..) => true,
+                Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
+                    expr(a)
+                }
+                Expr::Binary(_, a, b) => expr(a) || expr(b),
+                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
+                _ => false,
+            }
+        }
+        fn stmts(s: &[Stmt]) -> bool {
+            s.iter().any(|s| match s {
+                Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => expr(e),
+                Stmt::AssignField(_, _, e) => expr(e),
+                Stmt::Store(_, i, v) => expr(i) || expr(v),
+                Stmt::If(c, a, b) => expr(c) || stmts(a) || stmts(b),
+                Stmt::For(_, a, b, body) => expr(a) || expr(b) || stmts(body),
+            })
+        }
+        stmts(&self.body)
+    }
+}
+
+/// A module-level constant (scalar or array of u32).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstDecl {
+    pub name: String,
+    pub doc: String,
+    pub value: ConstValue,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConstValue {
+    U32(u32),
+    U32Array(Vec<u32>),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct StructDecl {
+    pub name: String,
+    pub fields: Vec<(String, Ty)>,
+}
+
+/// A unit of emitted code: the common module (shared evaluators) or one
+/// scheme's module.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Module {
+    pub name: String,
+    pub doc: String,
+    pub consts: Vec<ConstDecl>,
+    pub structs: Vec<StructDecl>,
+    pub functions: Vec<Function>,
+}
+
+impl Module {
+    pub fn add_const(&mut self, name: &str, doc: &str, value: ConstValue) -> usize {
+        self.consts.push(ConstDecl {
+            name: name.into(),
+            doc: doc.into(),
+            value,
+        });
+        self.consts.len() - 1
+    }
+    pub fn function_index(&self, name: &str) -> Option<usize> {
+        self.functions.iter().position(|f| f.name == name)
+    }
+}
+
+/// Where the stages of a scheme are, for printers that emit entry points
+/// and for runtimes that call them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entries {
+    /// `vertex_stage(vertex, out_base)`.
+    pub vertex_stage: usize,
+    /// Per facet class present: `(class name, form name, control points,
+    /// patch function (face, cp_base))`.
+    pub patches: Vec<PatchEntry>,
+    /// `eval(class, cp_base, iu, iv, level) -> Sample`.
+    pub eval: usize,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatchEntry {
+    pub class: crate::Class,
+    pub form: crate::form::Form,
+    pub control_points: u32,
+    pub function: usize,
+}
+
+/// The complete lowered program: common module + one module per scheme.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    pub common: Module,
+    pub schemes: Vec<(Module, Entries)>,
+}
+
+/// Fixed indices into the common module, used by scheme modules.
+pub mod common {
+    /// `Sample { position, normal }`.
+    pub const SAMPLE: usize = 0;
+    /// `Curve { point, tangent }`.
+    pub const CURVE: usize = 1;
+    /// Module constants.
+    pub const TABLE_WIDTH: usize = 0;
+    pub const MAX_VALENCE: usize = 1;
+}
+
+/// Small builder helpers for lowering code.
+pub mod build {
+    use super::*;
+    pub fn f(x: f32) -> Expr {
+        Expr::F32(x)
+    }
+    pub fn u(x: u32) -> Expr {
+        Expr::U32(x)
+    }
+    pub fn l(id: LocalId) -> Expr {
+        Expr::Local(id)
+    }
+    pub fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
+        Expr::Binary(op, Box::new(a), Box::new(b))
+    }
+    pub fn add(a: Expr, b: Expr) -> Expr {
+        bin(BinOp::Add, a, b)
+    }
+    pub fn sub(a: Expr, b: Expr) -> Expr {
+        bin(BinOp::Sub, a, b)
+    }
+    pub fn mul(a: Expr, b: Expr) -> Expr {
+        bin(BinOp::Mul, a, b)
+    }
+    pub fn div(a: Expr, b: Expr) -> Expr {
+        bin(BinOp::Div, a, b)
+    }
+    pub fn to_f32(a: Expr) -> Expr {
+        Expr::Call(Builtin::F32FromU32, vec![a])
+    }
+    pub fn fetch(r: Resource, i: Expr) -> Expr {
+        Expr::Fetch(r, Box::new(i))
+    }
+    pub fn call(f: FnRef, args: Vec<Expr>) -> Expr {
+        Expr::CallFn(f, args)
+    }
+    /// Symmetric lerp `x·l + y·r` (watertight.md Rule 2).
+    pub fn lerp(x: Expr, y: Expr, wl: LocalId, wr: LocalId) -> Expr {
+        add(mul(x, l(wl)), mul(y, l(wr)))
+    }
+}

@@ -1,0 +1,1217 @@
+//! Scheme IR: a parsed scheme with every name resolved, every expression
+//! typed, and every row checked for affine invariance.
+//!
+//! This is where scheme mistakes become errors that point at the offending
+//! source: undefined names, index-family misuse, ill-typed arithmetic
+//! (a point times a point), and rows whose weights do not sum to 1 (0 for
+//! tangent vectors) at some valence.
+
+use crate::dsl::{self, DefAst, DefKind, SchemeAst};
+use crate::form::Form;
+use crate::sym::{self, BinOp, CmpOp, Env, Func, Sym, Value};
+use proc_macro2::Span;
+use std::collections::BTreeMap;
+use syn::{Expr, Ident};
+
+/// Tolerance of the affine-invariance check (DESIGN.md "The stencil table").
+pub const AFFINE_TOLERANCE: f64 = 1e-6;
+
+/// A scheme error, located in the scheme source.
+#[derive(Debug, Clone)]
+pub struct SchemeError {
+    pub message: String,
+    pub span: Span,
+}
+
+impl SchemeError {
+    pub fn new(span: Span, message: impl Into<String>) -> Self {
+        SchemeError {
+            message: message.into(),
+            span,
+        }
+    }
+    /// 1-based line and 0-based column in the scheme source.
+    pub fn line_column(&self) -> (usize, usize) {
+        let lc = self.span.start();
+        (lc.line, lc.column)
+    }
+    pub fn to_syn(&self) -> syn::Error {
+        syn::Error::new(self.span, &self.message)
+    }
+}
+
+impl std::fmt::Display for SchemeError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (l, c) = self.line_column();
+        write!(f, "line {l}, column {}: {}", c + 1, self.message)
+    }
+}
+
+impl std::error::Error for SchemeError {}
+
+impl From<syn::Error> for SchemeError {
+    fn from(e: syn::Error) -> Self {
+        SchemeError::new(e.span(), e.to_string())
+    }
+}
+
+/// Value type of an expression.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ty {
+    /// Integer-valued scalar: usable as an index.
+    Index,
+    Scalar,
+    Point,
+}
+
+impl Ty {
+    fn is_scalar(self) -> bool {
+        matches!(self, Ty::Index | Ty::Scalar)
+    }
+    fn describe(self) -> &'static str {
+        match self {
+            Ty::Index => "an integer",
+            Ty::Scalar => "a number",
+            Ty::Point => "a point",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Facet {
+    Quad,
+}
+
+/// Which faces a patch block applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Class {
+    /// All four corners of valence 4.
+    Ordinary,
+    /// Some corner of valence ≠ 4.
+    Extraordinary,
+}
+
+impl Class {
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Ordinary => "ordinary",
+            Class::Extraordinary => "extraordinary",
+        }
+    }
+}
+
+/// `const NAME = EXPR;`
+#[derive(Clone, Debug)]
+pub struct ConstDef {
+    pub name: String,
+    pub expr: Sym,
+}
+
+/// A vertex-stage definition.
+#[derive(Clone, Debug)]
+pub struct VertexDef {
+    pub name: String,
+    pub kind: DefKind,
+    pub indexed: bool,
+    pub ty: Ty,
+    pub expr: Sym,
+    pub span: Span,
+}
+
+impl VertexDef {
+    /// Exported into the stencil table (everything but `let`).
+    pub fn exported(&self) -> bool {
+        matches!(self.kind, DefKind::Point | DefKind::Vector)
+    }
+}
+
+/// A patch-stage definition (local or `out`).
+#[derive(Clone, Debug)]
+pub struct PatchDef {
+    pub name: String,
+    pub out: bool,
+    pub indexed: bool,
+    pub ty: Ty,
+    pub expr: Sym,
+    pub span: Span,
+}
+
+/// One `patch CLASS: FORM { … }` block.
+#[derive(Clone, Debug)]
+pub struct PatchClass {
+    pub class: Class,
+    pub form: Form,
+    pub defs: Vec<PatchDef>,
+    /// For each form slot, the index into `defs` of its `out` definition.
+    pub slots: Vec<usize>,
+}
+
+/// A checked scheme.
+#[derive(Clone, Debug)]
+pub struct Scheme {
+    pub name: String,
+    pub doc: String,
+    pub facet: Facet,
+    pub consts: Vec<ConstDef>,
+    pub vertex: Vec<VertexDef>,
+    pub patches: Vec<PatchClass>,
+}
+
+/// Index variable of per-corner definitions in the patch stage.
+pub const CORNER_VAR: usize = 0;
+/// Index variable of per-sector definitions in the vertex stage.
+pub const SECTOR_VAR: usize = 0;
+
+impl Scheme {
+    /// Parse, resolve and check scheme source text.
+    pub fn from_source(text: &str, max_valence: u32) -> Result<Scheme, SchemeError> {
+        let ast = dsl::parse_str(text)?;
+        Scheme::from_ast(&ast, max_valence)
+    }
+
+    /// Resolve and check a parsed scheme (shared by the proc macro).
+    pub fn from_ast(ast: &SchemeAst, max_valence: u32) -> Result<Scheme, SchemeError> {
+        let scheme = Resolver::default().scheme(ast)?;
+        scheme.check(ast, max_valence)?;
+        Ok(scheme)
+    }
+
+    /// Exported vertex-stage outputs, in table order.
+    pub fn outputs(&self) -> impl Iterator<Item = (usize, &VertexDef)> {
+        self.vertex.iter().enumerate().filter(|(_, d)| d.exported())
+    }
+
+    /// Rows the vertex stage produces for valence n (`a·n + b`).
+    pub fn rows_per_valence(&self, n: u32) -> u32 {
+        self.outputs()
+            .map(|(_, d)| if d.indexed { n } else { 1 })
+            .sum()
+    }
+
+    /// `(a, b)` with `rows_per_valence(n) = a·n + b`.
+    pub fn rows_linear(&self) -> (u32, u32) {
+        let a = self.outputs().filter(|(_, d)| d.indexed).count() as u32;
+        let b = self.outputs().filter(|(_, d)| !d.indexed).count() as u32;
+        (a, b)
+    }
+
+    /// First row of output `def` within a valence-n block: `a·n + b`.
+    pub fn output_offset(&self, def: usize) -> (u32, u32) {
+        let (mut a, mut b) = (0, 0);
+        for (i, d) in self.outputs() {
+            if i == def {
+                break;
+            }
+            if d.indexed {
+                a += 1;
+            } else {
+                b += 1;
+            }
+        }
+        (a, b)
+    }
+
+    pub fn patch(&self, class: Class) -> Option<&PatchClass> {
+        self.patches.iter().find(|p| p.class == class)
+    }
+
+    /// Per-valence constants at valence n, in declaration order.
+    pub fn const_values(&self, n: u32) -> Vec<f64> {
+        let mut vals = Vec::with_capacity(self.consts.len());
+        for c in &self.consts {
+            let env = ConstEnv {
+                n: n as f64,
+                consts: &vals,
+            };
+            let x = sym::eval(&c.expr, &env, &mut Vec::new()).scalar();
+            vals.push(x);
+        }
+        vals
+    }
+
+    /// Every exported vertex-stage row at valence n, in table order, as
+    /// `(output def, sector, weights over [p, p_0 .. p_{2n-1}])`.
+    pub fn vertex_rows(&self, n: u32) -> Vec<(usize, u32, Vec<f64>)> {
+        let env = VertexEnv::new(self, n);
+        let mut out = Vec::new();
+        for (i, d) in self.outputs() {
+            let count = if d.indexed { n } else { 1 };
+            for j in 0..count {
+                let row = env.row(i, j);
+                out.push((i, j, row));
+            }
+        }
+        out
+    }
+
+    fn check(&self, ast: &SchemeAst, max_valence: u32) -> Result<(), SchemeError> {
+        if max_valence < 4 {
+            return Err(SchemeError::new(
+                ast.name.span(),
+                "max valence must be at least 4",
+            ));
+        }
+        for n in 3..=max_valence {
+            let vals = self.const_values(n);
+            for (c, x) in ast.consts.iter().zip(&vals) {
+                if !x.is_finite() {
+                    return Err(SchemeError::new(
+                        c.name.span(),
+                        format!("constant `{}` is not finite at valence {n} ({x})", c.name),
+                    ));
+                }
+            }
+            let env = VertexEnv::new(self, n);
+            for (i, d) in self.outputs() {
+                let count = if d.indexed { n } else { 1 };
+                for j in 0..count {
+                    let row = env.row(i, j);
+                    let want = if d.kind == DefKind::Vector { 0.0 } else { 1.0 };
+                    let sum: f64 = row.iter().sum();
+                    let label = if d.indexed {
+                        format!("{}[{j}]", d.name)
+                    } else {
+                        d.name.clone()
+                    };
+                    if row.iter().any(|w| !w.is_finite()) {
+                        return Err(SchemeError::new(
+                            d.span,
+                            format!("row `{label}` has a non-finite weight at valence {n}"),
+                        ));
+                    }
+                    if (sum - want).abs() > AFFINE_TOLERANCE {
+                        return Err(SchemeError::new(
+                            d.span,
+                            format!(
+                                "row `{label}` weights sum to {sum} at valence {n}, expected {want} ({})",
+                                if want == 0.0 { "a tangent vector" } else { "a point" }
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        for (pc, past) in self.patches.iter().zip(&ast.patches) {
+            self.check_patch(pc, past, max_valence)?;
+        }
+        Ok(())
+    }
+
+    /// Patch-stage rows depend on the four corner valences; they are checked
+    /// on every tuple of a grid of valences (3..=8 and the maximum for each
+    /// corner; only valence 4 for ordinary patches), which covers every
+    /// formula branch the constants can take while staying cheap enough
+    /// for a proc macro.
+    fn check_patch(
+        &self,
+        pc: &PatchClass,
+        past: &dsl::PatchAst,
+        max: u32,
+    ) -> Result<(), SchemeError> {
+        let mut set: Vec<u32> = (3..=8.min(max)).collect();
+        if max > 8 {
+            set.push(max);
+        }
+        let set = if pc.class == Class::Ordinary {
+            vec![4]
+        } else {
+            set
+        };
+        let mut tuples = Vec::new();
+        for &a in &set {
+            for &b in &set {
+                for &c in &set {
+                    for &d in &set {
+                        tuples.push([a, b, c, d]);
+                    }
+                }
+            }
+        }
+        for vals in tuples {
+            let env = PatchEnv::new(self, pc, vals);
+            for (slot_i, &def_i) in pc.slots.iter().enumerate() {
+                let d = &pc.defs[def_i];
+                for corner in 0..4 {
+                    let lin = env.def(def_i, Some(corner)).point();
+                    let mut sum = 0.0;
+                    for (key, w) in &lin {
+                        if !w.is_finite() {
+                            return Err(SchemeError::new(
+                                d.span,
+                                format!("`out {}[{corner}]` has a non-finite weight at valences {vals:?}", d.name),
+                            ));
+                        }
+                        let (output, _, _) = unpack_corner_key(*key);
+                        if self.vertex[output].kind != DefKind::Vector {
+                            sum += w;
+                        }
+                    }
+                    if (sum - 1.0).abs() > AFFINE_TOLERANCE {
+                        return Err(SchemeError::new(
+                            d.span,
+                            format!(
+                                "control point `{}[{corner}]` ({} slot {}) weights sum to {sum} at corner valences {vals:?}, expected 1",
+                                d.name,
+                                pc.form.name(),
+                                pc.form.slots()[slot_i]
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+        let _ = past;
+        Ok(())
+    }
+}
+
+/// Keys of corner data in patch-stage weight vectors.
+pub fn corner_key(output: usize, corner: usize, sector_offset: u32) -> u64 {
+    ((output as u64) << 32) | ((corner as u64) << 24) | sector_offset as u64
+}
+
+pub fn unpack_corner_key(key: u64) -> (usize, usize, u32) {
+    (
+        (key >> 32) as usize,
+        ((key >> 24) & 0xff) as usize,
+        (key & 0xff_ffff) as u32,
+    )
+}
+
+struct ConstEnv<'a> {
+    n: f64,
+    consts: &'a [f64],
+}
+
+impl Env for ConstEnv<'_> {
+    fn valence(&self) -> f64 {
+        self.n
+    }
+    fn sum_range(&self) -> u32 {
+        self.n as u32
+    }
+    fn konst(&self, k: usize) -> f64 {
+        self.consts.get(k).copied().unwrap_or(f64::NAN)
+    }
+    fn corner_const(&self, _: usize, _: i64) -> f64 {
+        f64::NAN
+    }
+    fn corner_valence(&self, _: i64) -> f64 {
+        f64::NAN
+    }
+    fn center(&self) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+    fn ring(&self, _: i64) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+    fn def(&self, _: usize, _: Option<i64>) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+    fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+}
+
+/// Evaluates vertex-stage definitions at one valence; results are memoised
+/// so `e[j] = (f[j-1] + f[j]) / 2` costs one lookup per reference.
+struct VertexEnv<'a> {
+    scheme: &'a Scheme,
+    n: u32,
+    consts: Vec<f64>,
+    memo: std::cell::RefCell<BTreeMap<(usize, u32), Value>>,
+}
+
+impl<'a> VertexEnv<'a> {
+    fn new(scheme: &'a Scheme, n: u32) -> Self {
+        VertexEnv {
+            scheme,
+            n,
+            consts: scheme.const_values(n),
+            memo: Default::default(),
+        }
+    }
+
+    fn value(&self, def: usize, j: u32) -> Value {
+        if let Some(v) = self.memo.borrow().get(&(def, j)) {
+            return v.clone();
+        }
+        let mut vars = Vec::new();
+        sym::set_var(&mut vars, SECTOR_VAR, j as f64);
+        let v = sym::eval(&self.scheme.vertex[def].expr, self, &mut vars);
+        self.memo.borrow_mut().insert((def, j), v.clone());
+        v
+    }
+
+    fn row(&self, def: usize, j: u32) -> Vec<f64> {
+        let mut row = vec![0.0; 2 * self.n as usize + 1];
+        for (slot, w) in self.value(def, j).point() {
+            row[slot as usize] += w;
+        }
+        row
+    }
+}
+
+impl Env for VertexEnv<'_> {
+    fn valence(&self) -> f64 {
+        self.n as f64
+    }
+    fn sum_range(&self) -> u32 {
+        self.n
+    }
+    fn konst(&self, k: usize) -> f64 {
+        self.consts.get(k).copied().unwrap_or(f64::NAN)
+    }
+    fn corner_const(&self, _: usize, _: i64) -> f64 {
+        f64::NAN
+    }
+    fn corner_valence(&self, _: i64) -> f64 {
+        f64::NAN
+    }
+    fn center(&self) -> Value {
+        Value::unit(0)
+    }
+    fn ring(&self, idx: i64) -> Value {
+        Value::unit(1 + idx.rem_euclid(2 * self.n as i64) as u64)
+    }
+    fn def(&self, def: usize, index: Option<i64>) -> Value {
+        let j = index
+            .map(|j| j.rem_euclid(self.n as i64) as u32)
+            .unwrap_or(0);
+        self.value(def, j)
+    }
+    fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+}
+
+/// Evaluates patch-stage definitions for given corner valences: points are
+/// weight vectors over corner data keys ([`corner_key`]).
+pub struct PatchEnv<'a> {
+    scheme: &'a Scheme,
+    class: &'a PatchClass,
+    valences: [u32; 4],
+    consts: [Vec<f64>; 4],
+}
+
+impl<'a> PatchEnv<'a> {
+    pub fn new(scheme: &'a Scheme, class: &'a PatchClass, valences: [u32; 4]) -> Self {
+        let consts = valences.map(|n| scheme.const_values(n));
+        PatchEnv {
+            scheme,
+            class,
+            valences,
+            consts,
+        }
+    }
+
+    fn corner(c: i64) -> usize {
+        c.rem_euclid(4) as usize
+    }
+}
+
+impl Env for PatchEnv<'_> {
+    fn valence(&self) -> f64 {
+        f64::NAN
+    }
+    fn sum_range(&self) -> u32 {
+        4
+    }
+    fn konst(&self, _: usize) -> f64 {
+        f64::NAN
+    }
+    fn corner_const(&self, k: usize, corner: i64) -> f64 {
+        self.consts[Self::corner(corner)]
+            .get(k)
+            .copied()
+            .unwrap_or(f64::NAN)
+    }
+    fn corner_valence(&self, corner: i64) -> f64 {
+        self.valences[Self::corner(corner)] as f64
+    }
+    fn center(&self) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+    fn ring(&self, _: i64) -> Value {
+        Value::Scalar(f64::NAN)
+    }
+    fn def(&self, def: usize, index: Option<i64>) -> Value {
+        let mut vars = Vec::new();
+        if let Some(i) = index {
+            sym::set_var(&mut vars, CORNER_VAR, Self::corner(i) as f64);
+        }
+        sym::eval(&self.class.defs[def].expr, self, &mut vars)
+    }
+    fn corner_data(&self, output: usize, corner: i64, offset: Option<i64>) -> Value {
+        let c = Self::corner(corner);
+        let n = self.valences[c] as i64;
+        let off = offset.map(|o| o.rem_euclid(n) as u32).unwrap_or(0);
+        let _ = &self.scheme;
+        Value::unit(corner_key(output, c, off))
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Name resolution and type checking
+// ---------------------------------------------------------------------------
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    Const,
+    Vertex,
+    Patch,
+}
+
+#[derive(Default)]
+struct Resolver {
+    consts: Vec<String>,
+    vertex: Vec<VertexDef>,
+    /// Patch definitions of the block being resolved.
+    patch: Vec<PatchDef>,
+    /// Index variables in scope: name → slot.
+    scope: Vec<(String, usize)>,
+    next_var: usize,
+}
+
+fn err<T>(span: Span, msg: impl Into<String>) -> Result<T, SchemeError> {
+    Err(SchemeError::new(span, msg))
+}
+
+fn span_of(e: &Expr) -> Span {
+    syn::spanned::Spanned::span(e)
+}
+
+const RESERVED: &[&str] = &["n", "p", "pi", "sum", "cos", "sin", "sqrt"];
+
+impl Resolver {
+    fn scheme(mut self, ast: &SchemeAst) -> Result<Scheme, SchemeError> {
+        let facet = match ast.facet.to_string().as_str() {
+            "quad" => Facet::Quad,
+            other => {
+                return err(
+                    ast.facet.span(),
+                    format!("unknown facet `{other}` (this version supports `quad`)"),
+                )
+            }
+        };
+        let mut consts = Vec::new();
+        for c in &ast.consts {
+            self.check_new_name(&c.name)?;
+            let (expr, ty) = self.expr(&c.expr, Stage::Const)?;
+            if !ty.is_scalar() {
+                return err(
+                    c.name.span(),
+                    format!("constant `{}` must be a number", c.name),
+                );
+            }
+            self.consts.push(c.name.to_string());
+            consts.push(ConstDef {
+                name: c.name.to_string(),
+                expr,
+            });
+        }
+        for d in &ast.vertex {
+            let def = self.vertex_def(d)?;
+            self.vertex.push(def);
+        }
+        if !self.vertex.iter().any(|d| d.exported()) {
+            return err(ast.name.span(), "the vertex stage exports no output");
+        }
+        let mut patches = Vec::new();
+        for p in &ast.patches {
+            let pc = self.patch_block(p)?;
+            if patches.iter().any(|q: &PatchClass| q.class == pc.class) {
+                return err(
+                    p.class.span(),
+                    format!("patch class `{}` given twice", p.class),
+                );
+            }
+            patches.push(pc);
+        }
+        Ok(Scheme {
+            name: ast.name.to_string(),
+            doc: ast.doc.clone(),
+            facet,
+            consts,
+            vertex: self.vertex,
+            patches,
+        })
+    }
+
+    fn check_new_name(&self, name: &Ident) -> Result<(), SchemeError> {
+        let s = name.to_string();
+        if RESERVED.contains(&s.as_str()) {
+            return err(name.span(), format!("`{s}` is a reserved name"));
+        }
+        if self.consts.contains(&s)
+            || self.vertex.iter().any(|d| d.name == s)
+            || self.patch.iter().any(|d| d.name == s && !d.out)
+        {
+            return err(name.span(), format!("`{s}` is defined twice"));
+        }
+        Ok(())
+    }
+
+    fn with_index<T>(
+        &mut self,
+        index: Option<&Ident>,
+        slot: usize,
+        f: impl FnOnce(&mut Self) -> Result<T, SchemeError>,
+    ) -> Result<T, SchemeError> {
+        self.next_var = slot + 1;
+        if let Some(id) = index {
+            self.scope.push((id.to_string(), slot));
+        }
+        let r = f(self);
+        self.scope.clear();
+        r
+    }
+
+    fn vertex_def(&mut self, d: &DefAst) -> Result<VertexDef, SchemeError> {
+        self.check_new_name(&d.name)?;
+        let (expr, ty) = self.with_index(d.index.as_ref(), SECTOR_VAR, |r| {
+            r.expr(&d.expr, Stage::Vertex)
+        })?;
+        if d.kind != DefKind::Let && ty != Ty::Point {
+            return err(
+                span_of(&d.expr),
+                format!(
+                    "vertex output `{}` must be a point (a combination of p, p[k] and other outputs), found {}; use `let` for numbers",
+                    d.name,
+                    ty.describe()
+                ),
+            );
+        }
+        Ok(VertexDef {
+            name: d.name.to_string(),
+            kind: d.kind,
+            indexed: d.index.is_some(),
+            ty,
+            expr,
+            span: d.span,
+        })
+    }
+
+    fn patch_block(&mut self, p: &dsl::PatchAst) -> Result<PatchClass, SchemeError> {
+        let class = match p.class.to_string().as_str() {
+            "ordinary" => Class::Ordinary,
+            "extraordinary" => Class::Extraordinary,
+            other => {
+                return err(
+                    p.class.span(),
+                    format!(
+                        "unknown patch class `{other}`; expected `ordinary` or `extraordinary`"
+                    ),
+                )
+            }
+        };
+        let form = Form::from_name(&p.form.to_string()).ok_or_else(|| {
+            SchemeError::new(
+                p.form.span(),
+                format!(
+                    "unknown patch form `{}`; expected `bicubic` or `cpatch`",
+                    p.form
+                ),
+            )
+        })?;
+        self.patch.clear();
+        let mut slots: Vec<Option<usize>> = vec![None; form.slots().len()];
+        for d in &p.defs {
+            let out = d.kind == DefKind::Out;
+            if out {
+                let name = d.name.to_string();
+                let Some(slot) = form.slots().iter().position(|s| *s == name) else {
+                    return err(
+                        d.name.span(),
+                        format!(
+                            "`{name}` is not a control point of form `{}` (its slots: {})",
+                            form.name(),
+                            form.slots().join(", ")
+                        ),
+                    );
+                };
+                if slots[slot].is_some() {
+                    return err(d.name.span(), format!("`out {name}` given twice"));
+                }
+                if d.index.is_none() {
+                    return err(
+                        d.name.span(),
+                        format!("control point `{name}` is per corner: write `out {name}[i] = …`"),
+                    );
+                }
+                slots[slot] = Some(self.patch.len());
+            } else {
+                self.check_new_name(&d.name)?;
+            }
+            let (expr, ty) = self.with_index(d.index.as_ref(), CORNER_VAR, |r| {
+                r.expr(&d.expr, Stage::Patch)
+            })?;
+            if out && ty != Ty::Point {
+                return err(
+                    span_of(&d.expr),
+                    format!(
+                        "control point `{}` must be a point, found {}",
+                        d.name,
+                        ty.describe()
+                    ),
+                );
+            }
+            self.patch.push(PatchDef {
+                name: d.name.to_string(),
+                out,
+                indexed: d.index.is_some(),
+                ty,
+                expr,
+                span: d.span,
+            });
+        }
+        let mut filled = Vec::new();
+        for (i, s) in slots.iter().enumerate() {
+            match s {
+                Some(k) => filled.push(*k),
+                None => {
+                    return err(
+                        p.form.span(),
+                        format!(
+                            "form `{}` needs `out {}[i] = …`",
+                            form.name(),
+                            form.slots()[i]
+                        ),
+                    )
+                }
+            }
+        }
+        Ok(PatchClass {
+            class,
+            form,
+            defs: std::mem::take(&mut self.patch),
+            slots: filled,
+        })
+    }
+
+    fn lookup_var(&self, name: &str) -> Option<usize> {
+        self.scope
+            .iter()
+            .rev()
+            .find(|(n, _)| n == name)
+            .map(|(_, s)| *s)
+    }
+
+    fn index(&mut self, e: &Expr, stage: Stage) -> Result<Sym, SchemeError> {
+        let (s, ty) = self.expr(e, stage)?;
+        if ty != Ty::Index {
+            return err(
+                span_of(e),
+                format!(
+                    "an index must be integer arithmetic on index variables, found {}",
+                    ty.describe()
+                ),
+            );
+        }
+        Ok(s)
+    }
+
+    fn expr(&mut self, e: &Expr, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let span = span_of(e);
+        match e {
+            Expr::Paren(p) => self.expr(&p.expr, stage),
+            Expr::Group(g) => self.expr(&g.expr, stage),
+            Expr::Lit(l) => match &l.lit {
+                syn::Lit::Int(i) => {
+                    let x: f64 = i.base10_parse::<u64>()? as f64;
+                    Ok((Sym::Num(x), Ty::Index))
+                }
+                syn::Lit::Float(f) => Ok((Sym::Num(f.base10_parse::<f64>()?), Ty::Scalar)),
+                _ => err(span, "only numbers are allowed here"),
+            },
+            Expr::Unary(u) => match u.op {
+                syn::UnOp::Neg(_) => {
+                    let (a, ty) = self.expr(&u.expr, stage)?;
+                    Ok((Sym::Neg(Box::new(a)), ty))
+                }
+                _ => err(span, "only unary minus is supported"),
+            },
+            Expr::Binary(b) => self.binary(b, stage),
+            Expr::Path(p) => {
+                let Some(id) = p.path.get_ident() else {
+                    return err(span, "expected a plain name");
+                };
+                self.name(id, stage)
+            }
+            Expr::Index(ix) => self.indexed(ix, stage),
+            Expr::Call(c) => self.call(c, stage),
+            Expr::If(i) => self.if_expr(i, stage),
+            Expr::Block(b) if b.block.stmts.len() == 1 => match &b.block.stmts[0] {
+                syn::Stmt::Expr(e, None) => self.expr(e, stage),
+                _ => err(span, "a block must hold a single expression"),
+            },
+            _ => err(span, "unsupported expression in a scheme"),
+        }
+    }
+
+    fn binary(&mut self, b: &syn::ExprBinary, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let span = span_of(&Expr::Binary(b.clone()));
+        let op = match b.op {
+            syn::BinOp::Add(_) => BinOp::Add,
+            syn::BinOp::Sub(_) => BinOp::Sub,
+            syn::BinOp::Mul(_) => BinOp::Mul,
+            syn::BinOp::Div(_) => BinOp::Div,
+            _ => {
+                return err(
+                    span,
+                    "only + - * / are supported (comparisons only in `if`)",
+                )
+            }
+        };
+        let (l, lt) = self.expr(&b.left, stage)?;
+        let (r, rt) = self.expr(&b.right, stage)?;
+        use Ty::*;
+        let ty = match (op, lt, rt) {
+            (BinOp::Add | BinOp::Sub | BinOp::Mul, Index, Index) => Index,
+            (BinOp::Add | BinOp::Sub, Point, Point) => Point,
+            (_, a, b) if a.is_scalar() && b.is_scalar() => Scalar,
+            (BinOp::Mul, a, Point) if a.is_scalar() => Point,
+            (BinOp::Mul | BinOp::Div, Point, b) if b.is_scalar() => Point,
+            (BinOp::Mul, Point, Point) => {
+                return err(
+                    span,
+                    "cannot multiply two points (a weight must be a number)",
+                )
+            }
+            (BinOp::Div, _, Point) => return err(span, "cannot divide by a point"),
+            (_, a, b) => {
+                return err(
+                    span,
+                    format!(
+                        "cannot combine {} and {} with `{}`",
+                        a.describe(),
+                        b.describe(),
+                        op_str(op)
+                    ),
+                )
+            }
+        };
+        Ok((Sym::Bin(op, Box::new(l), Box::new(r)), ty))
+    }
+
+    fn name(&mut self, id: &Ident, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let s = id.to_string();
+        if let Some(slot) = self.lookup_var(&s) {
+            return Ok((Sym::Var(slot), Ty::Index));
+        }
+        match (s.as_str(), stage) {
+            ("pi", _) => return Ok((Sym::Num(std::f64::consts::PI), Ty::Scalar)),
+            ("n", Stage::Const | Stage::Vertex) => return Ok((Sym::Valence, Ty::Index)),
+            ("n", Stage::Patch) => {
+                return err(
+                    id.span(),
+                    "in the patch stage valences are per corner: write `n(i)`",
+                )
+            }
+            ("p", Stage::Vertex) => return Ok((Sym::Center, Ty::Point)),
+            _ => {}
+        }
+        if let Some(k) = self.consts.iter().position(|c| *c == s) {
+            return match stage {
+                Stage::Patch => err(
+                    id.span(),
+                    format!("`{s}` is per valence: in the patch stage write `{s}(i)` for corner i's value"),
+                ),
+                _ => Ok((Sym::Const(k), Ty::Scalar)),
+            };
+        }
+        match stage {
+            Stage::Vertex => {
+                if let Some(k) = self.vertex.iter().position(|d| d.name == s) {
+                    let d = &self.vertex[k];
+                    if d.indexed {
+                        return err(
+                            id.span(),
+                            format!(
+                                "`{s}` is a family over sectors: write `{s}[j]` (index misuse)"
+                            ),
+                        );
+                    }
+                    return Ok((
+                        Sym::Def {
+                            def: k,
+                            index: None,
+                        },
+                        d.ty,
+                    ));
+                }
+            }
+            Stage::Patch => {
+                if let Some(k) = self.patch.iter().position(|d| d.name == s && !d.out) {
+                    let d = &self.patch[k];
+                    if d.indexed {
+                        return err(
+                            id.span(),
+                            format!("`{s}` is per corner: write `{s}[i]` (index misuse)"),
+                        );
+                    }
+                    return Ok((
+                        Sym::Def {
+                            def: k,
+                            index: None,
+                        },
+                        d.ty,
+                    ));
+                }
+                if self.vertex.iter().any(|d| d.name == s && d.exported()) {
+                    return err(
+                        id.span(),
+                        format!("vertex output `{s}` must be read at a corner: `{s}(i)` or `{s}(i, offset)`"),
+                    );
+                }
+            }
+            Stage::Const => {}
+        }
+        err(id.span(), format!("undefined name `{s}`"))
+    }
+
+    fn indexed(&mut self, ix: &syn::ExprIndex, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let Expr::Path(p) = ix.expr.as_ref() else {
+            return err(span_of(&ix.expr), "only names can be indexed");
+        };
+        let Some(id) = p.path.get_ident() else {
+            return err(span_of(&ix.expr), "expected a plain name");
+        };
+        let s = id.to_string();
+        if s == "p" && stage == Stage::Vertex {
+            let idx = self.index(&ix.index, stage)?;
+            return Ok((Sym::Ring(Box::new(idx)), Ty::Point));
+        }
+        match stage {
+            Stage::Vertex => {
+                if let Some(k) = self.vertex.iter().position(|d| d.name == s) {
+                    if !self.vertex[k].indexed {
+                        return err(id.span(), format!("`{s}` is a single output, not a family: write `{s}` (index misuse)"));
+                    }
+                    let ty = self.vertex[k].ty;
+                    let idx = self.index(&ix.index, stage)?;
+                    return Ok((
+                        Sym::Def {
+                            def: k,
+                            index: Some(Box::new(idx)),
+                        },
+                        ty,
+                    ));
+                }
+            }
+            Stage::Patch => {
+                if let Some(k) = self.patch.iter().position(|d| d.name == s && !d.out) {
+                    if !self.patch[k].indexed {
+                        return err(
+                            id.span(),
+                            format!("`{s}` is not per corner: write `{s}` (index misuse)"),
+                        );
+                    }
+                    let ty = self.patch[k].ty;
+                    let idx = self.index(&ix.index, stage)?;
+                    return Ok((
+                        Sym::Def {
+                            def: k,
+                            index: Some(Box::new(idx)),
+                        },
+                        ty,
+                    ));
+                }
+                if self.vertex.iter().any(|d| d.name == s && d.exported()) {
+                    return err(
+                        id.span(),
+                        format!("vertex output `{s}` is read at a corner with `{s}(i, offset)`, not `{s}[…]` (index misuse)"),
+                    );
+                }
+            }
+            Stage::Const => {}
+        }
+        err(id.span(), format!("undefined name `{s}`"))
+    }
+
+    fn call(&mut self, c: &syn::ExprCall, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let Expr::Path(p) = c.func.as_ref() else {
+            return err(span_of(&c.func), "only named functions can be called");
+        };
+        let Some(id) = p.path.get_ident() else {
+            return err(span_of(&c.func), "expected a plain function name");
+        };
+        let s = id.to_string();
+        let args: Vec<&Expr> = c.args.iter().collect();
+        if let Some(f) = Func::from_name(&s) {
+            if args.len() != 1 {
+                return err(id.span(), format!("`{s}` takes one argument"));
+            }
+            let (a, ty) = self.expr(args[0], stage)?;
+            if !ty.is_scalar() {
+                return err(
+                    span_of(args[0]),
+                    format!("`{s}` takes a number, found {}", ty.describe()),
+                );
+            }
+            return Ok((Sym::Func(f, Box::new(a)), Ty::Scalar));
+        }
+        if s == "sum" {
+            if args.len() != 2 {
+                return err(id.span(), "`sum` is written `sum(k, body)`");
+            }
+            let Expr::Path(vp) = args[0] else {
+                return err(
+                    span_of(args[0]),
+                    "the first argument of `sum` names its index variable",
+                );
+            };
+            let Some(var) = vp.path.get_ident() else {
+                return err(span_of(args[0]), "expected a plain index variable name");
+            };
+            if stage == Stage::Const {
+                return err(id.span(), "`sum` is not available in constants");
+            }
+            let slot = self.next_var;
+            self.next_var += 1;
+            self.scope.push((var.to_string(), slot));
+            let body = self.expr(args[1], stage);
+            self.scope.pop();
+            let (body, ty) = body?;
+            return Ok((
+                Sym::Sum {
+                    var: slot,
+                    body: Box::new(body),
+                },
+                ty,
+            ));
+        }
+        if stage == Stage::Patch {
+            if s == "n" {
+                if args.len() != 1 {
+                    return err(id.span(), "`n(corner)` takes one argument");
+                }
+                let c = self.index(args[0], stage)?;
+                return Ok((Sym::CornerValence(Box::new(c)), Ty::Index));
+            }
+            if let Some(k) = self.consts.iter().position(|c| *c == s) {
+                if args.len() != 1 {
+                    return err(id.span(), format!("`{s}(corner)` takes one argument"));
+                }
+                let c = self.index(args[0], stage)?;
+                return Ok((
+                    Sym::CornerConst {
+                        konst: k,
+                        corner: Box::new(c),
+                    },
+                    Ty::Scalar,
+                ));
+            }
+            if let Some(k) = self.vertex.iter().position(|d| d.name == s && d.exported()) {
+                let indexed = self.vertex[k].indexed;
+                let want = if indexed { 2 } else { 1 };
+                if args.len() != want {
+                    return err(
+                        id.span(),
+                        if indexed {
+                            format!("`{s}` is a family over sectors: read it as `{s}(corner, sector_offset)` (index misuse)")
+                        } else {
+                            format!("`{s}` is a single vertex output: read it as `{s}(corner)` (index misuse)")
+                        },
+                    );
+                }
+                let corner = self.index(args[0], stage)?;
+                let offset = if indexed {
+                    Some(Box::new(self.index(args[1], stage)?))
+                } else {
+                    None
+                };
+                return Ok((
+                    Sym::CornerData {
+                        output: k,
+                        corner: Box::new(corner),
+                        offset,
+                    },
+                    Ty::Point,
+                ));
+            }
+        }
+        err(id.span(), format!("undefined function `{s}`"))
+    }
+
+    fn if_expr(&mut self, i: &syn::ExprIf, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
+        let span = span_of(&Expr::If(i.clone()));
+        if stage != Stage::Vertex && stage != Stage::Const {
+            return err(
+                span,
+                "`if` is decided per valence and only allowed in constants and the vertex stage",
+            );
+        }
+        let Expr::Binary(cond) = i.cond.as_ref() else {
+            return err(
+                span_of(&i.cond),
+                "an `if` condition compares two numbers, e.g. `n == 4`",
+            );
+        };
+        let op = match cond.op {
+            syn::BinOp::Eq(_) => CmpOp::Eq,
+            syn::BinOp::Ne(_) => CmpOp::Ne,
+            syn::BinOp::Lt(_) => CmpOp::Lt,
+            syn::BinOp::Le(_) => CmpOp::Le,
+            syn::BinOp::Gt(_) => CmpOp::Gt,
+            syn::BinOp::Ge(_) => CmpOp::Ge,
+            _ => {
+                return err(
+                    span_of(&i.cond),
+                    "an `if` condition compares two numbers, e.g. `n == 4`",
+                )
+            }
+        };
+        let (a, at) = self.expr(&cond.left, stage)?;
+        let (b, bt) = self.expr(&cond.right, stage)?;
+        if !at.is_scalar() || !bt.is_scalar() {
+            return err(
+                span_of(&i.cond),
+                "an `if` condition compares numbers, not points",
+            );
+        }
+        let then_expr = Expr::Block(syn::ExprBlock {
+            attrs: vec![],
+            label: None,
+            block: i.then_branch.clone(),
+        });
+        let (t, tt) = self.expr(&then_expr, stage)?;
+        let Some((_, other)) = &i.else_branch else {
+            return err(span, "`if` needs an `else` branch");
+        };
+        let (o, ot) = self.expr(other, stage)?;
+        let ty = match (tt, ot) {
+            (a, b) if a == b => a,
+            (a, b) if a.is_scalar() && b.is_scalar() => Ty::Scalar,
+            (a, b) => {
+                return err(
+                    span,
+                    format!(
+                        "`if` branches differ: {} and {}",
+                        a.describe(),
+                        b.describe()
+                    ),
+                )
+            }
+        };
+        Ok((
+            Sym::If {
+                op,
+                a: Box::new(a),
+                b: Box::new(b),
+                then: Box::new(t),
+                other: Box::new(o),
+            },
+            ty,
+        ))
+    }
+}
+
+fn op_str(op: BinOp) -> &'static str {
+    match op {
+        BinOp::Add => "+",
+        BinOp::Sub => "-",
+        BinOp::Mul => "*",
+        BinOp::Div => "/",
+    }
+}

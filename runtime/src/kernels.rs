@@ -1,0 +1,26 @@
+//! The generated CPU kernels (see `build.rs`) and the stencil table they read.
+
+include!(concat!(env!("OUT_DIR"), "/rust/tessgen.rs"));
+
+use std::sync::OnceLock;
+
+/// The stencil table generated with the kernels (row-major f32).
+pub fn table() -> &'static [f32] {
+    static TABLE: OnceLock<Vec<f32>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        include_bytes!(concat!(env!("OUT_DIR"), "/table/stencils.f32"))
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    })
+}
+
+/// Look a built-in scheme up by name.
+pub fn scheme(name: &str) -> Option<&'static common::SchemeKernels> {
+    SCHEMES.iter().copied().find(|s| s.name == name)
+}
+
+/// Names of the schemes compiled into this runtime.
+pub fn scheme_names() -> Vec<&'static str> {
+    SCHEMES.iter().map(|s| s.name).collect()
+}
