@@ -3,10 +3,26 @@
 //! * [`mesh`] reads OBJ files (through `tobj`) into a plain polygon mesh.
 //! * [`topology`] builds the half-edge structure, every vertex's 1-ring
 //!   (stored once, canonical start) and every face's corner records.
+//! * [`kernels`] is the Rust code tessgen generated for the built-in schemes
+//!   (at build time, by this crate's `build.rs`) and its stencil table.
+//! * [`cpu`] runs those kernels over a mesh, in parallel.
+//! * [`weld`] checks watertightness by exact-bit welding; [`obj`] writes grids.
+//!
+//! ```no_run
+//! use tessgen_runtime::{cpu, weld, Mesh};
+//! let mesh = Mesh::from_obj_path("cube.obj")?;
+//! let grids = cpu::tessellate_mesh(&mesh, "pccm", 8)?;
+//! assert!(weld::weld(&grids).is_closed_manifold());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
+pub mod cpu;
 pub mod kernels;
 pub mod mesh;
+pub mod obj;
 pub mod topology;
+pub mod weld;
 
+pub use cpu::{TessError, Tessellation};
 pub use mesh::{Mesh, MeshError};
 pub use topology::{FaceClass, Topology, TopologyError, TopologyOptions};

@@ -1,0 +1,221 @@
+//! The CPU tessellator: generated kernels over flat topology, rayon over
+//! vertices (vertex stage), faces (patch stage) and faces again (evaluation).
+//!
+//! Each stage writes a disjoint slice per vertex/face, so the parallel result
+//! is bit-identical to a sequential run.
+
+use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
+use crate::mesh::Mesh;
+use crate::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Errors of scheme selection and tessellation.
+#[derive(Debug, thiserror::Error)]
+pub enum TessError {
+    #[error(transparent)]
+    Topology(#[from] TopologyError),
+    #[error("unknown scheme `{name}` (available: {available})")]
+    UnknownScheme { name: String, available: String },
+    #[error(
+        "scheme `{scheme}` has no patch for extraordinary faces; face {face} has a corner of valence ≠ 4 (use `pccm`)"
+    )]
+    ExtraordinaryFace { scheme: String, face: usize },
+    #[error("tessellation level must be at least 1, got {0}")]
+    Level(u32),
+}
+
+/// Look up a scheme's kernels by name.
+pub fn scheme(name: &str) -> Result<&'static SchemeKernels, TessError> {
+    kernels::scheme(name).ok_or_else(|| TessError::UnknownScheme {
+        name: name.into(),
+        available: kernels::scheme_names().join(", "),
+    })
+}
+
+/// Topology options matching the compiled stencil table.
+pub fn topology_options() -> TopologyOptions {
+    TopologyOptions { max_valence: kernels::common::MAX_VALENCE, require_quads: true }
+}
+
+/// Constructed patches: vertex-stage outputs and per-face control points.
+#[derive(Clone, Debug)]
+pub struct Patches {
+    pub scheme: &'static SchemeKernels,
+    /// Index into `scheme.classes` for every face.
+    pub face_class: Vec<u32>,
+    /// First control point of every face (len faces + 1).
+    pub cp_offsets: Vec<u32>,
+    pub control_points: Vec<Vec3>,
+    pub vertex_out_offsets: Vec<u32>,
+    pub vertex_out: Vec<Vec3>,
+}
+
+/// Flat per-face corner arrays, as the kernels read them.
+pub fn corner_arrays(topo: &Topology) -> (Vec<u32>, Vec<u32>) {
+    let mut cv = Vec::with_capacity(topo.corners.len() * 4);
+    let mut cs = Vec::with_capacity(topo.corners.len() * 4);
+    for c in &topo.corners {
+        for k in c {
+            cv.push(k.vertex);
+            cs.push(k.sector);
+        }
+    }
+    (cv, cs)
+}
+
+/// Split `data` into consecutive mutable slices at `offsets` (len k + 1).
+fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[u32]) -> Vec<&'a mut [T]> {
+    let mut out = Vec::with_capacity(offsets.len().saturating_sub(1));
+    for w in offsets.windows(2) {
+        let (head, tail) = data.split_at_mut((w[1] - w[0]) as usize);
+        out.push(head);
+        data = tail;
+    }
+    out
+}
+
+/// Which patch class of `scheme` every face uses (`ordinary` faces fall back
+/// to the extraordinary class if a scheme only declares that one).
+pub fn face_classes(topo: &Topology, scheme: &SchemeKernels) -> Result<Vec<u32>, TessError> {
+    let find = |name: &str| scheme.classes.iter().position(|c| c.class == name).map(|i| i as u32);
+    let ordinary = find("ordinary");
+    let extraordinary = find("extraordinary");
+    topo.classes
+        .iter()
+        .enumerate()
+        .map(|(face, c)| match c {
+            FaceClass::Ordinary => ordinary.or(extraordinary).ok_or(TessError::ExtraordinaryFace {
+                scheme: scheme.name.into(),
+                face,
+            }),
+            FaceClass::Extraordinary => extraordinary
+                .ok_or(TessError::ExtraordinaryFace { scheme: scheme.name.into(), face }),
+        })
+        .collect()
+}
+
+/// Run the vertex and patch stages.
+pub fn construct(
+    topo: &Topology,
+    positions: &[Vec3],
+    scheme: &'static SchemeKernels,
+) -> Result<Patches, TessError> {
+    let face_class = face_classes(topo, scheme)?;
+    let table = kernels::table();
+    // Vertex stage.
+    let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
+    let mut total = 0u32;
+    for &n in &topo.valence {
+        vertex_out_offsets.push(total);
+        if n > 0 {
+            total += scheme.rows_per_n * n + scheme.rows_fixed;
+        }
+    }
+    vertex_out_offsets.push(total);
+    let (corner_vertex, corner_sector) = corner_arrays(topo);
+    let mut vertex_out = vec![Vec3::ZERO; total as usize];
+    {
+        let inputs = Inputs {
+            positions,
+            valence: &topo.valence,
+            ring_offsets: &topo.ring_offsets,
+            ring: &topo.ring,
+            vertex_out_offsets: &vertex_out_offsets,
+            vertex_out: &[],
+            corner_vertex: &corner_vertex,
+            corner_sector: &corner_sector,
+            table,
+        };
+        split_by_offsets(&mut vertex_out, &vertex_out_offsets)
+            .into_par_iter()
+            .enumerate()
+            .filter(|(_, out)| !out.is_empty())
+            .for_each(|(v, out)| (scheme.vertex_stage)(&inputs, out, v as u32, 0));
+    }
+    // Patch stage.
+    let mut cp_offsets = Vec::with_capacity(face_class.len() + 1);
+    let mut total = 0u32;
+    for &c in &face_class {
+        cp_offsets.push(total);
+        total += scheme.classes[c as usize].control_points;
+    }
+    cp_offsets.push(total);
+    let mut control_points = vec![Vec3::ZERO; total as usize];
+    {
+        let inputs = Inputs {
+            positions,
+            valence: &topo.valence,
+            ring_offsets: &topo.ring_offsets,
+            ring: &topo.ring,
+            vertex_out_offsets: &vertex_out_offsets,
+            vertex_out: &vertex_out,
+            corner_vertex: &corner_vertex,
+            corner_sector: &corner_sector,
+            table,
+        };
+        split_by_offsets(&mut control_points, &cp_offsets)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(f, out)| {
+                (scheme.classes[face_class[f] as usize].patch)(&inputs, out, f as u32, 0)
+            });
+    }
+    Ok(Patches { scheme, face_class, cp_offsets, control_points, vertex_out_offsets, vertex_out })
+}
+
+/// One `(level+1)²` grid of samples per face, in face order; sample
+/// `j·(level+1) + i` is at `(u, v) = (i, j)/level`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tessellation {
+    pub level: u32,
+    pub faces: usize,
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+}
+
+impl Tessellation {
+    /// Samples per face.
+    pub fn grid_len(&self) -> usize {
+        ((self.level + 1) * (self.level + 1)) as usize
+    }
+}
+
+/// Evaluate every patch on a `level × level` grid.
+pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
+    if level == 0 {
+        return Err(TessError::Level(level));
+    }
+    let per = ((level + 1) * (level + 1)) as usize;
+    let faces = patches.face_class.len();
+    let mut samples = vec![Sample { position: Vec3::ZERO, normal: Vec3::ZERO }; per * faces];
+    samples.par_chunks_mut(per).enumerate().for_each(|(f, grid)| {
+        let cp = &patches.control_points
+            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+        let class = patches.face_class[f];
+        for iv in 0..=level {
+            for iu in 0..=level {
+                grid[(iv * (level + 1) + iu) as usize] =
+                    (patches.scheme.eval)(cp, class, 0, iu, iv, level);
+            }
+        }
+    });
+    Ok(Tessellation {
+        level,
+        faces,
+        positions: samples.iter().map(|s| s.position).collect(),
+        normals: samples.iter().map(|s| s.normal).collect(),
+    })
+}
+
+/// Load-free entry point: topology + scheme + level → grids.
+pub fn tessellate_mesh(mesh: &Mesh, scheme_name: &str, level: u32) -> Result<Tessellation, TessError> {
+    let kernels = scheme(scheme_name)?;
+    if level == 0 {
+        return Err(TessError::Level(level));
+    }
+    let topo = Topology::build(mesh, &topology_options())?;
+    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+    let patches = construct(&topo, &positions, kernels)?;
+    evaluate(&patches, level)
+}
