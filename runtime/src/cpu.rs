@@ -35,7 +35,10 @@ pub fn scheme(name: &str) -> Result<&'static SchemeKernels, TessError> {
 
 /// Topology options matching the compiled stencil table.
 pub fn topology_options() -> TopologyOptions {
-    TopologyOptions { max_valence: kernels::common::MAX_VALENCE, require_quads: true }
+    TopologyOptions {
+        max_valence: kernels::common::MAX_VALENCE,
+        require_quads: true,
+    }
 }
 
 /// Constructed patches: vertex-stage outputs and per-face control points.
@@ -78,19 +81,29 @@ fn split_by_offsets<'a, T>(mut data: &'a mut [T], offsets: &[u32]) -> Vec<&'a mu
 /// Which patch class of `scheme` every face uses (`ordinary` faces fall back
 /// to the extraordinary class if a scheme only declares that one).
 pub fn face_classes(topo: &Topology, scheme: &SchemeKernels) -> Result<Vec<u32>, TessError> {
-    let find = |name: &str| scheme.classes.iter().position(|c| c.class == name).map(|i| i as u32);
+    let find = |name: &str| {
+        scheme
+            .classes
+            .iter()
+            .position(|c| c.class == name)
+            .map(|i| i as u32)
+    };
     let ordinary = find("ordinary");
     let extraordinary = find("extraordinary");
     topo.classes
         .iter()
         .enumerate()
         .map(|(face, c)| match c {
-            FaceClass::Ordinary => ordinary.or(extraordinary).ok_or(TessError::ExtraordinaryFace {
+            FaceClass::Ordinary => ordinary
+                .or(extraordinary)
+                .ok_or(TessError::ExtraordinaryFace {
+                    scheme: scheme.name.into(),
+                    face,
+                }),
+            FaceClass::Extraordinary => extraordinary.ok_or(TessError::ExtraordinaryFace {
                 scheme: scheme.name.into(),
                 face,
             }),
-            FaceClass::Extraordinary => extraordinary
-                .ok_or(TessError::ExtraordinaryFace { scheme: scheme.name.into(), face }),
         })
         .collect()
 }
@@ -161,7 +174,14 @@ pub fn construct(
                 (scheme.classes[face_class[f] as usize].patch)(&inputs, out, f as u32, 0)
             });
     }
-    Ok(Patches { scheme, face_class, cp_offsets, control_points, vertex_out_offsets, vertex_out })
+    Ok(Patches {
+        scheme,
+        face_class,
+        cp_offsets,
+        control_points,
+        vertex_out_offsets,
+        vertex_out,
+    })
 }
 
 /// One `(level+1)²` grid of samples per face, in face order; sample
@@ -188,18 +208,27 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
     }
     let per = ((level + 1) * (level + 1)) as usize;
     let faces = patches.face_class.len();
-    let mut samples = vec![Sample { position: Vec3::ZERO, normal: Vec3::ZERO }; per * faces];
-    samples.par_chunks_mut(per).enumerate().for_each(|(f, grid)| {
-        let cp = &patches.control_points
-            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
-        let class = patches.face_class[f];
-        for iv in 0..=level {
-            for iu in 0..=level {
-                grid[(iv * (level + 1) + iu) as usize] =
-                    (patches.scheme.eval)(cp, class, 0, iu, iv, level);
+    let mut samples = vec![
+        Sample {
+            position: Vec3::ZERO,
+            normal: Vec3::ZERO
+        };
+        per * faces
+    ];
+    samples
+        .par_chunks_mut(per)
+        .enumerate()
+        .for_each(|(f, grid)| {
+            let cp = &patches.control_points
+                [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+            let class = patches.face_class[f];
+            for iv in 0..=level {
+                for iu in 0..=level {
+                    grid[(iv * (level + 1) + iu) as usize] =
+                        (patches.scheme.eval)(cp, class, 0, iu, iv, level);
+                }
             }
-        }
-    });
+        });
     Ok(Tessellation {
         level,
         faces,
@@ -209,13 +238,21 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
 }
 
 /// Load-free entry point: topology + scheme + level → grids.
-pub fn tessellate_mesh(mesh: &Mesh, scheme_name: &str, level: u32) -> Result<Tessellation, TessError> {
+pub fn tessellate_mesh(
+    mesh: &Mesh,
+    scheme_name: &str,
+    level: u32,
+) -> Result<Tessellation, TessError> {
     let kernels = scheme(scheme_name)?;
     if level == 0 {
         return Err(TessError::Level(level));
     }
     let topo = Topology::build(mesh, &topology_options())?;
-    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
     let patches = construct(&topo, &positions, kernels)?;
     evaluate(&patches, level)
 }

@@ -14,7 +14,12 @@ pub fn to_obj(t: &Tessellation) -> String {
     let per = t.grid_len();
     let tris = grid_triangles(t.level);
     let mut s = String::with_capacity(t.positions.len() * 64);
-    let _ = writeln!(s, "# tessgen {} level {}", env!("CARGO_PKG_VERSION"), t.level);
+    let _ = writeln!(
+        s,
+        "# tessgen {} level {}",
+        env!("CARGO_PKG_VERSION"),
+        t.level
+    );
     for f in 0..t.faces {
         let _ = writeln!(s, "g patch_{f}");
         for p in &t.positions[f * per..(f + 1) * per] {

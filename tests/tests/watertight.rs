@@ -22,7 +22,10 @@ fn check(name: &str, scheme: &str) {
             r.overused_edges,
             r.degenerate_triangles
         );
-        assert_eq!(r.euler, euler, "{name} {scheme} level {level}: Euler characteristic");
+        assert_eq!(
+            r.euler, euler,
+            "{name} {scheme} level {level}: Euler characteristic"
+        );
     }
 }
 
@@ -50,5 +53,8 @@ fn one_ulp_opens_the_weld() {
     p.x = f32::from_bits(p.x.to_bits() + 1);
     let r = weld::weld(&t);
     assert!(!r.is_closed_manifold());
-    assert_eq!(r.open_edges, 4, "the moved sample splits two edge segments on each side");
+    assert_eq!(
+        r.open_edges, 4,
+        "the moved sample splits two edge segments on each side"
+    );
 }

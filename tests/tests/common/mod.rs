@@ -5,11 +5,17 @@ use std::path::PathBuf;
 use tessgen_runtime::Mesh;
 
 /// The closed meshes of the shared test set (copied into tests/data/meshes).
-pub const CLOSED_MESHES: &[&str] =
-    &["catmark_cube", "catmark_torus", "catmark_toroidal_tet", "catmark_righthanded"];
+pub const CLOSED_MESHES: &[&str] = &[
+    "catmark_cube",
+    "catmark_torus",
+    "catmark_toroidal_tet",
+    "catmark_righthanded",
+];
 
 pub fn data(path: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data").join(path)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data")
+        .join(path)
 }
 
 pub fn mesh(name: &str) -> Mesh {
