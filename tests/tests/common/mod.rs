@@ -28,3 +28,50 @@ pub fn json(path: &str) -> serde_json::Value {
     let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
+
+/// Angle between two vectors in degrees, computed in f64 with
+/// `atan2(|a × b|, a · b)` (acos has a 0.02° noise floor on f32 data).
+pub fn angle_deg(a: glam::Vec3, b: glam::Vec3) -> f64 {
+    let a = a.as_dvec3();
+    let b = b.as_dvec3();
+    a.cross(b).length().atan2(a.dot(b)).to_degrees()
+}
+
+/// Exact Catmull-Clark limit samples (`tests/data/cc_limit/<mesh>.bin`):
+/// `(n, samples)` with `samples[face][j][i] = (position, normal)` at
+/// `u = i/(n-1)`, `v = j/(n-1)`.
+pub fn cc_limit(name: &str) -> (usize, Vec<[glam::Vec3; 2]>) {
+    let p = data(&format!("cc_limit/{name}.bin"));
+    let b = std::fs::read(&p).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
+    assert_eq!(&b[..8], b"CCLIM001");
+    let word = |k: usize| {
+        u32::from_le_bytes([b[8 + 4 * k], b[9 + 4 * k], b[10 + 4 * k], b[11 + 4 * k]]) as usize
+    };
+    let (faces, n, k) = (word(0), word(1), word(2));
+    assert_eq!(k, 6);
+    let f: Vec<f32> = b[32..]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    assert_eq!(f.len(), faces * n * n * 6);
+    let samples = f
+        .chunks_exact(6)
+        .map(|c| {
+            [
+                glam::Vec3::new(c[0], c[1], c[2]),
+                glam::Vec3::new(c[3], c[4], c[5]),
+            ]
+        })
+        .collect();
+    (n, samples)
+}
+
+/// Bounding-box diagonal of a mesh.
+pub fn bbox_diagonal(mesh: &Mesh) -> f32 {
+    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+    for p in &mesh.positions {
+        lo = lo.min(glam::Vec3::from_array(*p));
+        hi = hi.max(glam::Vec3::from_array(*p));
+    }
+    (hi - lo).length()
+}
