@@ -28,10 +28,22 @@ impl Func {
             _ => None,
         }
     }
+    /// Evaluate in f64. Sines and cosines within a few ulps of a multiple of
+    /// ½ are snapped to it, so `cos(2π/4)` is exactly 0 and `cos(2π/3)`
+    /// exactly −½ (pccm.md §2: exact values where they exist keep the
+    /// valence-4 identities bit-exact).
     pub fn apply(self, x: f64) -> f64 {
+        let snap = |y: f64| {
+            let h = (2.0 * y).round() / 2.0;
+            if (y - h).abs() < 1e-15 {
+                h
+            } else {
+                y
+            }
+        };
         match self {
-            Func::Cos => x.cos(),
-            Func::Sin => x.sin(),
+            Func::Cos => snap(x.cos()),
+            Func::Sin => snap(x.sin()),
             Func::Sqrt => x.sqrt(),
         }
     }
@@ -346,4 +358,19 @@ fn fold_index(s: Sym) -> Sym {
         }
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Func;
+
+    #[test]
+    fn trig_snaps_to_exact_values() {
+        let pi = std::f64::consts::PI;
+        assert_eq!(Func::Cos.apply(2.0 * pi / 4.0), 0.0);
+        assert_eq!(Func::Cos.apply(2.0 * pi / 3.0), -0.5);
+        assert_eq!(Func::Cos.apply(2.0 * pi / 6.0), 0.5);
+        assert_eq!(Func::Sin.apply(2.0 * pi / 4.0), 1.0);
+        assert_eq!(Func::Cos.apply(2.0 * pi / 5.0), (2.0 * pi / 5.0).cos());
+    }
 }

@@ -1,0 +1,85 @@
+//! Snapshots of everything the generator emits for the built-in schemes.
+//! Review every changed snapshot before accepting it (`cargo insta review`);
+//! CI runs with INSTA_UPDATE=no.
+
+use std::fmt::Write;
+use tessgen_codegen::{Builder, Target};
+
+fn build() -> tessgen_codegen::Output {
+    Builder::new()
+        .builtin_schemes()
+        .target(Target::Rust)
+        .command("tessgen generate --out generated")
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn text(out: &tessgen_codegen::Output, path: &str) -> String {
+    let f = out
+        .file(path)
+        .unwrap_or_else(|| panic!("{path} not emitted"));
+    String::from_utf8(f.contents.clone()).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+#[test]
+fn rust_kernels() {
+    let out = build();
+    insta::assert_snapshot!("rust_tessgen_rs", text(&out, "rust/tessgen.rs"));
+}
+
+/// The table for valences 3..=5 as readable text (the full table is
+/// thousands of rows; these valences exercise every formula branch,
+/// including the `n == 4` special case of `t`).
+#[test]
+fn stencil_table_small_valences() {
+    let out = build();
+    let t = &out.table;
+    let mut s = String::new();
+    for r in &t.rows {
+        if r.valence > 5 {
+            continue;
+        }
+        let w: Vec<String> = (0..r.length)
+            .map(|c| format!("{:?}", t.weight(r.row, c)))
+            .collect();
+        let label = match r.sector {
+            Some(j) => format!("{}[{j}]", r.output),
+            None => r.output.clone(),
+        };
+        let _ = writeln!(
+            s,
+            "{:>5} {:<8} n={} {:<12} mask={} [{}]",
+            r.row,
+            r.scheme,
+            r.valence,
+            label,
+            r.nonzero,
+            w.join(", ")
+        );
+    }
+    insta::assert_snapshot!("stencil_table_n3_to_n5", s);
+}
+
+/// The manifest's header and per-scheme layout (the per-row list is covered
+/// by the text snapshot above and by tests).
+#[test]
+fn stencil_manifest_layout() {
+    let out = build();
+    let m: serde_json::Value =
+        serde_json::from_str(&text(&out, "table/stencils.json")).unwrap_or_else(|e| panic!("{e}"));
+    let mut head = m.clone();
+    if let Some(o) = head.as_object_mut() {
+        o.remove("rows");
+    }
+    insta::assert_json_snapshot!("stencil_manifest_layout", head);
+    let rows = m["rows"].as_array().map(|r| r.len()).unwrap_or(0);
+    assert_eq!(rows as u32, m["height"].as_u64().unwrap_or(0) as u32);
+    let bytes = out
+        .file("table/stencils.f32")
+        .map(|f| f.contents.len())
+        .unwrap_or(0);
+    assert_eq!(
+        bytes as u64,
+        m["height"].as_u64().unwrap_or(0) * m["width"].as_u64().unwrap_or(0) * 4
+    );
+}
