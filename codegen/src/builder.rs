@@ -194,6 +194,9 @@ impl Builder {
                     path: "rust/tessgen.rs".into(),
                     contents: backend::rust::write(&plan, &self.command).into_bytes(),
                 }),
+                Target::Wgsl => files.extend(backend::wgsl::write(&plan, &self.command)),
+                Target::Glsl => files.extend(backend::glsl::write(&plan, &self.command)),
+                Target::Hlsl => files.extend(backend::hlsl::write(&plan, &self.command)),
             }
         }
         Ok(Output {

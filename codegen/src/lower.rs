@@ -120,29 +120,23 @@ pub fn common_module(table: &StencilTable) -> Module {
     f.ret = Some(Ty::Vec3);
     let wl = f.local("l", Ty::F32);
     let wr = f.local("r", Ty::F32);
-    let curve = f.local("curve", Ty::Struct(plan::common::CURVE));
+    // The lerps are written out here rather than calling tessgen_cubic, so
+    // that `precise` on this function covers every operation of the path.
+    let c: Vec<LocalId> = (0..3).map(|k| f.local(format!("c{k}"), Ty::Vec3)).collect();
+    let d: Vec<LocalId> = (0..2).map(|k| f.local(format!("d{k}"), Ty::Vec3)).collect();
     f.body = vec![
-        Stmt::If(
-            bin(BinOp::Eq, l(i), u(0)),
-            vec![Stmt::Return(l(b[0]))],
-            vec![],
-        ),
-        Stmt::If(
-            bin(BinOp::Eq, l(i), l(level)),
-            vec![Stmt::Return(l(b[3]))],
-            vec![],
-        ),
+        Stmt::If(bin(BinOp::Eq, l(i), u(0)), vec![Stmt::Return(l(b[0]))], vec![]),
+        Stmt::If(bin(BinOp::Eq, l(i), l(level)), vec![Stmt::Return(l(b[3]))], vec![]),
         Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
         Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
-        Stmt::Let(
-            curve,
-            call(
-                FnRef::Common(common_fn::CUBIC),
-                vec![l(b[0]), l(b[1]), l(b[2]), l(b[3]), l(wl), l(wr)],
-            ),
-        ),
-        Stmt::Return(Expr::Field(Box::new(l(curve)), 0)),
     ];
+    for k in 0..3 {
+        f.body.push(Stmt::Let(c[k], lerp(l(b[k]), l(b[k + 1]), wl, wr)));
+    }
+    for k in 0..2 {
+        f.body.push(Stmt::Let(d[k], lerp(l(c[k]), l(c[k + 1]), wl, wr)));
+    }
+    f.body.push(Stmt::Return(lerp(l(d[0]), l(d[1]), wl, wr)));
     m.functions.push(f);
     m
 }

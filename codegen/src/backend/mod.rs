@@ -1,7 +1,11 @@
 //! Printers: one writer per target, each walking the same [`Plan`](crate::plan::Plan)
 //! and only spelling it. No printer computes, reorders or simplifies.
 
+pub mod abi;
+pub mod glsl;
+pub mod hlsl;
 pub mod rust;
+pub mod wgsl;
 
 use crate::plan::{FnRef, Function, Module, Plan, Resource};
 
@@ -10,13 +14,22 @@ use crate::plan::{FnRef, Function, Module, Plan, Resource};
 pub enum Target {
     /// Rust source for the CPU path (glam `Vec3`).
     Rust,
+    /// WGSL: compute construction + instanced vertex evaluation + compute evaluation.
+    Wgsl,
+    /// GLSL 450: vert/tesc/tese and compute shaders.
+    Glsl,
+    /// HLSL SM 5.0: hull/domain and compute shaders.
+    Hlsl,
 }
 
 impl Target {
-    pub const ALL: [Target; 1] = [Target::Rust];
+    pub const ALL: [Target; 4] = [Target::Rust, Target::Wgsl, Target::Glsl, Target::Hlsl];
     pub fn name(self) -> &'static str {
         match self {
             Target::Rust => "rust",
+            Target::Wgsl => "wgsl",
+            Target::Glsl => "glsl",
+            Target::Hlsl => "hlsl",
         }
     }
     pub fn from_name(s: &str) -> Option<Target> {

@@ -1,0 +1,106 @@
+//! The GPU ABI every shader printer follows: one binding table, one uniform
+//! block, one set of entry points. Printers spell these in their language;
+//! they never invent their own layout, so `generated/README.md` can describe
+//! all three targets with one table.
+//!
+//! Buffers of `vec3` are stored as tightly packed `f32` triples (12 bytes per
+//! point): WGSL/std430 `vec3` arrays would pad to 16 bytes, and packed floats
+//! are what engines already have in their vertex buffers.
+
+use crate::plan::Resource;
+
+/// What a binding holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// Storage buffer of `u32`.
+    U32Buffer,
+    /// Storage buffer of packed `f32` triples (a `vec3` per element).
+    Vec3Buffer,
+    /// Storage buffer of `f32`.
+    F32Buffer,
+    /// The stencil table: 2-D `R32Float` texture, x = ring slot, y = row.
+    Table,
+    /// The [`PARAMS`] uniform block.
+    Uniform,
+}
+
+/// One binding: set/group 0, this binding number (HLSL: register `t`/`u`/`b`
+/// with the same number).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Binding {
+    pub binding: u32,
+    pub name: &'static str,
+    pub kind: Kind,
+    /// The Plan resource it backs, if any.
+    pub resource: Option<Resource>,
+    /// Written by some stage (needs read-write access there).
+    pub written: bool,
+    pub doc: &'static str,
+}
+
+/// The binding table (group/set 0).
+pub const BINDINGS: &[Binding] = &[
+    Binding { binding: 0, name: "positions", kind: Kind::Vec3Buffer, resource: Some(Resource::Positions), written: false, doc: "control-mesh positions, 3 f32 per vertex" },
+    Binding { binding: 1, name: "valence", kind: Kind::U32Buffer, resource: Some(Resource::Valence), written: false, doc: "valence per vertex (0 = unused vertex)" },
+    Binding { binding: 2, name: "ring_offsets", kind: Kind::U32Buffer, resource: Some(Resource::RingOffsets), written: false, doc: "start of each vertex's ring in `ring`" },
+    Binding { binding: 3, name: "ring", kind: Kind::U32Buffer, resource: Some(Resource::Ring), written: false, doc: "rings [p, p_0 .. p_{2n-1}] (vertex indices), canonical start, flat" },
+    Binding { binding: 4, name: "vertex_out_offsets", kind: Kind::U32Buffer, resource: Some(Resource::VertexOutOffsets), written: false, doc: "start of each vertex's vertex-stage outputs in `vertex_out` (ROWS_PER_N·n + ROWS_FIXED points each)" },
+    Binding { binding: 5, name: "vertex_out", kind: Kind::Vec3Buffer, resource: Some(Resource::VertexOut), written: true, doc: "vertex-stage outputs, 3 f32 per point (written by the vertex stage)" },
+    Binding { binding: 6, name: "corner_vertex", kind: Kind::U32Buffer, resource: Some(Resource::CornerVertex), written: false, doc: "vertex of corner i of face f at 4f + i" },
+    Binding { binding: 7, name: "corner_sector", kind: Kind::U32Buffer, resource: Some(Resource::CornerSector), written: false, doc: "sector index j_i of corner i of face f at 4f + i" },
+    Binding { binding: 8, name: "control_points", kind: Kind::Vec3Buffer, resource: Some(Resource::ControlPoints), written: true, doc: "patch control points, 3 f32 per point (written by the patch stage)" },
+    Binding { binding: 9, name: "stencil_table", kind: Kind::Table, resource: None, written: false, doc: "the stencil table, R32Float, width TABLE_WIDTH" },
+    Binding { binding: 10, name: "params", kind: Kind::Uniform, resource: None, written: false, doc: "the Params uniform block" },
+    Binding { binding: 11, name: "patch_faces", kind: Kind::U32Buffer, resource: None, written: false, doc: "face index of each patch, patches sorted by class" },
+    Binding { binding: 12, name: "samples", kind: Kind::F32Buffer, resource: None, written: true, doc: "evaluated samples, 6 f32 each (position xyz, normal xyz)" },
+];
+
+/// Binding of a Plan resource.
+pub fn binding_of(r: Resource) -> &'static Binding {
+    BINDINGS
+        .iter()
+        .find(|b| b.resource == Some(r))
+        .unwrap_or(&BINDINGS[0])
+}
+
+/// Fields of the `Params` uniform block, all `u32` except the matrix, in
+/// order (std140/WGSL uniform layout: the matrix first at offset 0, then
+/// scalars from byte 64).
+pub const PARAMS: &[(&str, &str)] = &[
+    ("view_proj", "mat4x4<f32> (column-major): clip = view_proj · position, used by the vertex/domain stages"),
+    ("first", "first item of this dispatch/draw (vertex for the vertex stage, patch index into patch_faces otherwise)"),
+    ("count", "number of items in this dispatch/draw"),
+    ("class", "facet class of this dispatch/draw (index into the scheme's patch classes)"),
+    ("cp_base", "first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]"),
+    ("level", "tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N"),
+    ("out_base", "first sample written by eval_main"),
+    ("pad0", "padding"),
+    ("pad1", "padding"),
+];
+
+/// Byte offset of a `Params` field.
+pub fn params_offset(field: &str) -> u32 {
+    let i = PARAMS.iter().position(|(n, _)| *n == field).unwrap_or(0) as u32;
+    if i == 0 {
+        0
+    } else {
+        64 + 4 * (i - 1)
+    }
+}
+
+/// Size of the `Params` block in bytes.
+pub const PARAMS_SIZE: u32 = 64 + 4 * 8;
+
+/// Workgroup size of every compute entry point.
+pub const WORKGROUP_SIZE: u32 = 64;
+
+/// Entry points, by name, that every shader target provides (where its
+/// pipeline model has the stage).
+pub mod entry {
+    /// Compute: vertex stage for vertices `first .. first + count`.
+    pub const VERTEX_STAGE: &str = "vertex_stage_main";
+    /// Compute: patch stage for patches `first .. first + count` of `class`.
+    pub const PATCH_STAGE: &str = "patch_main";
+    /// Compute: evaluate `(level+1)²` samples of each patch into `samples`.
+    pub const EVAL: &str = "eval_main";
+}
