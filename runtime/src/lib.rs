@@ -20,6 +20,7 @@ pub mod cpu;
 pub mod kernels;
 pub mod mesh;
 pub mod obj;
+pub mod pattern;
 pub mod topology;
 pub mod weld;
 
