@@ -81,7 +81,7 @@ impl<'a> Writer<'a> {
 
     fn doc(&mut self, doc: &str) {
         for l in doc.lines() {
-            self.line(&format!("/// {l}").trim_end().to_string());
+            self.line(format!("/// {l}").trim_end());
         }
     }
 
