@@ -1,1 +1,471 @@
-fn main() {}
+//! `tessgen`: the command line over `tessgen-codegen` (scheme compiler and
+//! code generation) and `tessgen-runtime` (OBJ meshes, topology, CPU
+//! tessellation). One function per subcommand; all real work happens in the
+//! libraries.
+
+mod mesh_stats;
+mod outdir;
+
+use clap::builder::PossibleValuesParser;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use mesh_stats::MeshStats;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
+use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
+
+/// Largest `--max-valence` accepted: the table has O(n²) rows of 2n + 1 columns.
+const MAX_MAX_VALENCE: u32 = 128;
+/// Largest `--level` accepted: a face becomes (N+1)² samples, held in memory and written as text.
+const MAX_LEVEL: u32 = 1024;
+/// The hand-written file in the generated directory that `generate --check` ignores.
+const GENERATED_README: &str = "README.md";
+
+/// Shader code generation and CPU tessellation for smooth surfaces over quad meshes.
+#[derive(Parser, Debug)]
+#[command(name = "tessgen", version, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    Generate(GenerateArgs),
+    Table(TableArgs),
+    Inspect(InspectArgs),
+    Tessellate(TessellateArgs),
+}
+
+/// Generate the kernels of every target and the stencil table into a directory, or check that it is up to date.
+///
+/// The command line recorded in each file's header is normalised to
+/// `tessgen generate --out generated` plus any non-default options, so that
+/// `--check` compares equal whatever DIR is. With `--check` nothing is
+/// written: every generated file must exist in DIR with the same bytes and
+/// DIR must hold no other file (DIR/README.md excepted); each mismatch is
+/// printed and the exit code is 1.
+#[derive(Args, Debug)]
+struct GenerateArgs {
+    /// Output directory (the repository keeps its copy in `generated`).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Compare DIR with what would be generated instead of writing; exit 1 on any difference.
+    #[arg(long)]
+    check: bool,
+    /// Largest vertex valence of the stencil table.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VALENCE,
+          value_parser = clap::value_parser!(u32).range(4..=i64::from(MAX_MAX_VALENCE)))]
+    max_valence: u32,
+    /// Extra scheme file (.tess) compiled next to the built-in schemes; repeat for several.
+    #[arg(long = "scheme-file", value_name = "PATH")]
+    scheme_files: Vec<PathBuf>,
+}
+
+/// Write only the stencil table of the built-in schemes: DIR/stencils.f32 and DIR/stencils.json.
+///
+/// stencils.f32 is `height × width` little-endian f32, row-major;
+/// stencils.json is the manifest saying what every row is.
+#[derive(Args, Debug)]
+struct TableArgs {
+    /// Output directory (created if missing).
+    #[arg(long, value_name = "DIR")]
+    out: PathBuf,
+    /// Largest vertex valence of the stencil table.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VALENCE,
+          value_parser = clap::value_parser!(u32).range(4..=i64::from(MAX_MAX_VALENCE)))]
+    max_valence: u32,
+}
+
+/// Print statistics of an OBJ mesh and whether its topology can be tessellated.
+///
+/// Reports vertices, faces, quads, edges, boundary edges, Euler
+/// characteristic, valence histogram, extraordinary-face fraction ("eqs")
+/// and tag counts. Problems of the mesh (boundaries, non-manifold edges,
+/// valences too high) are reported, not fatal: the exit code is 0 whenever
+/// the OBJ file can be read. Vertex indices are 0-based.
+#[derive(Args, Debug)]
+struct InspectArgs {
+    /// Wavefront OBJ file.
+    #[arg(value_name = "MESH")]
+    mesh: PathBuf,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Where the generated kernels run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Backend {
+    /// The Rust kernels compiled into this binary, in parallel on the CPU.
+    Cpu,
+}
+
+impl Backend {
+    fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+        }
+    }
+}
+
+/// Tessellate an OBJ mesh with a scheme's generated kernels and write the sampled patches as OBJ.
+///
+/// Every face becomes a `g patch_<face>` group of (N+1)² vertices with
+/// normals and 2N² triangles, in input face order. The mesh must be closed,
+/// manifold and all quads. A one-line summary goes to stderr.
+#[derive(Args, Debug)]
+struct TessellateArgs {
+    /// Wavefront OBJ file (closed, manifold, all quads).
+    #[arg(value_name = "MESH")]
+    mesh: PathBuf,
+    /// Patch scheme (`regular` only handles faces whose corners all have valence 4).
+    #[arg(long, value_parser = PossibleValuesParser::new(kernels::scheme_names()))]
+    scheme: String,
+    /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid.
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
+    level: u32,
+    /// Output OBJ file.
+    #[arg(long, value_name = "OUT.obj")]
+    out: PathBuf,
+    /// Where the generated kernels run.
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    backend: Backend,
+    /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
+    #[arg(long)]
+    check_watertight: bool,
+}
+
+/// A command's outcome: `Ok(code)` once it has reported (code 1 for a failed
+/// check), `Err(message)` for an error to print.
+type CmdResult = Result<ExitCode, String>;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Generate(args) => generate(args),
+        Command::Table(args) => table(args),
+        Command::Inspect(args) => inspect(args),
+        Command::Tessellate(args) => tessellate(args),
+    };
+    result.unwrap_or_else(|message| {
+        eprintln!("tessgen: error: {message}");
+        ExitCode::FAILURE
+    })
+}
+
+fn generate(args: &GenerateArgs) -> CmdResult {
+    let mut builder = Builder::new().builtin_schemes();
+    for path in &args.scheme_files {
+        builder = builder.scheme(SchemeSource::from_file(path).map_err(|e| e.to_string())?);
+    }
+    let output = builder
+        .all_targets()
+        .max_valence(args.max_valence)
+        .command(generate_command_line(args, "generated"))
+        .compile()
+        .map_err(|e| e.to_string())?;
+    let dir = &args.out;
+    let label = dir_label(dir);
+    if args.check {
+        let mismatches = outdir::check(dir, &output.files, &[GENERATED_README])?;
+        for m in &mismatches {
+            println!("{}: {}", m.kind(), dir.join(m.path()).display());
+        }
+        if mismatches.is_empty() {
+            println!("{label} is up to date ({} files)", output.files.len());
+            return Ok(ExitCode::SUCCESS);
+        }
+        let again = generate_command_line(args, &quote(&dir.display().to_string()));
+        eprintln!(
+            "tessgen: {label} is out of date ({} {}); run `{again}`",
+            mismatches.len(),
+            if mismatches.len() == 1 {
+                "mismatch"
+            } else {
+                "mismatches"
+            }
+        );
+        return Ok(ExitCode::FAILURE);
+    }
+    let written = outdir::write(dir, &output.files)?;
+    for path in &written {
+        println!("wrote {}", dir.join(path).display());
+    }
+    println!(
+        "{label}: {} files, {} changed",
+        output.files.len(),
+        written.len()
+    );
+    for path in outdir::extra_files(dir, &output.files, &[GENERATED_README])? {
+        eprintln!(
+            "tessgen: warning: {} is not generated by this command (stale?)",
+            dir.join(path).display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn table(args: &TableArgs) -> CmdResult {
+    let output = Builder::new()
+        .builtin_schemes()
+        .max_valence(args.max_valence)
+        .compile()
+        .map_err(|e| e.to_string())?;
+    let t = &output.table;
+    let files = [
+        GeneratedFile {
+            path: "stencils.f32".into(),
+            contents: t.to_le_bytes(),
+        },
+        GeneratedFile {
+            path: "stencils.json".into(),
+            contents: t.manifest_json().into_bytes(),
+        },
+    ];
+    outdir::write(&args.out, &files)?;
+    let schemes: Vec<&str> = output.schemes.iter().map(|s| s.name.as_str()).collect();
+    for f in &files {
+        println!("wrote {}", args.out.join(&f.path).display());
+    }
+    println!(
+        "stencil table: {} rows × {} f32 (valences 3..={}, schemes {})",
+        t.height(),
+        t.width,
+        t.max_valence,
+        schemes.join(", ")
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn inspect(args: &InspectArgs) -> CmdResult {
+    let mesh = load_mesh(&args.mesh)?;
+    let stats = MeshStats::of(&mesh);
+    let options = TopologyOptions {
+        require_quads: false,
+        ..cpu::topology_options()
+    };
+    let topology = Topology::build(&mesh, &options)
+        .map(|_| ())
+        .map_err(|e| e.to_string());
+    let path = args.mesh.display().to_string();
+    if args.json {
+        let report = InspectReport {
+            mesh: &path,
+            stats: &stats,
+            extraordinary_fraction: stats.extraordinary_fraction(),
+            topology_ok: topology.is_ok(),
+            topology_error: topology.as_ref().err().map(String::as_str),
+        };
+        let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+        println!("{text}");
+        return Ok(ExitCode::SUCCESS);
+    }
+    let s = &stats;
+    println!("mesh: {path}");
+    println!("vertices: {} ({} unused)", s.vertices, s.unused_vertices);
+    println!(
+        "faces: {} ({} quads, {} non-quads)",
+        s.faces, s.quads, s.non_quads
+    );
+    println!(
+        "edges: {} ({} boundary, {} non-manifold)",
+        s.edges, s.boundary_edges, s.non_manifold_edges
+    );
+    if s.boundary_edges > 0 {
+        let first: Vec<String> = s
+            .first_boundary_edges
+            .iter()
+            .map(|(a, b)| format!("{a}->{b}"))
+            .collect();
+        let more = if s.boundary_edges > first.len() {
+            " …"
+        } else {
+            ""
+        };
+        println!(
+            "boundary edges: {} ({}{more})",
+            s.boundary_edges,
+            first.join(", ")
+        );
+    }
+    println!("euler characteristic: {}", s.euler_characteristic);
+    let histogram: Vec<String> = s
+        .valence_histogram
+        .iter()
+        .map(|(n, count)| format!("{n}:{count}"))
+        .collect();
+    println!("valence: {}", histogram.join(" "));
+    println!(
+        "extraordinary faces: {} of {} (eqs {:.3})",
+        s.extraordinary_faces,
+        s.faces,
+        s.extraordinary_fraction()
+    );
+    let tags: Vec<String> = s.tags.iter().map(|(t, n)| format!("{t}:{n}")).collect();
+    println!(
+        "tags: {}",
+        if tags.is_empty() {
+            "none".to_string()
+        } else {
+            tags.join(" ")
+        }
+    );
+    match &topology {
+        Ok(()) if s.non_quads > 0 => println!(
+            "topology: ok, but {} non-quad faces (tessellate needs quads)",
+            s.non_quads
+        ),
+        Ok(()) => println!("topology: ok (closed, manifold, quads)"),
+        Err(e) => println!("topology: {e}"),
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn tessellate(args: &TessellateArgs) -> CmdResult {
+    let mesh = load_mesh(&args.mesh)?;
+    let per_face = u64::from(args.level + 1).pow(2);
+    let samples = mesh.num_faces() as u64 * per_face;
+    if samples > u64::from(u32::MAX) {
+        return Err(format!(
+            "{} faces at level {} make {samples} samples, more than 2^32 - 1",
+            mesh.num_faces(),
+            args.level
+        ));
+    }
+    let start = Instant::now();
+    let tessellation = match args.backend {
+        Backend::Cpu => cpu::tessellate_mesh(&mesh, &args.scheme, args.level),
+    }
+    .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let elapsed = start.elapsed();
+    std::fs::write(&args.out, obj::to_obj(&tessellation))
+        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    eprintln!(
+        "tessgen: {} faces × {} samples = {} samples ({} level {}, {} backend) in {:.2} ms → {}",
+        tessellation.faces,
+        tessellation.grid_len(),
+        tessellation.positions.len(),
+        args.scheme,
+        args.level,
+        args.backend.name(),
+        elapsed.as_secs_f64() * 1e3,
+        args.out.display()
+    );
+    if !args.check_watertight {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let r = weld::weld(&tessellation);
+    let input_euler = MeshStats::of(&mesh).euler_characteristic;
+    println!(
+        "weld: {} vertices, {} edges, {} triangles, euler {} (input mesh {})",
+        r.vertices, r.edges, r.triangles, r.euler, input_euler
+    );
+    if r.is_closed_manifold() {
+        println!("watertight: closed 2-manifold");
+        if r.euler != input_euler {
+            eprintln!("tessgen: warning: the welded surface's euler characteristic differs from the input's");
+        }
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!(
+            "NOT watertight: {} open edges, {} edges used by more than two triangles, {} degenerate triangles",
+            r.open_edges, r.overused_edges, r.degenerate_triangles
+        );
+        Ok(ExitCode::FAILURE)
+    }
+}
+
+/// The `generate` command line for `out`, without `--check`: recorded in
+/// file headers (with `out = "generated"`) and suggested after a failed check.
+fn generate_command_line(args: &GenerateArgs, out: &str) -> String {
+    let mut line = format!("tessgen generate --out {out}");
+    if args.max_valence != DEFAULT_MAX_VALENCE {
+        line.push_str(&format!(" --max-valence {}", args.max_valence));
+    }
+    for path in &args.scheme_files {
+        line.push_str(" --scheme-file ");
+        line.push_str(&quote(&path.display().to_string()));
+    }
+    line
+}
+
+/// `s` as one shell word when it needs quoting; always a single line, so it is
+/// safe inside a generated file's `//` header comment.
+fn quote(s: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "-_./+:=@%,".contains(c);
+    if !s.is_empty() && s.chars().all(plain) {
+        s.to_string()
+    } else {
+        format!("{s:?}")
+    }
+}
+
+/// `dir` as `name/` for messages.
+fn dir_label(dir: &Path) -> String {
+    let s = dir.display().to_string();
+    format!("{}/", s.trim_end_matches('/'))
+}
+
+fn load_mesh(path: &Path) -> Result<Mesh, String> {
+    Mesh::from_obj_path(path).map_err(|e| match e {
+        // Already names the path.
+        MeshError::Io { .. } => e.to_string(),
+        _ => format!("{}: {e}", path.display()),
+    })
+}
+
+/// What `inspect --json` prints.
+#[derive(Serialize)]
+struct InspectReport<'a> {
+    mesh: &'a str,
+    #[serde(flatten)]
+    stats: &'a MeshStats,
+    extraordinary_fraction: f64,
+    topology_ok: bool,
+    topology_error: Option<&'a str>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn cli_is_well_formed() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn command_line_is_normalised() {
+        let parse = |argv: &[&str]| match Cli::parse_from(argv).command {
+            Command::Generate(a) => a,
+            other => panic!("{other:?}"),
+        };
+        let a = parse(&["tessgen", "generate", "--out", "/tmp/x", "--check"]);
+        assert_eq!(
+            generate_command_line(&a, "generated"),
+            "tessgen generate --out generated"
+        );
+        let a = parse(&[
+            "tessgen",
+            "generate",
+            "--out",
+            "x",
+            "--max-valence",
+            "8",
+            "--scheme-file",
+            "a b.tess",
+            "--scheme-file",
+            "c.tess",
+        ]);
+        assert_eq!(
+            generate_command_line(&a, "generated"),
+            "tessgen generate --out generated --max-valence 8 --scheme-file \"a b.tess\" --scheme-file c.tess"
+        );
+        assert_eq!(quote("a\nb"), "\"a\\nb\"");
+    }
+}

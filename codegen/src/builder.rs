@@ -67,8 +67,12 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
 pub enum BuildError {
     #[error("{origin}: {error}")]
     Scheme { origin: String, error: SchemeError },
-    #[error("scheme `{0}` is declared twice")]
-    DuplicateScheme(String),
+    #[error("{origin}: scheme `{name}` is already declared by {first}")]
+    DuplicateScheme {
+        name: String,
+        origin: String,
+        first: String,
+    },
     #[error("no scheme given")]
     NoScheme,
     #[error("no output directory given")]
@@ -171,8 +175,12 @@ impl Builder {
         let mut schemes: Vec<Scheme> = Vec::new();
         for src in &self.schemes {
             let s = src.compile(self.max_valence)?;
-            if schemes.iter().any(|t| t.name == s.name) {
-                return Err(BuildError::DuplicateScheme(s.name));
+            if let Some(j) = schemes.iter().position(|t| t.name == s.name) {
+                return Err(BuildError::DuplicateScheme {
+                    name: s.name,
+                    origin: src.origin.clone(),
+                    first: self.schemes[j].origin.clone(),
+                });
             }
             schemes.push(s);
         }

@@ -967,7 +967,26 @@ impl Resolver {
             }
             Stage::Const => {}
         }
-        err(id.span(), format!("undefined name `{s}`"))
+        if stage == Stage::Patch {
+            if s == "p" {
+                return err(id.span(), "`p` is the ring centre of the vertex stage; the patch stage reads vertex outputs at corners, e.g. `v(i)`");
+            }
+            if self.patch.iter().any(|d| d.name == s && d.out) {
+                return err(id.span(), format!("`{s}` is an `out` control point and cannot be read; define a local and output it"));
+            }
+            if self.vertex.iter().any(|d| d.name == s) {
+                return err(
+                    id.span(),
+                    format!("`{s}` is a vertex-stage `let` and is not exported to the patch stage"),
+                );
+            }
+        }
+        err(
+            id.span(),
+            format!(
+                "undefined name `{s}` (definitions are visible after the line that defines them)"
+            ),
+        )
     }
 
     fn indexed(&mut self, ix: &syn::ExprIndex, stage: Stage) -> Result<(Sym, Ty), SchemeError> {
@@ -1129,6 +1148,17 @@ impl Resolver {
                     },
                     Ty::Point,
                 ));
+            }
+        }
+        if stage == Stage::Vertex {
+            if self.vertex.iter().any(|d| d.name == s && d.indexed) {
+                return err(id.span(), format!("`{s}` is a family over sectors: write `{s}[j]`, not `{s}(…)` (index misuse)"));
+            }
+            if s == "n" || self.consts.contains(&s) || self.vertex.iter().any(|d| d.name == s) {
+                return err(
+                    id.span(),
+                    format!("in the vertex stage `{s}` is read as plain `{s}`, not called"),
+                );
             }
         }
         err(id.span(), format!("undefined function `{s}`"))

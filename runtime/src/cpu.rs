@@ -21,9 +21,13 @@ pub enum TessError {
         "scheme `{scheme}` has no patch for extraordinary faces; face {face} has a corner of valence ≠ 4 (use `pccm`)"
     )]
     ExtraordinaryFace { scheme: String, face: usize },
-    #[error("tessellation level must be at least 1, got {0}")]
+    #[error("tessellation level must be in 1..={max}, got {0}", max = MAX_LEVEL)]
     Level(u32),
 }
+
+/// Largest tessellation level accepted (a `(N+1)²` grid per face must stay
+/// addressable with u32 indices on every backend).
+pub const MAX_LEVEL: u32 = 4096;
 
 /// Look up a scheme's kernels by name.
 pub fn scheme(name: &str) -> Result<&'static SchemeKernels, TessError> {
@@ -203,7 +207,7 @@ impl Tessellation {
 
 /// Evaluate every patch on a `level × level` grid.
 pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
-    if level == 0 {
+    if level == 0 || level > MAX_LEVEL {
         return Err(TessError::Level(level));
     }
     let per = ((level + 1) * (level + 1)) as usize;
@@ -244,7 +248,7 @@ pub fn tessellate_mesh(
     level: u32,
 ) -> Result<Tessellation, TessError> {
     let kernels = scheme(scheme_name)?;
-    if level == 0 {
+    if level == 0 || level > MAX_LEVEL {
         return Err(TessError::Level(level));
     }
     let topo = Topology::build(mesh, &topology_options())?;

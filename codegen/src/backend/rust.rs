@@ -106,7 +106,7 @@ impl<'a> Writer<'a> {
         }
         self.line("//");
         self.line("// CPU kernels for every scheme, printed from the same Plan as the shaders.");
-        self.line("// Include with `include!(concat!(env!(\"OUT_DIR\"), \"/tessgen.rs\"));`.");
+        self.line("// Include with `include!(concat!(env!(\"OUT_DIR\"), \"/rust/tessgen.rs\"));`.");
         self.line("");
         let plan = self.plan;
         self.module(&plan.common, None);

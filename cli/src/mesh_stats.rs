@@ -1,0 +1,216 @@
+//! Mesh-level statistics computed from a [`Mesh`] alone, without building the
+//! half-edge [`Topology`](tessgen_runtime::Topology).
+//!
+//! `tessgen inspect` must report on meshes that topology rejects (open
+//! meshes, non-manifold edges, too-high valences), so everything here works on
+//! any valid polygon mesh. For closed manifold meshes the numbers agree with
+//! the `Topology` ones (checked by the tests below).
+//!
+//! Candidate for `tessgen_runtime::mesh` (e.g. `Mesh::stats()`).
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use tessgen_runtime::Mesh;
+
+/// How many boundary edges are listed by name.
+pub const FIRST_BOUNDARY_EDGES: usize = 8;
+
+/// What `tessgen inspect` reports about a mesh.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MeshStats {
+    /// All vertices, unused ones included.
+    pub vertices: usize,
+    /// Vertices no face uses.
+    pub unused_vertices: usize,
+    pub faces: usize,
+    /// Faces with exactly 4 vertices.
+    pub quads: usize,
+    pub non_quads: usize,
+    /// Undirected edges (distinct unordered vertex pairs of consecutive face vertices).
+    pub edges: usize,
+    /// Edges used by exactly one face.
+    pub boundary_edges: usize,
+    /// Up to [`FIRST_BOUNDARY_EDGES`] boundary edges as `(origin, destination)` in
+    /// half-edge order (0-based vertex indices), as `TopologyError::BoundaryEdges` lists them.
+    pub first_boundary_edges: Vec<(u32, u32)>,
+    /// Edges used by more than two faces.
+    pub non_manifold_edges: usize,
+    /// `V - E + F` over used vertices.
+    pub euler_characteristic: i64,
+    /// Valence (number of incident edges) → number of vertices, used vertices only.
+    pub valence_histogram: BTreeMap<u32, usize>,
+    /// Faces that are not quads or have a corner of valence ≠ 4.
+    pub extraordinary_faces: usize,
+    /// Tag name → number of `t` lines with it.
+    pub tags: BTreeMap<String, usize>,
+}
+
+impl MeshStats {
+    /// Compute the statistics of a (valid) mesh.
+    pub fn of(mesh: &Mesh) -> MeshStats {
+        let nv = mesh.num_vertices();
+        let nf = mesh.num_faces();
+        // Half-edge h of face f runs face_vertices[h] -> next vertex of the same face.
+        let mut keys: Vec<(u32, u32, usize)> = Vec::with_capacity(mesh.face_vertices.len());
+        let mut halfedges: Vec<(u32, u32)> = Vec::with_capacity(mesh.face_vertices.len());
+        for f in 0..nf {
+            let face = mesh.face(f);
+            for (i, &a) in face.iter().enumerate() {
+                let b = face[(i + 1) % face.len()];
+                keys.push((a.min(b), a.max(b), halfedges.len()));
+                halfedges.push((a, b));
+            }
+        }
+        keys.sort_unstable();
+        let mut degree = vec![0u32; nv];
+        let mut edges = 0;
+        let mut boundary = Vec::new();
+        let mut non_manifold_edges = 0;
+        for group in keys.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+            let (a, b, first) = group[0];
+            edges += 1;
+            degree[a as usize] += 1;
+            degree[b as usize] += 1;
+            match group.len() {
+                1 => boundary.push(first),
+                2 => {}
+                _ => non_manifold_edges += 1,
+            }
+        }
+        boundary.sort_unstable();
+        let used = degree.iter().filter(|&&d| d > 0).count();
+        let mut valence_histogram = BTreeMap::new();
+        for &d in degree.iter().filter(|&&d| d > 0) {
+            *valence_histogram.entry(d).or_insert(0) += 1;
+        }
+        let quads = (0..nf).filter(|&f| mesh.face(f).len() == 4).count();
+        let extraordinary_faces = (0..nf)
+            .filter(|&f| {
+                let face = mesh.face(f);
+                face.len() != 4 || face.iter().any(|&v| degree[v as usize] != 4)
+            })
+            .count();
+        let mut tags = BTreeMap::new();
+        for t in &mesh.tags {
+            *tags.entry(t.name.clone()).or_insert(0) += 1;
+        }
+        MeshStats {
+            vertices: nv,
+            unused_vertices: nv - used,
+            faces: nf,
+            quads,
+            non_quads: nf - quads,
+            edges,
+            boundary_edges: boundary.len(),
+            first_boundary_edges: boundary
+                .iter()
+                .take(FIRST_BOUNDARY_EDGES)
+                .map(|&h| halfedges[h])
+                .collect(),
+            non_manifold_edges,
+            euler_characteristic: used as i64 - edges as i64 + nf as i64,
+            valence_histogram,
+            extraordinary_faces,
+            tags,
+        }
+    }
+
+    /// Extraordinary faces / faces (the PCCM paper's "eqs" column); 0 without faces.
+    pub fn extraordinary_fraction(&self) -> f64 {
+        if self.faces == 0 {
+            0.0
+        } else {
+            self.extraordinary_faces as f64 / self.faces as f64
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+    use tessgen_runtime::{Topology, TopologyError, TopologyOptions};
+
+    fn meshes() -> Vec<(String, Mesh)> {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/meshes");
+        let mut out = Vec::new();
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "obj") {
+                let name = path.display().to_string();
+                out.push((name, Mesh::from_obj_path(&path).unwrap()));
+            }
+        }
+        assert!(out.len() >= 5, "test meshes not found in {}", dir.display());
+        out.sort_by(|a, b| a.0.cmp(&b.0));
+        out
+    }
+
+    /// Wherever topology accepts a mesh, the mesh-level numbers are its numbers; where it
+    /// rejects an open mesh, the boundary edges are the ones it names.
+    #[test]
+    fn agrees_with_topology() {
+        let opts = TopologyOptions {
+            max_valence: 64,
+            require_quads: false,
+        };
+        let (mut closed, mut open) = (0, 0);
+        for (name, mesh) in meshes() {
+            let s = MeshStats::of(&mesh);
+            match Topology::build(&mesh, &opts) {
+                Ok(t) => {
+                    closed += 1;
+                    assert_eq!(s.boundary_edges, 0, "{name}");
+                    assert_eq!(s.non_manifold_edges, 0, "{name}");
+                    assert_eq!(s.edges, t.num_edges(), "{name}");
+                    assert_eq!(s.euler_characteristic, t.euler_characteristic(), "{name}");
+                    assert_eq!(s.valence_histogram, t.valence_histogram(), "{name}");
+                    assert_eq!(
+                        s.extraordinary_fraction(),
+                        t.extraordinary_fraction(),
+                        "{name}"
+                    );
+                }
+                Err(TopologyError::BoundaryEdges { count, first }) => {
+                    open += 1;
+                    assert_eq!(s.boundary_edges, count, "{name}");
+                    assert_eq!(s.first_boundary_edges, first, "{name}");
+                }
+                Err(e) => panic!("{name}: unexpected topology error {e}"),
+            }
+        }
+        assert!(closed > 0 && open > 0, "closed {closed}, open {open}");
+    }
+
+    #[test]
+    fn cube_and_tent() {
+        let all = meshes();
+        let get = |n: &str| {
+            let (_, m) = all.iter().find(|(p, _)| p.ends_with(n)).unwrap();
+            MeshStats::of(m)
+        };
+        let cube = get("catmark_cube.obj");
+        assert_eq!(
+            (cube.vertices, cube.faces, cube.quads, cube.edges),
+            (8, 6, 6, 12)
+        );
+        assert_eq!(cube.euler_characteristic, 2);
+        assert_eq!(cube.valence_histogram, BTreeMap::from([(3, 8)]));
+        assert_eq!(cube.extraordinary_fraction(), 1.0);
+        let tent = get("catmark_tent.obj");
+        assert_eq!(tent.boundary_edges, 12);
+        assert_eq!(tent.euler_characteristic, 1);
+        assert_eq!(tent.tags.get("interpolateboundary"), Some(&1));
+    }
+
+    #[test]
+    fn non_quads_and_non_manifold_edges() {
+        // Three triangles sharing edge 0-1, one unused vertex.
+        let p = vec![[0.0, 0.0, 0.0]; 6];
+        let m = Mesh::from_raw(p, &[vec![0, 1, 2], vec![1, 0, 3], vec![0, 1, 4]]).unwrap();
+        let s = MeshStats::of(&m);
+        assert_eq!((s.quads, s.non_quads, s.unused_vertices), (0, 3, 1));
+        assert_eq!((s.edges, s.non_manifold_edges, s.boundary_edges), (7, 1, 6));
+        assert_eq!(s.extraordinary_faces, 3);
+    }
+}

@@ -1,0 +1,406 @@
+//! End-to-end tests of the `tessgen` binary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> TempDir {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("tessgen-cli-test-{}-{tag}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+    fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn mesh(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data/meshes")
+        .join(name)
+}
+
+fn tessgen<I, S>(args: I) -> Output
+where
+    I: IntoIterator<Item = S>,
+    S: AsRef<std::ffi::OsStr>,
+{
+    Command::new(env!("CARGO_BIN_EXE_tessgen"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// stdout and stderr together, for messages that may go to either.
+fn all(o: &Output) -> String {
+    stdout(o) + &stderr(o)
+}
+
+#[track_caller]
+fn assert_ok(o: &Output) {
+    assert!(o.status.success(), "exit {:?}\n{}", o.status, all(o));
+}
+
+#[track_caller]
+fn assert_exit(o: &Output, code: i32) {
+    assert_eq!(o.status.code(), Some(code), "{}", all(o));
+}
+
+#[test]
+fn version_and_help() {
+    let o = tessgen(["--version"]);
+    assert_ok(&o);
+    assert!(stdout(&o).starts_with("tessgen "), "{}", stdout(&o));
+    let o = tessgen(["--help"]);
+    assert_ok(&o);
+    for cmd in ["generate", "table", "inspect", "tessellate"] {
+        assert!(stdout(&o).contains(cmd), "{}", stdout(&o));
+        let o = tessgen([cmd, "--help"]);
+        assert_ok(&o);
+        assert!(stdout(&o).contains("Usage: tessgen"), "{}", stdout(&o));
+    }
+    assert_exit(&tessgen(["no-such-command"]), 2);
+}
+
+#[test]
+fn generate_then_check() {
+    let tmp = TempDir::new("generate");
+    let dir = tmp.path().join("out");
+    let d = dir.to_str().unwrap();
+    let o = tessgen(["generate", "--out", d]);
+    assert_ok(&o);
+    let header = std::fs::read_to_string(dir.join("rust/tessgen.rs")).unwrap();
+    assert!(
+        header.contains("Command: tessgen generate --out generated\n"),
+        "{}",
+        &header[..header.len().min(300)]
+    );
+    assert!(dir.join("table/stencils.f32").is_file());
+    assert!(dir.join("table/stencils.json").is_file());
+
+    let o = tessgen(["generate", "--check", "--out", d]);
+    assert_ok(&o);
+    assert!(
+        stdout(&o).contains("is up to date ("),
+        "{}",
+        all(&o)
+    );
+
+    // A hand-written README is allowed.
+    std::fs::write(dir.join("README.md"), "hand-written\n").unwrap();
+    assert_ok(&tessgen(["generate", "--check", "--out", d]));
+
+    // One byte changed.
+    let table = dir.join("table/stencils.f32");
+    let good = std::fs::read(&table).unwrap();
+    let mut bad = good.clone();
+    bad[100] ^= 1;
+    std::fs::write(&table, &bad).unwrap();
+    let o = tessgen(["generate", "--check", "--out", d]);
+    assert_exit(&o, 1);
+    assert!(all(&o).contains("differs"), "{}", all(&o));
+    assert!(all(&o).contains("stencils.f32"), "{}", all(&o));
+    assert!(!all(&o).contains("tessgen.rs"), "{}", all(&o));
+
+    // Regenerating repairs it; then a removed file fails.
+    assert_ok(&tessgen(["generate", "--out", d]));
+    assert_eq!(std::fs::read(&table).unwrap(), good);
+    std::fs::remove_file(dir.join("rust/tessgen.rs")).unwrap();
+    let o = tessgen(["generate", "--check", "--out", d]);
+    assert_exit(&o, 1);
+    assert!(all(&o).contains("missing"), "{}", all(&o));
+    assert!(all(&o).contains("tessgen.rs"), "{}", all(&o));
+
+    // A file that is not generated fails too.
+    assert_ok(&tessgen(["generate", "--out", d]));
+    std::fs::write(dir.join("rust/old.rs"), "stale").unwrap();
+    let o = tessgen(["generate", "--check", "--out", d]);
+    assert_exit(&o, 1);
+    assert!(all(&o).contains("old.rs"), "{}", all(&o));
+}
+
+#[test]
+fn generate_records_non_default_options() {
+    let tmp = TempDir::new("generate-options");
+    let d = tmp.path().to_str().unwrap();
+    let o = tessgen(["generate", "--out", d, "--max-valence", "8"]);
+    assert_ok(&o);
+    let rust = std::fs::read_to_string(tmp.path().join("rust/tessgen.rs")).unwrap();
+    assert!(rust.contains("Command: tessgen generate --out generated --max-valence 8\n"));
+    // The check must use the same options to pass.
+    assert_ok(&tessgen([
+        "generate",
+        "--check",
+        "--out",
+        d,
+        "--max-valence",
+        "8",
+    ]));
+    assert_exit(&tessgen(["generate", "--check", "--out", d]), 1);
+}
+
+#[test]
+fn generate_reports_bad_scheme_files() {
+    let tmp = TempDir::new("scheme-file");
+    let d = tmp.path().join("out");
+    let missing = tmp.path().join("missing.tess");
+    let o = tessgen([
+        "generate".as_ref(),
+        "--out".as_ref(),
+        d.as_os_str(),
+        "--scheme-file".as_ref(),
+        missing.as_os_str(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("missing.tess"), "{}", all(&o));
+
+    let broken = tmp.path().join("broken.tess");
+    std::fs::write(&broken, "scheme broken {\n  facet quad;\n  oops\n}\n").unwrap();
+    let o = tessgen([
+        "generate".as_ref(),
+        "--out".as_ref(),
+        d.as_os_str(),
+        "--scheme-file".as_ref(),
+        broken.as_os_str(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("broken.tess"), "{}", all(&o));
+    assert!(!d.exists(), "nothing is written when compilation fails");
+}
+
+#[test]
+fn table_writes_both_files() {
+    let tmp = TempDir::new("table");
+    let dir = tmp.path().join("t");
+    let o = tessgen(["table", "--out", dir.to_str().unwrap()]);
+    assert_ok(&o);
+    let bytes = std::fs::metadata(dir.join("stencils.f32")).unwrap().len();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("stencils.json")).unwrap()).unwrap();
+    let height = json["height"].as_u64().unwrap();
+    let width = json["width"].as_u64().unwrap();
+    assert_eq!(height * width * 4, bytes);
+    assert_eq!(json["max_valence"], 32);
+    assert_eq!(width, 65);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
+
+    let o = tessgen([
+        "table",
+        "--out",
+        dir.to_str().unwrap(),
+        "--max-valence",
+        "5",
+    ]);
+    assert_ok(&o);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("stencils.json")).unwrap()).unwrap();
+    assert_eq!(json["width"], 11);
+    assert_exit(
+        &tessgen([
+            "table",
+            "--out",
+            dir.to_str().unwrap(),
+            "--max-valence",
+            "3",
+        ]),
+        2,
+    );
+}
+
+#[test]
+fn inspect_cube() {
+    let o = tessgen(["inspect".as_ref(), mesh("catmark_cube.obj").as_os_str()]);
+    assert_ok(&o);
+    let out = stdout(&o);
+    assert!(out.contains("valence: 3:8\n"), "{out}");
+    assert!(out.contains("eqs 1.000"), "{out}");
+    assert!(out.contains("vertices: 8"), "{out}");
+    assert!(out.contains("faces: 6 (6 quads, 0 non-quads)"), "{out}");
+    assert!(out.contains("euler characteristic: 2"), "{out}");
+    assert!(out.contains("topology: ok"), "{out}");
+
+    let o = tessgen([
+        "inspect".as_ref(),
+        "--json".as_ref(),
+        mesh("catmark_cube.obj").as_os_str(),
+    ]);
+    assert_ok(&o);
+    let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(j["vertices"], 8);
+    assert_eq!(j["faces"], 6);
+    assert_eq!(j["quads"], 6);
+    assert_eq!(j["edges"], 12);
+    assert_eq!(j["boundary_edges"], 0);
+    assert_eq!(j["euler_characteristic"], 2);
+    assert_eq!(j["valence_histogram"], serde_json::json!({"3": 8}));
+    assert_eq!(j["extraordinary_fraction"], 1.0);
+    assert_eq!(j["topology_ok"], true);
+    assert!(j["topology_error"].is_null());
+}
+
+#[test]
+fn inspect_open_mesh_reports_instead_of_failing() {
+    let tent = mesh("catmark_tent.obj");
+    let o = tessgen(["inspect".as_ref(), tent.as_os_str()]);
+    assert_ok(&o);
+    let out = stdout(&o);
+    assert!(out.contains("12 boundary"), "{out}");
+    assert!(out.contains("topology: mesh is not closed"), "{out}");
+    assert!(out.contains("interpolateboundary:1"), "{out}");
+
+    let o = tessgen(["inspect".as_ref(), "--json".as_ref(), tent.as_os_str()]);
+    assert_ok(&o);
+    let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(j["boundary_edges"], 12);
+    assert_eq!(j["first_boundary_edges"][0], serde_json::json!([0, 1]));
+    assert_eq!(j["euler_characteristic"], 1);
+    assert_eq!(j["tags"]["interpolateboundary"], 1);
+    assert_eq!(j["topology_ok"], false);
+    assert!(j["topology_error"]
+        .as_str()
+        .unwrap()
+        .contains("12 boundary edges"));
+}
+
+#[test]
+fn inspect_unreadable_file_fails() {
+    let tmp = TempDir::new("inspect-bad");
+    let bad = tmp.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 1 2 x\nf 1 2 3\n").unwrap();
+    let o = tessgen(["inspect".as_ref(), bad.as_os_str()]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("line 3"), "{}", all(&o));
+    let o = tessgen(["inspect".as_ref(), tmp.path().join("none.obj").as_os_str()]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("none.obj"), "{}", all(&o));
+}
+
+fn count_lines(text: &str, prefix: &str) -> usize {
+    text.lines().filter(|l| l.starts_with(prefix)).count()
+}
+
+#[test]
+fn tessellate_cube_pccm() {
+    let tmp = TempDir::new("tess");
+    let out = tmp.path().join("cube.obj");
+    let cube = mesh("catmark_cube.obj");
+    let o = tessgen([
+        "tessellate".as_ref(),
+        cube.as_os_str(),
+        "--scheme".as_ref(),
+        "pccm".as_ref(),
+        "--level".as_ref(),
+        "3".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--check-watertight".as_ref(),
+    ]);
+    assert_ok(&o);
+    assert!(stderr(&o).contains("6 faces"), "{}", all(&o));
+    assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(count_lines(&text, "g patch_"), 6);
+    assert_eq!(count_lines(&text, "v "), 6 * 16);
+    assert_eq!(count_lines(&text, "vn "), 6 * 16);
+    assert_eq!(count_lines(&text, "f "), 6 * 18);
+
+    // The output is itself a readable mesh (3·6·18 corners, 96 unwelded vertices).
+    let o = tessgen(["inspect".as_ref(), "--json".as_ref(), out.as_os_str()]);
+    assert_ok(&o);
+    let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(j["vertices"], 96);
+    assert_eq!(j["faces"], 108);
+}
+
+#[test]
+fn tessellate_errors() {
+    let tmp = TempDir::new("tess-errors");
+    let out = tmp.path().join("out.obj");
+    let cube = mesh("catmark_cube.obj");
+    let run = |input: &Path, scheme: &str, level: &str| {
+        tessgen([
+            "tessellate".as_ref(),
+            input.as_os_str(),
+            "--scheme".as_ref(),
+            scheme.as_ref(),
+            "--level".as_ref(),
+            level.as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ])
+    };
+
+    // `regular` has no patch for the cube's valence-3 corners.
+    let o = run(&cube, "regular", "3");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("face 0"), "{}", all(&o));
+    assert!(!out.exists());
+
+    // Malformed OBJ: the message names the line.
+    let bad = tmp.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 2 x\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let o = run(&bad, "pccm", "3");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("line 2"), "{}", all(&o));
+
+    // Level 0, unknown scheme, unknown backend.
+    let o = run(&cube, "pccm", "0");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("--level"), "{}", all(&o));
+    assert_ne!(run(&cube, "loop", "3").status.code(), Some(0));
+    let o = tessgen([
+        "tessellate".as_ref(),
+        cube.as_os_str(),
+        "--scheme".as_ref(),
+        "pccm".as_ref(),
+        "--level".as_ref(),
+        "2".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--backend".as_ref(),
+        "wgpu".as_ref(),
+    ]);
+    assert_ne!(o.status.code(), Some(0));
+
+    // Open mesh: topology error, exit 1.
+    let o = run(&mesh("catmark_tent.obj"), "pccm", "2");
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("not closed"), "{}", all(&o));
+    assert!(!out.exists());
+
+    // Unwritable output.
+    let o = tessgen([
+        "tessellate".as_ref(),
+        cube.as_os_str(),
+        "--scheme".as_ref(),
+        "pccm".as_ref(),
+        "--level".as_ref(),
+        "2".as_ref(),
+        "--out".as_ref(),
+        tmp.path().join("no/such/dir/x.obj").as_os_str(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("x.obj"), "{}", all(&o));
+}
