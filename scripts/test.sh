@@ -5,15 +5,28 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# System tools the suite runs, installed only when missing:
+#   glslangValidator (glslang-tools)  compiles the emitted GLSL and HLSL to SPIR-V
+#   spirv-val (spirv-tools)           validates that SPIR-V
+#   Mesa's lavapipe + Vulkan loader   the software GPU the wgpu tests run on
 need_apt=()
-# Tools later stages of the suite use; installed only when missing.
-for tool in rustfmt cargo-clippy; do
-  command -v "$tool" >/dev/null 2>&1 || rustup component add "${tool#cargo-}" >/dev/null 2>&1 || true
-done
+command -v glslangValidator >/dev/null 2>&1 || need_apt+=(glslang-tools)
+command -v spirv-val >/dev/null 2>&1 || need_apt+=(spirv-tools)
+ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1 || need_apt+=(mesa-vulkan-drivers)
+ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1' || need_apt+=(libvulkan1)
 if [ "${#need_apt[@]}" -gt 0 ]; then
+  echo "== installing ${need_apt[*]}"
   export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq && apt-get install -y -qq "${need_apt[@]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${need_apt[@]}"
 fi
+for component in rustfmt clippy; do
+  rustup component list --installed 2>/dev/null | grep -q "^$component" || rustup component add "$component" || true
+done
+# wgpu looks for a runtime dir; lavapipe does not need one, silence the warning.
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 
 export INSTA_UPDATE=no
 export CARGO_TERM_COLOR=never

@@ -207,6 +207,12 @@ impl Builder {
                 Target::Hlsl => files.extend(backend::hlsl::write(&plan, &self.command)),
             }
         }
+        if self.targets.iter().any(|t| *t != Target::Rust) {
+            files.push(GeneratedFile {
+                path: "README.md".into(),
+                contents: backend::docs::readme(&plan, &table, &self.command).into_bytes(),
+            });
+        }
         Ok(Output {
             schemes,
             table,

@@ -125,16 +125,26 @@ pub fn common_module(table: &StencilTable) -> Module {
     let c: Vec<LocalId> = (0..3).map(|k| f.local(format!("c{k}"), Ty::Vec3)).collect();
     let d: Vec<LocalId> = (0..2).map(|k| f.local(format!("d{k}"), Ty::Vec3)).collect();
     f.body = vec![
-        Stmt::If(bin(BinOp::Eq, l(i), u(0)), vec![Stmt::Return(l(b[0]))], vec![]),
-        Stmt::If(bin(BinOp::Eq, l(i), l(level)), vec![Stmt::Return(l(b[3]))], vec![]),
+        Stmt::If(
+            bin(BinOp::Eq, l(i), u(0)),
+            vec![Stmt::Return(l(b[0]))],
+            vec![],
+        ),
+        Stmt::If(
+            bin(BinOp::Eq, l(i), l(level)),
+            vec![Stmt::Return(l(b[3]))],
+            vec![],
+        ),
         Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
         Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
     ];
     for k in 0..3 {
-        f.body.push(Stmt::Let(c[k], lerp(l(b[k]), l(b[k + 1]), wl, wr)));
+        f.body
+            .push(Stmt::Let(c[k], lerp(l(b[k]), l(b[k + 1]), wl, wr)));
     }
     for k in 0..2 {
-        f.body.push(Stmt::Let(d[k], lerp(l(c[k]), l(c[k + 1]), wl, wr)));
+        f.body
+            .push(Stmt::Let(d[k], lerp(l(c[k]), l(c[k + 1]), wl, wr)));
     }
     f.body.push(Stmt::Return(lerp(l(d[0]), l(d[1]), wl, wr)));
     m.functions.push(f);

@@ -351,6 +351,31 @@ pub struct Plan {
     pub schemes: Vec<(Module, Entries)>,
 }
 
+impl Plan {
+    /// The function `r` refers to, from within module `m`.
+    pub fn callee<'a>(&'a self, m: &'a Module, r: FnRef) -> &'a Function {
+        match r {
+            FnRef::Common(i) => &self.common.functions[i],
+            FnRef::Local(i) => &m.functions[i],
+        }
+    }
+
+    /// Type of `e` inside function `f` of module `m`, where a printer needs
+    /// it (struct field names): locals, struct constructors, calls, fields.
+    pub fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
+        match e {
+            Expr::Local(id) => Some(f.locals[id.0].ty.clone()),
+            Expr::Make(s, _) => Some(Ty::Struct(*s)),
+            Expr::CallFn(r, _) => self.callee(m, *r).ret.clone(),
+            Expr::Field(a, k) => match self.expr_ty(m, f, a)? {
+                Ty::Struct(s) => Some(self.common.structs[s].fields[*k].1.clone()),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+}
+
 /// Fixed indices into the common module, used by scheme modules.
 pub mod common {
     /// `Sample { position, normal }`.

@@ -145,7 +145,11 @@ fn undefined_function() {
 fn vertex_output_read_as_function_in_vertex_stage() {
     // `f(j)` is the patch-stage spelling; in the vertex stage it is `f[j]`.
     let text = scheme("        g[j] = (f(j) + p) / 2;", BICUBIC_OK);
-    expect_err(&text, "f(j)", &["`f` is a family over sectors: write `f[j]`"]);
+    expect_err(
+        &text,
+        "f(j)",
+        &["`f` is a family over sectors: write `f[j]`"],
+    );
 }
 
 // ---------------------------------------------------------------------------

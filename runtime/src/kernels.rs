@@ -24,3 +24,15 @@ pub fn scheme(name: &str) -> Option<&'static common::SchemeKernels> {
 pub fn scheme_names() -> Vec<&'static str> {
     SCHEMES.iter().map(|s| s.name).collect()
 }
+
+mod wgsl_index {
+    include!(concat!(env!("OUT_DIR"), "/wgsl_index.rs"));
+}
+
+/// The generated WGSL module of a scheme.
+pub fn wgsl(name: &str) -> Option<&'static str> {
+    wgsl_index::WGSL
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| *s)
+}

@@ -17,10 +17,14 @@
 //! ```
 
 pub mod cpu;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod kernels;
 pub mod mesh;
 pub mod obj;
 pub mod pattern;
+#[cfg(feature = "gpu")]
+pub mod render;
 pub mod topology;
 pub mod weld;
 

@@ -1,9 +1,993 @@
-//! GLSL printer (work in progress: emits nothing yet).
+//! GLSL 450 printer (Vulkan flavour: `glslangValidator -V`).
+//!
+//! Every scheme becomes six files, each with one `main`:
+//!
+//! | file | stage | work |
+//! |---|---|---|
+//! | `glsl/<scheme>.vert` | vertex | pass-through for the tessellation pipeline (one patch vertex per patch, no inputs) |
+//! | `glsl/<scheme>.tesc` | tessellation control | the class's patch function, once per patch, into `patch out tcs_cp[]` |
+//! | `glsl/<scheme>.tese` | tessellation evaluation | `eval` at the integer grid point of `gl_TessCoord` |
+//! | `glsl/<scheme>_vertex_stage.comp` | compute | `vertex_stage_main` |
+//! | `glsl/<scheme>_patch.comp` | compute | `patch_main` |
+//! | `glsl/<scheme>_eval.comp` | compute | `eval_main` |
+//!
+//! Bindings follow [`abi::BINDINGS`] (set 0); each file declares only the
+//! bindings its entry point reaches, read-only unless that file writes them.
+//! Packed `vec3` buffers are `float[]` read and written through small
+//! `load_*`/`store_*` helpers; in the tessellation stages the control points
+//! are the per-patch array `tcs_cp` instead of a buffer. GLSL keywords and
+//! names that would shadow a global get a trailing `_` (the `Params` field
+//! `class` is spelled `class_`; its offset is the ABI's).
+//!
+//! Like every printer this one only spells the Plan: binaries fully
+//! parenthesised as given, f32 literals in Rust's shortest round-trip digits,
+//! functions flagged `precise` get `precise` on their return value and locals.
 
+use super::abi::{self, Binding, Kind};
+use super::binop;
+use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
-use crate::plan::Plan;
+use crate::plan::*;
+use std::collections::{BTreeMap, HashSet};
 
 /// Print every scheme of the plan as GLSL files.
-pub fn write(_plan: &Plan, _command: &str) -> Vec<GeneratedFile> {
-    Vec::new()
+pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
+    let mut files = Vec::new();
+    for (module, entries) in &plan.schemes {
+        for stage in Stage::ALL {
+            let mut w = Writer::new(plan, module, entries, stage);
+            w.file(command);
+            files.push(GeneratedFile {
+                path: format!("glsl/{}{}", module.name, stage.suffix()),
+                contents: w.out.into_bytes(),
+            });
+        }
+    }
+    files
+}
+
+/// The shader a file holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    Vert,
+    Tesc,
+    Tese,
+    CompVertex,
+    CompPatch,
+    CompEval,
+}
+
+impl Stage {
+    const ALL: [Stage; 6] = [
+        Stage::Vert,
+        Stage::Tesc,
+        Stage::Tese,
+        Stage::CompVertex,
+        Stage::CompPatch,
+        Stage::CompEval,
+    ];
+    fn suffix(self) -> &'static str {
+        match self {
+            Stage::Vert => ".vert",
+            Stage::Tesc => ".tesc",
+            Stage::Tese => ".tese",
+            Stage::CompVertex => "_vertex_stage.comp",
+            Stage::CompPatch => "_patch.comp",
+            Stage::CompEval => "_eval.comp",
+        }
+    }
+    /// Control points live in `tcs_cp`, not in a buffer.
+    fn tess(self) -> bool {
+        matches!(self, Stage::Tesc | Stage::Tese)
+    }
+    fn about(self) -> &'static str {
+        match self {
+            Stage::Vert => "Vertex shader of the tessellation pipeline: draw GL_PATCHES with patch size 1, one vertex per patch, no vertex inputs.",
+            Stage::Tesc => "Tessellation control: the patch stage of the draw's class, once per patch, into the per-patch array tcs_cp.",
+            Stage::Tese => "Tessellation evaluation: position and normal at the integer grid point of gl_TessCoord.",
+            Stage::CompVertex => "Compute entry point vertex_stage_main: the vertex stage for vertices first .. first + count.",
+            Stage::CompPatch => "Compute entry point patch_main: the patch stage for patches first .. first + count of one class.",
+            Stage::CompEval => "Compute entry point eval_main: (level+1)² samples of each patch into `samples`.",
+        }
+    }
+}
+
+/// GLSL 4.50 keywords and reserved words, plus the built-in functions and
+/// types this printer calls: never used as a plain name.
+const RESERVED: &[&str] = &[
+    "active",
+    "asm",
+    "atomic_uint",
+    "attribute",
+    "bool",
+    "break",
+    "buffer",
+    "bvec2",
+    "bvec3",
+    "bvec4",
+    "case",
+    "cast",
+    "centroid",
+    "class",
+    "coherent",
+    "common",
+    "const",
+    "continue",
+    "cos",
+    "cross",
+    "default",
+    "discard",
+    "dmat2",
+    "dmat3",
+    "dmat4",
+    "do",
+    "dot",
+    "double",
+    "dvec2",
+    "dvec3",
+    "dvec4",
+    "else",
+    "enum",
+    "extern",
+    "external",
+    "false",
+    "filter",
+    "fixed",
+    "flat",
+    "float",
+    "floatBitsToUint",
+    "for",
+    "fvec2",
+    "fvec3",
+    "fvec4",
+    "goto",
+    "half",
+    "highp",
+    "hvec2",
+    "hvec3",
+    "hvec4",
+    "if",
+    "iimage2D",
+    "image2D",
+    "in",
+    "inline",
+    "inout",
+    "input",
+    "int",
+    "interface",
+    "invariant",
+    "isampler2D",
+    "isampler3D",
+    "ivec2",
+    "ivec3",
+    "ivec4",
+    "layout",
+    "long",
+    "lowp",
+    "main",
+    "mat2",
+    "mat3",
+    "mat4",
+    "mediump",
+    "namespace",
+    "noinline",
+    "noperspective",
+    "out",
+    "output",
+    "partition",
+    "patch",
+    "precise",
+    "precision",
+    "public",
+    "readonly",
+    "resource",
+    "restrict",
+    "return",
+    "round",
+    "sample",
+    "sampler1D",
+    "sampler2D",
+    "sampler3D",
+    "samplerCube",
+    "shared",
+    "short",
+    "sin",
+    "sizeof",
+    "smooth",
+    "sqrt",
+    "static",
+    "struct",
+    "subroutine",
+    "superp",
+    "switch",
+    "template",
+    "texelFetch",
+    "this",
+    "true",
+    "typedef",
+    "uimage2D",
+    "uint",
+    "uintBitsToFloat",
+    "uniform",
+    "union",
+    "unsigned",
+    "usampler2D",
+    "using",
+    "uvec2",
+    "uvec3",
+    "uvec4",
+    "varying",
+    "vec2",
+    "vec3",
+    "vec4",
+    "void",
+    "volatile",
+    "while",
+    "writeonly",
+];
+
+/// A name GLSL accepts: keywords get a trailing `_`, `gl_` prefixes and
+/// double underscores (reserved to the implementation) are spelled apart.
+fn ident(name: &str) -> String {
+    let mut s = name.to_string();
+    while s.contains("__") {
+        s = s.replace("__", "_x_");
+    }
+    if s.starts_with("gl_") {
+        s = format!("x{s}");
+    }
+    if RESERVED.contains(&s.as_str()) {
+        s.push('_');
+    }
+    s
+}
+
+/// `vertex_out_offsets` → `VertexOutOffsets` (buffer block names).
+fn block_name(name: &str) -> String {
+    name.split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            match c.next() {
+                Some(first) => first.to_ascii_uppercase().to_string() + c.as_str(),
+                None => String::new(),
+            }
+        })
+        .collect()
+}
+
+fn f32_lit(x: f32) -> String {
+    if !x.is_finite() {
+        return format!("uintBitsToFloat({:#010x}u)", x.to_bits());
+    }
+    let s = format!("{x:?}");
+    if x.is_sign_negative() {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
+/// A function by absolute reference: `Local` is the scheme module.
+fn absolute(in_common: bool, r: FnRef) -> FnRef {
+    match (in_common, r) {
+        (true, FnRef::Local(i)) => FnRef::Common(i),
+        _ => r,
+    }
+}
+
+/// Name of a `Params` field in GLSL.
+fn param(field: &str) -> String {
+    format!("params.{}", ident(field))
+}
+
+pub struct Writer<'a> {
+    plan: &'a Plan,
+    module: &'a Module,
+    entries: &'a Entries,
+    stage: Stage,
+    out: String,
+    indent: usize,
+    /// Names declared at file scope; locals are renamed around them.
+    globals: HashSet<String>,
+    /// Names of the locals of the function being printed.
+    locals: Vec<String>,
+}
+
+impl<'a> Writer<'a> {
+    fn new(plan: &'a Plan, module: &'a Module, entries: &'a Entries, stage: Stage) -> Self {
+        let mut globals: HashSet<String> = HashSet::new();
+        let modules = [&plan.common, module];
+        for m in modules {
+            globals.extend(m.functions.iter().map(|f| ident(&f.name)));
+            globals.extend(m.consts.iter().map(|c| ident(&c.name)));
+            globals.extend(m.structs.iter().map(|s| ident(&s.name)));
+        }
+        for b in abi::BINDINGS {
+            globals.insert(b.name.to_string());
+            globals.insert(block_name(b.name));
+            globals.insert(format!("load_{}", b.name));
+            globals.insert(format!("store_{}", b.name));
+        }
+        for g in ["tcs_cp", "KMAX", "te_normal", "te_position", "Params"] {
+            globals.insert(g.to_string());
+        }
+        Writer {
+            plan,
+            module,
+            entries,
+            stage,
+            out: String::new(),
+            indent: 0,
+            globals,
+            locals: Vec::new(),
+        }
+    }
+
+    fn line(&mut self, s: &str) {
+        if s.is_empty() {
+            self.out.push('\n');
+            return;
+        }
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn doc(&mut self, doc: &str) {
+        for l in doc.lines() {
+            self.line(format!("// {l}").trim_end());
+        }
+    }
+
+    fn function(&self, r: FnRef) -> (&'a Module, &'a Function) {
+        match r {
+            FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[i]),
+            FnRef::Local(i) => (self.module, &self.module.functions[i]),
+        }
+    }
+
+    fn fn_name(&self, r: FnRef) -> String {
+        ident(&self.function(r).1.name)
+    }
+
+    fn ty(&self, t: &Ty) -> String {
+        match t {
+            Ty::F32 => "float".into(),
+            Ty::U32 => "uint".into(),
+            Ty::Bool => "bool".into(),
+            Ty::Vec3 => "vec3".into(),
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].name),
+        }
+    }
+
+    /// Plan functions the entry point of this file starts from.
+    fn roots(&self) -> Vec<FnRef> {
+        match self.stage {
+            Stage::Vert => vec![],
+            Stage::Tesc | Stage::CompPatch => self
+                .entries
+                .patches
+                .iter()
+                .map(|p| FnRef::Local(p.function))
+                .collect(),
+            Stage::Tese | Stage::CompEval => vec![FnRef::Local(self.entries.eval)],
+            Stage::CompVertex => vec![FnRef::Local(self.entries.vertex_stage)],
+        }
+    }
+
+    /// Every function reachable from the roots, in Plan order (common module
+    /// first), each after the functions it calls.
+    fn reachable(&self) -> Vec<FnRef> {
+        fn mark(w: &Writer, r: FnRef, seen: &mut Vec<FnRef>) {
+            if seen.contains(&r) {
+                return;
+            }
+            seen.push(r);
+            let in_common = matches!(r, FnRef::Common(_));
+            for c in called(w.function(r).1) {
+                mark(w, absolute(in_common, c), seen);
+            }
+        }
+        fn emit(w: &Writer, r: FnRef, reach: &[FnRef], order: &mut Vec<FnRef>) {
+            if order.contains(&r) || !reach.contains(&r) {
+                return;
+            }
+            let in_common = matches!(r, FnRef::Common(_));
+            for c in called(w.function(r).1) {
+                emit(w, absolute(in_common, c), reach, order);
+            }
+            order.push(r);
+        }
+        let mut reach = Vec::new();
+        for r in self.roots() {
+            mark(self, r, &mut reach);
+        }
+        let all = (0..self.plan.common.functions.len())
+            .map(FnRef::Common)
+            .chain((0..self.module.functions.len()).map(FnRef::Local));
+        let mut order = Vec::new();
+        for r in all {
+            emit(self, r, &reach, &mut order);
+        }
+        order
+    }
+
+    /// Bindings this file declares: `binding → (read here, written here)`.
+    fn bindings(&self) -> BTreeMap<u32, (bool, bool)> {
+        let mut need: BTreeMap<u32, (bool, bool)> = BTreeMap::new();
+        if self.stage == Stage::Vert {
+            return need;
+        }
+        let by_name = |n: &str| {
+            abi::BINDINGS
+                .iter()
+                .find(|b| b.name == n)
+                .map(|b| b.binding)
+                .unwrap_or(0)
+        };
+        let mut add = |b: u32, w: bool| {
+            let e = need.entry(b).or_insert((false, false));
+            if w {
+                e.1 = true;
+            } else {
+                e.0 = true;
+            }
+        };
+        for r in self.roots() {
+            let (_, f) = self.function(r);
+            let (res, table) = resources_of(self.plan, self.module, f);
+            for (r, w) in res {
+                if self.stage.tess() && r == Resource::ControlPoints {
+                    continue;
+                }
+                add(abi::binding_of(r).binding, w);
+            }
+            if table {
+                add(by_name("stencil_table"), false);
+            }
+        }
+        add(by_name("params"), false);
+        match self.stage {
+            Stage::CompVertex => {
+                add(by_name("valence"), false);
+                add(by_name("vertex_out_offsets"), false);
+            }
+            Stage::Tesc | Stage::CompPatch => add(by_name("patch_faces"), false),
+            Stage::CompEval => add(by_name("samples"), true),
+            Stage::Vert | Stage::Tese => {}
+        }
+        need
+    }
+
+    /// Largest control-point count over the scheme's classes.
+    fn kmax(&self) -> u32 {
+        self.entries
+            .patches
+            .iter()
+            .map(|p| p.control_points)
+            .max()
+            .unwrap_or(1)
+            .max(1)
+    }
+
+    fn file(&mut self, command: &str) {
+        for h in header_lines(command) {
+            self.line(&format!("// {h}"));
+        }
+        self.line("//");
+        self.line(&format!(
+            "// Scheme `{}`. {}",
+            self.module.name,
+            self.stage.about()
+        ));
+        self.line("");
+        self.line("#version 450");
+        if self.stage == Stage::Vert {
+            self.line("");
+            self.line("void main() {");
+            self.line("    gl_Position = vec4(0.0, 0.0, 0.0, 1.0);");
+            self.line("}");
+            return;
+        }
+        self.line("");
+        match self.stage {
+            Stage::Tesc => self.line("layout(vertices = 1) out;"),
+            Stage::Tese => {
+                self.line(
+                    "// Vulkan's default domain origin is the upper left corner, so `ccw` winds",
+                );
+                self.line("// counter-clockwise with the domain's y axis pointing down, i.e. clockwise in");
+                self.line("// (gl_TessCoord.x, gl_TessCoord.y). The patch's (u, v) (u along v0 -> v1, v along");
+                self.line(
+                    "// v0 -> v3) is taken as (gl_TessCoord.y, gl_TessCoord.x): swapping the axes",
+                );
+                self.line("// reverses the winding, so the triangles wind counter-clockwise in (u, v), like");
+                self.line("// the control face. (A pipeline created with");
+                self.line("// VK_TESSELLATION_DOMAIN_ORIGIN_LOWER_LEFT would need `cw` here.)");
+                self.line("layout(quads, equal_spacing, ccw) in;");
+            }
+            _ => self.line(&format!(
+                "layout(local_size_x = {}, local_size_y = 1, local_size_z = 1) in;",
+                abi::WORKGROUP_SIZE
+            )),
+        }
+        let plan = self.plan;
+        let module = self.module;
+        self.line("");
+        for m in [&plan.common, module] {
+            self.consts(m);
+        }
+        for s in &plan.common.structs {
+            self.line(&format!("struct {} {{", ident(&s.name)));
+            for (n, t) in &s.fields {
+                self.line(&format!("    {} {};", self.ty(t), ident(n)));
+            }
+            self.line("};");
+            self.line("");
+        }
+        let need = self.bindings();
+        for b in abi::BINDINGS {
+            if let Some((_, written)) = need.get(&b.binding) {
+                self.binding(b, *written);
+            }
+        }
+        if self.stage.tess() {
+            let dir = if self.stage == Stage::Tesc {
+                "out"
+            } else {
+                "in"
+            };
+            self.line("// Control points of this patch, written once by the control stage.");
+            self.line(&format!("const uint KMAX = {}u;", self.kmax()));
+            self.line(&format!(
+                "layout(location = 0) patch {dir} vec3 tcs_cp[KMAX];"
+            ));
+            self.line("");
+        }
+        if self.stage == Stage::Tese {
+            self.line("layout(location = 0) out vec3 te_normal;");
+            self.line("layout(location = 1) out vec3 te_position;");
+            self.line("");
+        }
+        self.helpers(&need);
+        for r in self.reachable() {
+            let (m, f) = self.function(r);
+            self.plan_function(m, f);
+            self.line("");
+        }
+        self.main();
+    }
+
+    fn consts(&mut self, m: &Module) {
+        for c in &m.consts {
+            self.doc(&c.doc);
+            match &c.value {
+                ConstValue::U32(x) => self.line(&format!("const uint {} = {x}u;", ident(&c.name))),
+                ConstValue::U32Array(xs) => {
+                    let body: Vec<String> = xs.iter().map(|x| format!("{x}u")).collect();
+                    self.line(&format!(
+                        "const uint {}[{n}] = uint[{n}]({});",
+                        ident(&c.name),
+                        body.join(", "),
+                        n = xs.len()
+                    ));
+                }
+            }
+            self.line("");
+        }
+    }
+
+    fn binding(&mut self, b: &Binding, written: bool) {
+        self.line(&format!("// binding {}: {}", b.binding, b.doc));
+        let access = if written { "" } else { "readonly " };
+        let elem = match b.kind {
+            Kind::U32Buffer => "uint",
+            Kind::Vec3Buffer | Kind::F32Buffer => "float",
+            Kind::Table => {
+                self.line(&format!(
+                    "layout(set = 0, binding = {}) uniform sampler2D {};",
+                    b.binding, b.name
+                ));
+                self.line("");
+                return;
+            }
+            Kind::Uniform => {
+                self.line(&format!(
+                    "layout(std140, set = 0, binding = {}) uniform Params {{",
+                    b.binding
+                ));
+                for (i, (field, _)) in abi::PARAMS.iter().enumerate() {
+                    let t = if i == 0 { "mat4" } else { "uint" };
+                    self.line(&format!(
+                        "    layout(offset = {}) {t} {};",
+                        abi::params_offset(field),
+                        ident(field)
+                    ));
+                }
+                self.line(&format!("}} {};", b.name));
+                self.line("");
+                return;
+            }
+        };
+        self.line(&format!(
+            "layout(std430, set = 0, binding = {}) {access}buffer {} {{ {elem} {}[]; }};",
+            b.binding,
+            block_name(b.name),
+            b.name
+        ));
+        self.line("");
+    }
+
+    /// `load_*` / `store_*` for the packed `vec3` buffers this file binds.
+    fn helpers(&mut self, need: &BTreeMap<u32, (bool, bool)>) {
+        for b in abi::BINDINGS {
+            if b.kind != Kind::Vec3Buffer {
+                continue;
+            }
+            let Some(&(read, written)) = need.get(&b.binding) else {
+                continue;
+            };
+            let n = b.name;
+            if read {
+                self.line(&format!("vec3 load_{n}(uint i) {{"));
+                self.line(&format!(
+                    "    return vec3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
+                ));
+                self.line("}");
+                self.line("");
+            }
+            if written {
+                self.line(&format!("void store_{n}(uint i, vec3 v) {{"));
+                self.line(&format!("    {n}[(3u * i)] = v.x;"));
+                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
+                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
+                self.line("}");
+                self.line("");
+            }
+        }
+    }
+
+    /// Call of the class's patch function: `if (class == 0) {…} else …`,
+    /// the last class unconditional (like `eval`'s dispatch).
+    fn class_chain(&mut self, body: &dyn Fn(&Self, &PatchEntry) -> String) {
+        let patches: &'a [PatchEntry] = &self.entries.patches;
+        let class = param("class");
+        for (k, p) in patches.iter().enumerate() {
+            let s = body(self, p);
+            if patches.len() == 1 {
+                self.line(&s);
+            } else if k == 0 {
+                self.line(&format!("if ({class} == {k}u) {{"));
+                self.line(&format!("    {s}"));
+            } else if k + 1 < patches.len() {
+                self.line(&format!("}} else if ({class} == {k}u) {{"));
+                self.line(&format!("    {s}"));
+            } else {
+                self.line("} else {");
+                self.line(&format!("    {s}"));
+                self.line("}");
+            }
+        }
+    }
+
+    fn main(&mut self) {
+        let first = param("first");
+        let count = param("count");
+        let level = param("level");
+        let class = param("class");
+        let cp_base = param("cp_base");
+        self.line("void main() {");
+        self.indent += 1;
+        match self.stage {
+            Stage::Vert => {}
+            Stage::Tesc => {
+                self.line(&format!(
+                    "uint face = patch_faces[({first} + uint(gl_PrimitiveID))];"
+                ));
+                self.class_chain(&|w, p| {
+                    format!("{}(face, 0u);", w.fn_name(FnRef::Local(p.function)))
+                });
+                self.line("// One factor per edge that depends only on the edge (here the uniform level),");
+                self.line(
+                    "// so both patches of an edge get the same parameters (watertight.md Rule 3).",
+                );
+                self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
+                self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
+                for k in 0..4 {
+                    self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
+                }
+                for k in 0..2 {
+                    self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
+                }
+            }
+            Stage::Tese => {
+                self.line("// The grid point as integers: equal_spacing at an integer level puts vertex i");
+                self.line("// at i/level, so rounding recovers i exactly. eval and the shared edge evaluator");
+                self.line("// form every weight from these integers (watertight.md Rules 2 and 3), so the");
+                self.line(
+                    "// two patches of an edge compute the same bits. (u, v) = (y, x): see the",
+                );
+                self.line("// layout declaration above.");
+                self.line(&format!(
+                    "uint iu = uint(round((gl_TessCoord.y * float({level}))));"
+                ));
+                self.line(&format!(
+                    "uint iv = uint(round((gl_TessCoord.x * float({level}))));"
+                ));
+                self.line(&format!(
+                    "{} result = {}({class}, 0u, iu, iv, {level});",
+                    self.ty(&Ty::Struct(common::SAMPLE)),
+                    self.fn_name(FnRef::Local(self.entries.eval))
+                ));
+                self.line("te_normal = result.normal;");
+                self.line("te_position = result.position;");
+                self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
+            }
+            Stage::CompVertex => {
+                self.line("uint k = gl_GlobalInvocationID.x;");
+                self.line(&format!("if (k >= {count}) {{"));
+                self.line("    return;");
+                self.line("}");
+                self.line(&format!("uint vertex = ({first} + k);"));
+                self.line("if (valence[vertex] == 0u) {");
+                self.line("    return;");
+                self.line("}");
+                self.line(&format!(
+                    "{}(vertex, vertex_out_offsets[vertex]);",
+                    self.fn_name(FnRef::Local(self.entries.vertex_stage))
+                ));
+            }
+            Stage::CompPatch => {
+                self.line("uint k = gl_GlobalInvocationID.x;");
+                self.line(&format!("if (k >= {count}) {{"));
+                self.line("    return;");
+                self.line("}");
+                self.line(&format!("uint p = ({first} + k);"));
+                self.line("uint face = patch_faces[p];");
+                self.class_chain(&|w, p| {
+                    format!(
+                        "{}(face, ({cp_base} + (k * {}u)));",
+                        w.fn_name(FnRef::Local(p.function)),
+                        p.control_points
+                    )
+                });
+            }
+            Stage::CompEval => {
+                self.line("uint k = gl_GlobalInvocationID.x;");
+                self.line(&format!("uint side = ({level} + 1u);"));
+                self.line("uint spp = (side * side);");
+                self.line(&format!("if (k >= ({count} * spp)) {{"));
+                self.line("    return;");
+                self.line("}");
+                self.line("uint patch_index = (k / spp);");
+                self.line("uint s = (k % spp);");
+                self.line("uint iu = (s % side);");
+                self.line("uint iv = (s / side);");
+                // Control points per patch of the draw's class.
+                match self.entries.patches.as_slice() {
+                    [only] => self.line(&format!("uint points = {}u;", only.control_points)),
+                    _ => {
+                        self.line("uint points = 0u;");
+                        self.class_chain(&|_, p| format!("points = {}u;", p.control_points));
+                    }
+                }
+                self.line(&format!(
+                    "{} result = {}({class}, ({cp_base} + (patch_index * points)), iu, iv, {level});",
+                    self.ty(&Ty::Struct(common::SAMPLE)),
+                    self.fn_name(FnRef::Local(self.entries.eval))
+                ));
+                self.line(&format!("uint o = (({} + k) * 6u);", param("out_base")));
+                for (i, c) in [
+                    "position.x",
+                    "position.y",
+                    "position.z",
+                    "normal.x",
+                    "normal.y",
+                    "normal.z",
+                ]
+                .iter()
+                .enumerate()
+                {
+                    self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+                }
+            }
+        }
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    /// Names of `f`'s locals: GLSL-safe, unique, not shadowing a global.
+    fn name_locals(&mut self, f: &Function) {
+        let mut names: Vec<String> = Vec::new();
+        for l in &f.locals {
+            let mut n = ident(&l.name);
+            while self.globals.contains(&n) || names.contains(&n) {
+                n.push('_');
+            }
+            names.push(n);
+        }
+        self.locals = names;
+    }
+
+    fn plan_function(&mut self, m: &Module, f: &Function) {
+        self.doc(&f.doc);
+        self.name_locals(f);
+        let precise = if f.precise { "precise " } else { "" };
+        let args: Vec<String> = f
+            .params
+            .iter()
+            .map(|id| format!("{} {}", self.ty(&f.locals[id.0].ty), self.locals[id.0]))
+            .collect();
+        let ret = match &f.ret {
+            Some(t) => format!("{precise}{}", self.ty(t)),
+            None => "void".into(),
+        };
+        self.line(&format!("{ret} {}({}) {{", ident(&f.name), args.join(", ")));
+        self.indent += 1;
+        self.stmts(m, f, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn decl(&self, f: &Function, id: LocalId) -> String {
+        let precise = if f.precise { "precise " } else { "" };
+        format!(
+            "{precise}{} {}",
+            self.ty(&f.locals[id.0].ty),
+            self.locals[id.0]
+        )
+    }
+
+    fn cond(&self, m: &Module, f: &Function, c: &Expr) -> String {
+        let s = self.expr(m, f, c);
+        if matches!(c, Expr::Binary(..)) {
+            s
+        } else {
+            format!("({s})")
+        }
+    }
+
+    fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
+        for s in body {
+            match s {
+                Stmt::Let(id, e) | Stmt::Var(id, e) => {
+                    let s = format!("{} = {};", self.decl(f, *id), self.expr(m, f, e));
+                    self.line(&s);
+                }
+                Stmt::Assign(id, e) => {
+                    let s = format!("{} = {};", self.locals[id.0], self.expr(m, f, e));
+                    self.line(&s);
+                }
+                Stmt::AssignField(id, k, e) => {
+                    let field = self.field_name(&f.locals[id.0].ty, *k);
+                    let s = format!("{}.{field} = {};", self.locals[id.0], self.expr(m, f, e));
+                    self.line(&s);
+                }
+                Stmt::Store(r, i, v) => {
+                    let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
+                    let s = if self.stage.tess() && *r == Resource::ControlPoints {
+                        format!("tcs_cp[{i}] = {v};")
+                    } else if r.ty() == Ty::Vec3 {
+                        format!("store_{}({i}, {v});", r.name())
+                    } else {
+                        format!("{}[{i}] = {v};", r.name())
+                    };
+                    self.line(&s);
+                }
+                Stmt::If(c, a, b) => {
+                    let s = format!("if {} {{", self.cond(m, f, c));
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, a);
+                    self.indent -= 1;
+                    if b.is_empty() {
+                        self.line("}");
+                    } else {
+                        self.line("} else {");
+                        self.indent += 1;
+                        self.stmts(m, f, b);
+                        self.indent -= 1;
+                        self.line("}");
+                    }
+                }
+                Stmt::For(id, a, b, body) => {
+                    let v = self.locals[id.0].clone();
+                    let s = format!(
+                        "for ({} = {}; {v} < {}; {v} = ({v} + 1u)) {{",
+                        self.decl(f, *id),
+                        self.expr(m, f, a),
+                        self.expr(m, f, b)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
+                Stmt::Return(e) => {
+                    let s = format!("return {};", self.expr(m, f, e));
+                    self.line(&s);
+                }
+            }
+        }
+    }
+
+    fn field_name(&self, t: &Ty, k: usize) -> String {
+        match t {
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
+            _ => format!("field{k}"),
+        }
+    }
+
+    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
+        self.plan.expr_ty(m, f, e)
+    }
+
+    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
+        match e {
+            Expr::F32(x) => f32_lit(*x),
+            Expr::U32(x) => format!("{x}u"),
+            Expr::Local(id) => self.locals[id.0].clone(),
+            Expr::ConstIndex(c, i) => {
+                format!("{}[{}]", ident(&m.consts[*c].name), self.expr(m, f, i))
+            }
+            Expr::Const(c) => ident(&m.consts[*c].name),
+            Expr::Binary(op, a, b) => format!(
+                "({} {} {})",
+                self.expr(m, f, a),
+                binop(*op),
+                self.expr(m, f, b)
+            ),
+            Expr::Neg(a) => format!("(-{})", self.expr(m, f, a)),
+            Expr::Call(b, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
+                match b {
+                    Builtin::F32FromU32 => format!("float({})", a[0]),
+                    Builtin::Sqrt => format!("sqrt({})", a[0]),
+                    Builtin::Cos => format!("cos({})", a[0]),
+                    Builtin::Sin => format!("sin({})", a[0]),
+                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
+                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
+                    Builtin::Vec3 => format!("vec3({}, {}, {})", a[0], a[1], a[2]),
+                }
+            }
+            Expr::CallFn(r, xs) => {
+                let callee = match r {
+                    FnRef::Common(i) => &self.plan.common.functions[*i],
+                    FnRef::Local(i) => &m.functions[*i],
+                };
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
+                format!("{}({})", ident(&callee.name), a.join(", "))
+            }
+            Expr::Field(a, k) => {
+                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
+                format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
+            }
+            Expr::Make(s, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
+                format!(
+                    "{}({})",
+                    ident(&self.plan.common.structs[*s].name),
+                    a.join(", ")
+                )
+            }
+            Expr::Fetch(r, i) => {
+                let idx = self.expr(m, f, i);
+                if self.stage.tess() && *r == Resource::ControlPoints {
+                    format!("tcs_cp[{idx}]")
+                } else if r.ty() == Ty::Vec3 {
+                    format!("load_{}({idx})", r.name())
+                } else {
+                    format!("{}[{idx}]", r.name())
+                }
+            }
+            Expr::TableWeight(row, col) => format!(
+                "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
+                self.expr(m, f, col),
+                self.expr(m, f, row)
+            ),
+        }
+    }
 }

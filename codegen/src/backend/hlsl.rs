@@ -1,9 +1,975 @@
-//! HLSL printer (work in progress: emits nothing yet).
+//! HLSL printer: the Plan as HLSL Shader Model 5.0, one file per scheme
+//! (`hlsl/<scheme>.hlsl`), compiled to SPIR-V by glslang's HLSL front end
+//! (`glslangValidator -D -V -e ENTRY -S STAGE`).
+//!
+//! Each file holds several entry points, listed in its header as lines
+//! `// entry: NAME stage: vert|tesc|tese|comp` so any tool can compile it:
+//!
+//! * `vs_main`, `hs_main` (with the patch-constant function
+//!   `hs_patch_constants`) and `ds_main`: the hardware tessellation
+//!   pipeline. The patch stage runs once per patch in the patch-constant
+//!   function and hands the control points to the domain shader as
+//!   semantic-indexed patch constants (`HsConstants.cp[KMAX] : CONTROL_POINT`);
+//! * `vertex_stage_main`, `patch_main`, `eval_main`: the compute entry points
+//!   of [`abi::entry`].
+//!
+//! Resources: the Plan's functions are printed once and serve both
+//! pipelines, so control points always travel as an array parameter
+//! (`in float3 cp[KMAX]` read, `inout float3 cp_out[KMAX]` written, indexed
+//! exactly as the Plan indexes the resource; the entry points pass
+//! `cp_base = 0` and copy to or from the `control_points` buffer). Every
+//! other resource is a global: `StructuredBuffer<…> name : register(tK)` to
+//! read, `RWStructuredBuffer<…> name[_rw] : register(uK)` to write, with
+//! `[[vk::binding(K, 0)]]` so the SPIR-V bindings are the [`abi::BINDINGS`]
+//! numbers. `vec3` buffers are packed `float` triples read and written
+//! through `fetch_<name>`/`store_<name>` helpers.
+//!
+//! Spelling only: every Binary is printed fully parenthesised as in the
+//! Plan, f32 literals with Rust's shortest round-trip digits and an `f`
+//! suffix, u32 literals with `u`; functions flagged `precise` get `precise`
+//! on their return type and every local (glslang turns it into
+//! `NoContraction`).
 
+use super::abi::{self, Kind};
+use super::binop;
+use super::{header_lines, resources_of};
 use crate::builder::GeneratedFile;
-use crate::plan::Plan;
+use crate::plan::*;
+use std::collections::HashSet;
 
-/// Print every scheme of the plan as HLSL files.
-pub fn write(_plan: &Plan, _command: &str) -> Vec<GeneratedFile> {
-    Vec::new()
+/// Entry points of every emitted HLSL file, with the glslang stage name
+/// (`-S`) each compiles as. Each file's header lists the same pairs.
+pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    (VS_MAIN, "vert"),
+    (HS_MAIN, "tesc"),
+    (DS_MAIN, "tese"),
+    (abi::entry::VERTEX_STAGE, "comp"),
+    (abi::entry::PATCH_STAGE, "comp"),
+    (abi::entry::EVAL, "comp"),
+];
+
+/// Vertex shader of the tessellation pipeline (one point per patch).
+pub const VS_MAIN: &str = "vs_main";
+/// Hull shader (tessellation control); its patch-constant function is
+/// [`HS_PATCH_CONSTANTS`].
+pub const HS_MAIN: &str = "hs_main";
+/// Patch-constant function of [`HS_MAIN`]: the patch stage, once per patch.
+pub const HS_PATCH_CONSTANTS: &str = "hs_patch_constants";
+/// Domain shader (tessellation evaluation).
+pub const DS_MAIN: &str = "ds_main";
+
+/// Print every scheme of the plan as one HLSL file each.
+pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
+    plan.schemes
+        .iter()
+        .map(|(m, e)| {
+            let mut w = Writer::new(plan, m, e);
+            w.file(command);
+            GeneratedFile {
+                path: format!("hlsl/{}.hlsl", m.name),
+                contents: w.out.into_bytes(),
+            }
+        })
+        .collect()
+}
+
+/// HLSL keywords, reserved words and intrinsics, whitespace-separated: a
+/// Plan name equal to one of these gets a `_` appended.
+const KEYWORDS: &str = "\
+    AppendStructuredBuffer BlendState Buffer ByteAddressBuffer CompileShader ComputeShader \
+    ConsumeStructuredBuffer DepthStencilState DepthStencilView DomainShader GeometryShader \
+    HullShader InputPatch LineStream NULL OutputPatch PixelShader PointStream RWBuffer \
+    RWByteAddressBuffer RWStructuredBuffer RWTexture1D RWTexture1DArray RWTexture2D \
+    RWTexture2DArray RWTexture3D RasterizerState RenderTargetView SamplerComparisonState \
+    SamplerState StructuredBuffer Texture1D Texture1DArray Texture2D Texture2DArray \
+    Texture2DMS Texture2DMSArray Texture3D TextureCube TextureCubeArray TriangleStream \
+    VertexShader asm asm_fragment auto bool break case catch cbuffer centroid char class \
+    column_major compile compile_fragment const const_cast continue default delete discard do \
+    double dword dynamic_cast else enum explicit export extern false float for friend fxgroup \
+    goto groupshared half if in inline inout int interface line lineadj linear long matrix \
+    min10float min12int min16float min16int min16uint mutable namespace new nointerpolation \
+    noperspective operator out packoffset pass patch pixelfragment point precise private \
+    protected public register reinterpret_cast return row_major sample sampler sampler1D \
+    sampler2D sampler3D samplerCUBE samplerCube sampler_state shared short signed sizeof snorm \
+    stateblock stateblock_state static static_cast string struct switch tbuffer technique \
+    technique10 technique11 template texture this throw triangle triangleadj true try typedef \
+    typename uint uniform union unorm unsigned using vector vertexfragment virtual void \
+    volatile while abs acos all any asfloat asin asint asuint atan atan2 ceil clamp clip cos \
+    cosh cross ddx ddy degrees determinant distance dot exp exp2 floor fma fmod frac frexp \
+    fwidth isfinite isinf isnan ldexp length lerp lit log log10 log2 mad max min modf mul \
+    normalize pow radians rcp reflect refract round rsqrt saturate sign sin sincos sinh \
+    smoothstep sqrt step tan tanh transpose trunc";
+
+/// `float3`, `uint2x4`, … are type keywords too.
+fn is_vector_type(name: &str) -> bool {
+    const SCALARS: &[&str] = &[
+        "bool",
+        "int",
+        "uint",
+        "dword",
+        "half",
+        "float",
+        "double",
+        "min16float",
+        "min10float",
+        "min16int",
+        "min12int",
+        "min16uint",
+    ];
+    SCALARS.iter().any(|s| {
+        name.strip_prefix(s).is_some_and(|rest| {
+            let b = rest.as_bytes();
+            let dim = |c: u8| (b'1'..=b'4').contains(&c);
+            (b.len() == 1 && dim(b[0])) || (b.len() == 3 && dim(b[0]) && b[1] == b'x' && dim(b[2]))
+        })
+    })
+}
+
+/// A Plan name as an HLSL identifier.
+fn ident(name: &str) -> String {
+    if KEYWORDS.split_whitespace().any(|k| k == name)
+        || is_vector_type(name)
+        || name.starts_with("gl_")
+    {
+        format!("{name}_")
+    } else {
+        name.to_string()
+    }
+}
+
+fn f32_lit(x: f32) -> String {
+    if !x.is_finite() {
+        return format!("asfloat(0x{:08x}u)", x.to_bits());
+    }
+    let s = format!("{x:?}f");
+    if x.is_sign_negative() {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
+/// Name of the read-only view of a binding, if it has one (every binding but
+/// a write-only output).
+fn read_view(b: &abi::Binding) -> Option<String> {
+    (b.resource.is_some() || !b.written).then(|| b.name.to_string())
+}
+
+/// Name of the read-write view of a binding, if it is written.
+fn write_view(b: &abi::Binding) -> Option<String> {
+    b.written.then(|| match read_view(b) {
+        Some(_) => format!("{}_rw", b.name),
+        None => b.name.to_string(),
+    })
+}
+
+/// How a function reaches the control points: as `cp` (read) or
+/// `cp_out` (written, `inout`).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Cp {
+    None,
+    In,
+    InOut,
+}
+
+impl Cp {
+    fn name(self) -> &'static str {
+        match self {
+            Cp::InOut => "cp_out",
+            _ => "cp",
+        }
+    }
+}
+
+/// What the printer needs while inside one function.
+struct Ctx<'f> {
+    m: &'f Module,
+    f: &'f Function,
+    /// HLSL name of every local.
+    names: Vec<String>,
+    cp: Cp,
+}
+
+pub struct Writer<'a> {
+    plan: &'a Plan,
+    module: &'a Module,
+    entries: &'a Entries,
+    out: String,
+    indent: usize,
+    /// Global names a local must not shadow.
+    globals: HashSet<String>,
+    /// Most control points of any class of this scheme.
+    kmax: u32,
+}
+
+impl<'a> Writer<'a> {
+    fn new(plan: &'a Plan, module: &'a Module, entries: &'a Entries) -> Self {
+        let mut globals: HashSet<String> = [
+            "params",
+            "Params",
+            "ParamsBlock",
+            "KMAX",
+            "CONTROL_POINTS",
+            "cp",
+            "cp_out",
+            "VsOut",
+            "HsControlPoint",
+            "HsConstants",
+            "DsOut",
+            VS_MAIN,
+            HS_MAIN,
+            HS_PATCH_CONSTANTS,
+            DS_MAIN,
+            abi::entry::VERTEX_STAGE,
+            abi::entry::PATCH_STAGE,
+            abi::entry::EVAL,
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for b in abi::BINDINGS {
+            globals.extend(read_view(b));
+            globals.extend(write_view(b));
+            globals.insert(format!("fetch_{}", b.name));
+            globals.insert(format!("store_{}", b.name));
+        }
+        for m in [&plan.common, module] {
+            globals.extend(m.consts.iter().map(|c| ident(&c.name)));
+            globals.extend(m.functions.iter().map(|f| ident(&f.name)));
+            for s in &m.structs {
+                globals.insert(ident(&s.name));
+                globals.insert(format!("make_{}", s.name));
+            }
+        }
+        let kmax = entries
+            .patches
+            .iter()
+            .map(|p| p.control_points)
+            .max()
+            .unwrap_or(1)
+            .max(1);
+        Writer {
+            plan,
+            module,
+            entries,
+            out: String::new(),
+            indent: 0,
+            globals,
+            kmax,
+        }
+    }
+
+    fn line(&mut self, s: &str) {
+        if s.is_empty() {
+            self.out.push('\n');
+            return;
+        }
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn doc(&mut self, doc: &str) {
+        for l in doc.lines() {
+            self.line(format!("// {l}").trim_end());
+        }
+    }
+
+    fn ty(&self, t: &Ty) -> String {
+        match t {
+            Ty::F32 => "float".into(),
+            Ty::U32 => "uint".into(),
+            Ty::Bool => "bool".into(),
+            Ty::Vec3 => "float3".into(),
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].name),
+        }
+    }
+
+    fn cp_of(&self, m: &Module, f: &Function) -> Cp {
+        let (res, _) = resources_of(self.plan, m, f);
+        if res.contains(&(Resource::ControlPoints, true)) {
+            Cp::InOut
+        } else if res.contains(&(Resource::ControlPoints, false)) {
+            Cp::In
+        } else {
+            Cp::None
+        }
+    }
+
+    fn file(&mut self, command: &str) {
+        for h in header_lines(command) {
+            self.line(&format!("// {h}"));
+        }
+        for (name, stage) in ENTRY_POINTS {
+            self.line(&format!("// entry: {name} stage: {stage}"));
+        }
+        let scheme = self.module.name.clone();
+        let text = format!(
+            r#"//
+// HLSL (Shader Model 5.0) for the `{scheme}` scheme. Compile each entry point
+// above on its own, e.g. with glslang's HLSL front end:
+//     glslangValidator -D -V -e ENTRY -S STAGE {scheme}.hlsl
+// Tessellation pipeline: vs_main -> hs_main (patch stage in
+// hs_patch_constants, once per patch) -> ds_main. Compute: vertex_stage_main,
+// patch_main, eval_main. All bindings are in set 0 (generated/README.md)."#
+        );
+        for l in text.lines() {
+            self.line(l);
+        }
+        self.line("");
+        self.bindings();
+        self.line("");
+        self.helpers();
+        let plan = self.plan;
+        self.line("");
+        self.print_module(&plan.common);
+        self.line("");
+        self.print_module(self.module);
+        self.line("");
+        self.compute_entries();
+        self.line("");
+        self.tessellation_entries();
+    }
+
+    fn bindings(&mut self) {
+        self.line("// ---- bindings (set 0; register number = binding number) ----");
+        self.line("");
+        self.line("// The Params uniform block. view_proj is column-major and used as");
+        self.line(
+            "// mul(view_proj, float4(p, 1)): clip = view_proj · p, as in the GLSL/WGSL targets.",
+        );
+        self.line("struct Params {");
+        for (name, doc) in abi::PARAMS {
+            let t = if *name == "view_proj" {
+                "column_major float4x4"
+            } else {
+                "uint"
+            };
+            self.line(&format!(
+                "    {t} {}; // offset {}: {doc}",
+                ident(name),
+                abi::params_offset(name)
+            ));
+        }
+        self.line("};");
+        for b in abi::BINDINGS {
+            self.line("");
+            self.line(&format!("// binding {}: {}", b.binding, b.doc));
+            let attr = format!("[[vk::binding({}, 0)]]", b.binding);
+            let k = b.binding;
+            match b.kind {
+                Kind::Uniform => self.line(&format!(
+                    "{attr} cbuffer ParamsBlock : register(b{k}) {{ Params params; }};"
+                )),
+                Kind::Table => self.line(&format!(
+                    "{attr} Texture2D<float> {} : register(t{k});",
+                    b.name
+                )),
+                Kind::U32Buffer | Kind::Vec3Buffer | Kind::F32Buffer => {
+                    let elem = if b.kind == Kind::U32Buffer {
+                        "uint"
+                    } else {
+                        "float"
+                    };
+                    if let Some(n) = read_view(b) {
+                        self.line(&format!(
+                            "{attr} StructuredBuffer<{elem}> {n} : register(t{k});"
+                        ));
+                    }
+                    if let Some(n) = write_view(b) {
+                        self.line(&format!(
+                            "{attr} RWStructuredBuffer<{elem}> {n} : register(u{k});"
+                        ));
+                    }
+                }
+            }
+        }
+        self.line("");
+        self.line("// Most control points of any class of this scheme (size of every control-point array).");
+        self.line(&format!("static const uint KMAX = {}u;", self.kmax));
+        self.line("// Control points per patch of each class (index = Params.class).");
+        let ks: Vec<String> = self
+            .entries
+            .patches
+            .iter()
+            .map(|p| format!("{}u", p.control_points))
+            .collect();
+        self.line(&format!(
+            "static const uint CONTROL_POINTS[{}] = {{{}}};",
+            ks.len().max(1),
+            if ks.is_empty() {
+                "0u".to_string()
+            } else {
+                ks.join(", ")
+            }
+        ));
+    }
+
+    /// Packed `float` triple access of the `vec3` buffers.
+    fn helpers(&mut self) {
+        self.line(
+            "// ---- vec3 buffers: packed float triples, point i at floats 3i, 3i+1, 3i+2 ----",
+        );
+        for b in abi::BINDINGS.iter().filter(|b| b.kind == Kind::Vec3Buffer) {
+            if let Some(n) = read_view(b) {
+                self.line("");
+                self.line(&format!("float3 fetch_{}(uint i) {{", b.name));
+                self.line(&format!(
+                    "    return float3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
+                ));
+                self.line("}");
+            }
+            if let Some(n) = write_view(b) {
+                self.line("");
+                self.line(&format!("void store_{}(uint i, float3 v) {{", b.name));
+                self.line(&format!("    {n}[(3u * i)] = v.x;"));
+                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
+                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
+                self.line("}");
+            }
+        }
+    }
+
+    fn print_module(&mut self, m: &Module) {
+        self.line(&format!("// ---- module `{}` ----", m.name));
+        self.doc(&m.doc);
+        for c in &m.consts {
+            self.line("");
+            self.doc(&c.doc);
+            match &c.value {
+                ConstValue::U32(x) => {
+                    self.line(&format!("static const uint {} = {x}u;", ident(&c.name)))
+                }
+                ConstValue::U32Array(xs) => {
+                    let body: Vec<String> = xs.iter().map(|x| format!("{x}u")).collect();
+                    self.line(&format!(
+                        "static const uint {}[{}] = {{{}}};",
+                        ident(&c.name),
+                        xs.len().max(1),
+                        if body.is_empty() {
+                            "0u".to_string()
+                        } else {
+                            body.join(", ")
+                        }
+                    ));
+                }
+            }
+        }
+        for s in &m.structs {
+            self.line("");
+            let name = ident(&s.name);
+            self.line(&format!("struct {name} {{"));
+            for (n, t) in &s.fields {
+                self.line(&format!("    {} {};", self.ty(t), ident(n)));
+            }
+            self.line("};");
+            // HLSL has no struct constructor expressions: one helper per struct.
+            self.line("");
+            let args: Vec<String> = s
+                .fields
+                .iter()
+                .map(|(n, t)| format!("{} {}", self.ty(t), ident(n)))
+                .collect();
+            self.line(&format!("{name} make_{}({}) {{", s.name, args.join(", ")));
+            self.line(&format!("    {name} s;"));
+            for (n, _) in &s.fields {
+                let n = ident(n);
+                self.line(&format!("    s.{n} = {n};"));
+            }
+            self.line("    return s;");
+            self.line("}");
+        }
+        for f in &m.functions {
+            self.line("");
+            self.function(m, f);
+        }
+    }
+
+    /// HLSL names of a function's locals: escaped, never shadowing a global,
+    /// unique within the function.
+    fn local_names(&self, f: &Function) -> Vec<String> {
+        let mut names: Vec<String> = Vec::with_capacity(f.locals.len());
+        for (i, l) in f.locals.iter().enumerate() {
+            let mut n = ident(&l.name);
+            if self.globals.contains(&n) {
+                n.push('_');
+            }
+            if names.contains(&n) {
+                n = format!("{n}_{i}");
+            }
+            names.push(n);
+        }
+        names
+    }
+
+    fn function(&mut self, m: &Module, f: &Function) {
+        self.doc(&f.doc);
+        let cx = Ctx {
+            m,
+            f,
+            names: self.local_names(f),
+            cp: self.cp_of(m, f),
+        };
+        let mut args = Vec::new();
+        match cx.cp {
+            Cp::None => {}
+            Cp::In => args.push("in float3 cp[KMAX]".to_string()),
+            Cp::InOut => args.push("inout float3 cp_out[KMAX]".to_string()),
+        }
+        for id in &f.params {
+            args.push(format!(
+                "{} {}",
+                self.ty(&f.locals[id.0].ty),
+                cx.names[id.0]
+            ));
+        }
+        let ret = f
+            .ret
+            .as_ref()
+            .map(|t| self.ty(t))
+            .unwrap_or_else(|| "void".into());
+        let precise = if f.precise { "precise " } else { "" };
+        self.line(&format!(
+            "{precise}{ret} {}({}) {{",
+            ident(&f.name),
+            args.join(", ")
+        ));
+        self.indent += 1;
+        self.stmts(&cx, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn decl(&self, cx: &Ctx, id: &LocalId) -> String {
+        let precise = if cx.f.precise { "precise " } else { "" };
+        format!(
+            "{precise}{} {}",
+            self.ty(&cx.f.locals[id.0].ty),
+            cx.names[id.0]
+        )
+    }
+
+    fn stmts(&mut self, cx: &Ctx, body: &[Stmt]) {
+        for s in body {
+            match s {
+                Stmt::Let(id, e) | Stmt::Var(id, e) => {
+                    let s = format!("{} = {};", self.decl(cx, id), self.expr(cx, e));
+                    self.line(&s);
+                }
+                Stmt::Assign(id, e) => {
+                    let s = format!("{} = {};", cx.names[id.0], self.expr(cx, e));
+                    self.line(&s);
+                }
+                Stmt::AssignField(id, k, e) => {
+                    let field = self.field_name(&cx.f.locals[id.0].ty, *k);
+                    let s = format!("{}.{field} = {};", cx.names[id.0], self.expr(cx, e));
+                    self.line(&s);
+                }
+                Stmt::Store(r, i, v) => {
+                    let (i, v) = (self.expr(cx, i), self.expr(cx, v));
+                    let s = match (r, r.ty()) {
+                        (Resource::ControlPoints, _) => format!("{}[{i}] = {v};", cx.cp.name()),
+                        (_, Ty::Vec3) => format!("store_{}({i}, {v});", r.name()),
+                        _ => format!(
+                            "{}[{i}] = {v};",
+                            write_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
+                        ),
+                    };
+                    self.line(&s);
+                }
+                Stmt::If(c, a, b) => {
+                    let s = format!("if ({}) {{", self.expr(cx, c));
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(cx, a);
+                    self.indent -= 1;
+                    if b.is_empty() {
+                        self.line("}");
+                    } else {
+                        self.line("} else {");
+                        self.indent += 1;
+                        self.stmts(cx, b);
+                        self.indent -= 1;
+                        self.line("}");
+                    }
+                }
+                Stmt::For(id, a, b, body) => {
+                    let v = &cx.names[id.0];
+                    let s = format!(
+                        "for ({} = {}; {v} < {}; {v} += 1u) {{",
+                        self.decl(cx, id),
+                        self.expr(cx, a),
+                        self.expr(cx, b)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(cx, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
+                Stmt::Return(e) => {
+                    let s = format!("return {};", self.expr(cx, e));
+                    self.line(&s);
+                }
+            }
+        }
+    }
+
+    fn field_name(&self, t: &Ty, k: usize) -> String {
+        match t {
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
+            _ => format!("field{k}"),
+        }
+    }
+
+    fn callee<'m>(&self, m: &'m Module, r: FnRef) -> (&'m Module, &'m Function)
+    where
+        'a: 'm,
+    {
+        match r {
+            FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[i]),
+            FnRef::Local(i) => (m, &m.functions[i]),
+        }
+    }
+
+    fn expr_ty(&self, cx: &Ctx, e: &Expr) -> Option<Ty> {
+        self.plan.expr_ty(cx.m, cx.f, e)
+    }
+
+    fn expr(&self, cx: &Ctx, e: &Expr) -> String {
+        match e {
+            Expr::F32(x) => f32_lit(*x),
+            Expr::U32(x) => format!("{x}u"),
+            Expr::Local(id) => cx.names[id.0].clone(),
+            Expr::ConstIndex(c, i) => {
+                format!("{}[{}]", ident(&cx.m.consts[*c].name), self.expr(cx, i))
+            }
+            Expr::Const(c) => ident(&cx.m.consts[*c].name),
+            Expr::Binary(op, a, b) => {
+                format!("({} {} {})", self.expr(cx, a), binop(*op), self.expr(cx, b))
+            }
+            Expr::Neg(a) => format!("(-{})", self.expr(cx, a)),
+            Expr::Call(b, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
+                match b {
+                    Builtin::F32FromU32 => format!("float({})", a[0]),
+                    Builtin::Sqrt => format!("sqrt({})", a[0]),
+                    Builtin::Cos => format!("cos({})", a[0]),
+                    Builtin::Sin => format!("sin({})", a[0]),
+                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
+                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
+                    Builtin::Vec3 => format!("float3({}, {}, {})", a[0], a[1], a[2]),
+                }
+            }
+            Expr::CallFn(r, xs) => {
+                let (module, callee) = self.callee(cx.m, *r);
+                let mut a = Vec::new();
+                if self.cp_of(module, callee) != Cp::None {
+                    a.push(cx.cp.name().to_string());
+                }
+                a.extend(xs.iter().map(|x| self.expr(cx, x)));
+                format!("{}({})", ident(&callee.name), a.join(", "))
+            }
+            Expr::Field(a, k) => {
+                let t = self.expr_ty(cx, a).unwrap_or(Ty::F32);
+                format!("{}.{}", self.expr(cx, a), self.field_name(&t, *k))
+            }
+            Expr::Make(s, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
+                format!(
+                    "make_{}({})",
+                    self.plan.common.structs[*s].name,
+                    a.join(", ")
+                )
+            }
+            Expr::Fetch(r, i) => {
+                let idx = self.expr(cx, i);
+                match (r, r.ty()) {
+                    (Resource::ControlPoints, _) => format!("{}[{idx}]", cx.cp.name()),
+                    (_, Ty::Vec3) => format!("fetch_{}({idx})", r.name()),
+                    _ => format!(
+                        "{}[{idx}]",
+                        read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
+                    ),
+                }
+            }
+            Expr::TableWeight(row, col) => format!(
+                "stencil_table.Load(int3(int({}), int({}), 0))",
+                self.expr(cx, col),
+                self.expr(cx, row)
+            ),
+        }
+    }
+
+    // ---- entry points: the only code the printer adds beyond the Plan ----
+
+    /// `if (params.class == 0u) { … } else if … else { … }` over the classes,
+    /// the last class unconditional (as the Plan's `eval` dispatches).
+    fn class_dispatch(&mut self, call: impl Fn(&Self, &PatchEntry) -> String) {
+        let entries = self.entries;
+        let patches = &entries.patches;
+        let class = ident("class");
+        let n = patches.len();
+        for (k, p) in patches.iter().enumerate() {
+            let body = call(self, p);
+            if n == 1 {
+                self.line(&format!("{body};"));
+                break;
+            }
+            if k == 0 {
+                self.line(&format!("if (params.{class} == {k}u) {{"));
+            } else if k + 1 < n {
+                self.line(&format!("}} else if (params.{class} == {k}u) {{"));
+            } else {
+                self.line("} else {");
+            }
+            self.line(&format!("    {body};"));
+            if k + 1 == n {
+                self.line("}");
+            }
+        }
+    }
+
+    fn patch_call(&self, p: &PatchEntry, cp: &str, face: &str) -> String {
+        let f = &self.module.functions[p.function];
+        format!("{}({cp}, {face}, 0u)", ident(&f.name))
+    }
+
+    fn sample_fields(&self) -> (String, String) {
+        let s = &self.plan.common.structs[common::SAMPLE];
+        (ident(&s.fields[0].0), ident(&s.fields[1].0))
+    }
+
+    fn compute_entries(&mut self) {
+        let wg = abi::WORKGROUP_SIZE;
+        let class = ident("class");
+        let vs = &self.module.functions[self.entries.vertex_stage];
+        let eval = &self.module.functions[self.entries.eval];
+        let (vs_name, eval_name) = (ident(&vs.name), ident(&eval.name));
+        let eval_ret = eval
+            .ret
+            .as_ref()
+            .map(|t| self.ty(t))
+            .unwrap_or_else(|| "void".into());
+        let (position, normal) = self.sample_fields();
+        self.line("// ---- compute entry points ----");
+        self.line("");
+        self.line("// Vertex stage of vertices params.first .. params.first + params.count");
+        self.line("// (valence 0 = unused vertex, skipped).");
+        self.line(&format!("[numthreads({wg}, 1, 1)]"));
+        self.line(&format!(
+            "void {}(uint3 global_id : SV_DispatchThreadID) {{",
+            abi::entry::VERTEX_STAGE
+        ));
+        self.indent += 1;
+        self.line("uint k = global_id.x;");
+        self.line("if (k >= params.count) {");
+        self.line("    return;");
+        self.line("}");
+        self.line("uint vertex_index = (params.first + k);");
+        self.line("if (valence[vertex_index] == 0u) {");
+        self.line("    return;");
+        self.line("}");
+        self.line(&format!(
+            "{vs_name}(vertex_index, vertex_out_offsets[vertex_index]);"
+        ));
+        self.indent -= 1;
+        self.line("}");
+
+        self.line("");
+        self.line("// Patch stage of patches params.first .. params.first + params.count, all of");
+        self.line("// class params.class: the class's patch function fills a patch-local array");
+        self.line("// (cp_base 0), copied to control_points from params.cp_base + k·CONTROL_POINTS[class].");
+        self.line(&format!("[numthreads({wg}, 1, 1)]"));
+        self.line(&format!(
+            "void {}(uint3 global_id : SV_DispatchThreadID) {{",
+            abi::entry::PATCH_STAGE
+        ));
+        self.indent += 1;
+        self.line("uint k = global_id.x;");
+        self.line("if (k >= params.count) {");
+        self.line("    return;");
+        self.line("}");
+        self.line("uint face = patch_faces[(params.first + k)];");
+        self.line(&format!("uint points = CONTROL_POINTS[params.{class}];"));
+        self.line("float3 cp_out[KMAX];");
+        self.line("for (uint i = 0u; i < KMAX; i += 1u) {");
+        self.line("    cp_out[i] = float3(0.0f, 0.0f, 0.0f);");
+        self.line("}");
+        self.class_dispatch(|w, p| w.patch_call(p, "cp_out", "face"));
+        self.line("uint cp_base = (params.cp_base + (k * points));");
+        self.line("for (uint j = 0u; j < points; j += 1u) {");
+        self.line("    store_control_points((cp_base + j), cp_out[j]);");
+        self.line("}");
+        self.indent -= 1;
+        self.line("}");
+
+        self.line("");
+        self.line("// Evaluation: (level+1)² samples per patch of params.first .. + params.count,");
+        self.line("// sample k of the dispatch at (iu, iv) = (s % (level+1), s / (level+1)),");
+        self.line("// written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].");
+        self.line(&format!("[numthreads({wg}, 1, 1)]"));
+        self.line(&format!(
+            "void {}(uint3 global_id : SV_DispatchThreadID) {{",
+            abi::entry::EVAL
+        ));
+        self.indent += 1;
+        self.line("uint k = global_id.x;");
+        self.line("uint level = params.level;");
+        self.line("uint side = (level + 1u);");
+        self.line("uint spp = (side * side);");
+        self.line("if (k >= (params.count * spp)) {");
+        self.line("    return;");
+        self.line("}");
+        self.line("uint patch_index = (k / spp);");
+        self.line("uint s = (k % spp);");
+        self.line("uint iu = (s % side);");
+        self.line("uint iv = (s / side);");
+        self.line(&format!("uint points = CONTROL_POINTS[params.{class}];"));
+        self.line("uint cp_base = (params.cp_base + (patch_index * points));");
+        self.line("float3 cp[KMAX];");
+        self.line("for (uint i = 0u; i < KMAX; i += 1u) {");
+        self.line("    if (i < points) {");
+        self.line("        cp[i] = fetch_control_points((cp_base + i));");
+        self.line("    } else {");
+        self.line("        cp[i] = float3(0.0f, 0.0f, 0.0f);");
+        self.line("    }");
+        self.line("}");
+        self.line(&format!(
+            "{eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
+        ));
+        self.line("uint o = ((params.out_base + k) * 6u);");
+        for (i, f) in [
+            format!("{position}.x"),
+            format!("{position}.y"),
+            format!("{position}.z"),
+            format!("{normal}.x"),
+            format!("{normal}.y"),
+            format!("{normal}.z"),
+        ]
+        .iter()
+        .enumerate()
+        {
+            let at = if i == 0 {
+                "o".to_string()
+            } else {
+                format!("(o + {i}u)")
+            };
+            self.line(&format!("samples[{at}] = result.{f};"));
+        }
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn tessellation_entries(&mut self) {
+        let class = ident("class");
+        let eval = &self.module.functions[self.entries.eval];
+        let eval_name = ident(&eval.name);
+        let eval_ret = eval
+            .ret
+            .as_ref()
+            .map(|t| self.ty(t))
+            .unwrap_or_else(|| "void".into());
+        let (position, normal) = self.sample_fields();
+        let text = format!(
+            r#"// ---- tessellation pipeline: {VS_MAIN} -> {HS_MAIN} -> {DS_MAIN} ----
+// Draw params.count patches of class params.class (patch list, 1 control
+// point per patch, no vertex buffer); patch p of the draw is face
+// patch_faces[params.first + p].
+
+struct VsOut {{
+    float4 position : SV_Position;
+}};
+
+VsOut {VS_MAIN}(uint vertex_id : SV_VertexID) {{
+    VsOut o;
+    o.position = float4(0.0f, 0.0f, 0.0f, 1.0f);
+    return o;
+}}
+
+struct HsControlPoint {{
+    float4 position : SV_Position;
+}};
+
+// Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,
+// [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on
+// its edge so both patches of an edge get the same parameters
+// (watertight.md Rule 3); for now every factor is the uniform level.
+struct HsConstants {{
+    float edges[4] : SV_TessFactor;
+    float inside[2] : SV_InsideTessFactor;
+    float3 cp[KMAX] : CONTROL_POINT;
+}};
+
+// The patch stage, once per patch: the class's patch function fills the
+// patch's control points (cp_base 0).
+HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
+    HsConstants c;
+    uint face = patch_faces[(params.first + patch_id)];
+    float3 cp_out[KMAX];
+    for (uint i = 0u; i < KMAX; i += 1u) {{
+        cp_out[i] = float3(0.0f, 0.0f, 0.0f);
+    }}"#
+        );
+        for l in text.lines() {
+            self.line(l);
+        }
+        self.indent += 1;
+        self.class_dispatch(|w, p| w.patch_call(p, "cp_out", "face"));
+        self.indent -= 1;
+        let text = format!(
+            r#"    for (uint j = 0u; j < KMAX; j += 1u) {{
+        c.cp[j] = cp_out[j];
+    }}
+    float level = float(params.level);
+    c.edges[0] = level;
+    c.edges[1] = level;
+    c.edges[2] = level;
+    c.edges[3] = level;
+    c.inside[0] = level;
+    c.inside[1] = level;
+    return c;
+}}
+
+[domain("quad")]
+[partitioning("integer")]
+[outputtopology("triangle_ccw")]
+[outputcontrolpoints(1)]
+[patchconstantfunc("{HS_PATCH_CONSTANTS}")]
+HsControlPoint {HS_MAIN}(InputPatch<VsOut, 1> ip, uint id : SV_OutputControlPointID) {{
+    HsControlPoint o;
+    o.position = ip[0].position;
+    return o;
+}}
+
+struct DsOut {{
+    float4 position : SV_Position;
+    float3 normal : NORMAL;
+    float3 world : WORLD_POSITION;
+}};
+
+// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,
+// v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator
+// emits exact fixed-point i/level, and the Plan forms every weight from
+// integers (the shared edge evaluator takes i and level: watertight.md
+// Rules 2 and 3), so the integer coordinates are recovered by rounding.
+[domain("quad")]
+DsOut {DS_MAIN}(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
+    uint level = params.level;
+    uint iu = (uint)round(uv.x * float(level));
+    uint iv = (uint)round(uv.y * float(level));
+    {eval_ret} result = {eval_name}(c.cp, params.{class}, 0u, iu, iv, level);
+    DsOut o;
+    o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
+    o.normal = result.{normal};
+    o.world = result.{position};
+    return o;
+}}"#
+        );
+        for l in text.lines() {
+            self.line(l);
+        }
+    }
 }

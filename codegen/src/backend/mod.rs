@@ -2,6 +2,7 @@
 //! and only spelling it. No printer computes, reorders or simplifies.
 
 pub mod abi;
+pub mod docs;
 pub mod glsl;
 pub mod hlsl;
 pub mod rust;
@@ -114,6 +115,26 @@ pub fn called(f: &Function) -> Vec<FnRef> {
     let mut out = Vec::new();
     stmts(&f.body, &mut out);
     out
+}
+
+/// Operator spelling: identical in Rust, WGSL, GLSL and HLSL (all C-family).
+pub fn binop(op: crate::plan::BinOp) -> &'static str {
+    use crate::plan::BinOp;
+    match op {
+        BinOp::Add => "+",
+        BinOp::Sub => "-",
+        BinOp::Mul => "*",
+        BinOp::Div => "/",
+        BinOp::Rem => "%",
+        BinOp::Eq => "==",
+        BinOp::Ne => "!=",
+        BinOp::Lt => "<",
+        BinOp::Le => "<=",
+        BinOp::Gt => ">",
+        BinOp::Ge => ">=",
+        BinOp::And => "&&",
+        BinOp::Or => "||",
+    }
 }
 
 /// The header every generated file starts with (after the target's comment

@@ -5,6 +5,7 @@
 //! points being evaluated are `cp: &[Vec3]`. Rust never contracts `a * b + c`
 //! into an FMA, so the CPU path computes exactly the Plan's operations.
 
+use super::binop;
 use super::{header_lines, resources_of};
 use crate::plan::*;
 use std::fmt::Write;
@@ -42,24 +43,6 @@ fn f32_lit(x: f32) -> String {
         format!("({s})")
     } else {
         s
-    }
-}
-
-fn binop(op: BinOp) -> &'static str {
-    match op {
-        BinOp::Add => "+",
-        BinOp::Sub => "-",
-        BinOp::Mul => "*",
-        BinOp::Div => "/",
-        BinOp::Rem => "%",
-        BinOp::Eq => "==",
-        BinOp::Ne => "!=",
-        BinOp::Lt => "<",
-        BinOp::Le => "<=",
-        BinOp::Gt => ">",
-        BinOp::Ge => ">=",
-        BinOp::And => "&&",
-        BinOp::Or => "||",
     }
 }
 
@@ -116,6 +99,7 @@ impl<'a> Writer<'a> {
         }
         self.line("");
         self.line("/// Every scheme in this file.");
+        self.line("#[allow(dead_code)]");
         let list: Vec<String> = plan
             .schemes
             .iter()
@@ -129,7 +113,7 @@ impl<'a> Writer<'a> {
 
     fn module(&mut self, m: &Module, entries: Option<&Entries>) {
         self.doc(&m.doc);
-        self.line("#[allow(unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]");
+        self.line("#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]");
         self.line(&format!("pub mod {} {{", m.name));
         self.indent += 1;
         self.line("use glam::Vec3;");
@@ -380,11 +364,8 @@ pub struct SchemeKernels {
         }
     }
 
-    fn expr_ty(&self, f: &Function, e: &Expr) -> Option<Ty> {
-        match e {
-            Expr::Local(id) => Some(f.locals[id.0].ty.clone()),
-            _ => None,
-        }
+    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
+        self.plan.expr_ty(m, f, e)
     }
 
     fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
@@ -437,7 +418,7 @@ pub struct SchemeKernels {
                 format!("{}({})", callee.name, a.join(", "))
             }
             Expr::Field(a, k) => {
-                let t = self.expr_ty(f, a).unwrap_or(Ty::F32);
+                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
                 format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
             }
             Expr::Make(s, xs) => {

@@ -1,9 +1,767 @@
-//! WGSL printer (work in progress: emits nothing yet).
+//! WGSL printer (WebGPU: no tessellation stage).
+//!
+//! Every scheme becomes one module, `wgsl/<scheme>.wgsl`, holding the common
+//! module's structs, constants and functions, the scheme's functions, the
+//! bindings of [`abi::BINDINGS`] (group 0) and five entry points:
+//!
+//! | entry point | stage | work |
+//! |---|---|---|
+//! | `vertex_stage_main` | compute | the vertex stage for vertices `first .. first + count` |
+//! | `patch_main` | compute | the patch stage of `class` for patches `first .. first + count` |
+//! | `eval_main` | compute | `(level+1)²` samples of each patch into `samples` |
+//! | `eval_vs` | vertex | instanced evaluation: vertex index = grid point, instance = patch |
+//! | `shade_fs` | fragment | two-sided Lambert, orange ordinary / blue extraordinary |
+//!
+//! Packed `vec3` buffers are `array<f32>` read and written through small
+//! `load_*`/`store_*` helpers. A buffer the Plan writes (`vertex_out`,
+//! `control_points`) is declared twice at its one ABI binding: `NAME` as
+//! `read_write` for the functions that write it, `NAME_ro` as `read` for the
+//! functions that only read it. WGSL allows two variables at one binding as
+//! long as no entry point uses both, so `eval_vs` (a vertex shader, where
+//! writable storage is not allowed) and `eval_main` read `control_points_ro`
+//! while `patch_main` writes `control_points`, all at binding 8. WGSL
+//! reserved words and names that would shadow a module-scope name get a
+//! trailing `_` (the `Params` field `class` is spelled `class_`; its offset is
+//! the ABI's).
+//!
+//! Like every printer this one only spells the Plan: binaries fully
+//! parenthesised as given, f32 literals in Rust's shortest round-trip digits
+//! with the `f` suffix. WGSL has no `precise`: the shared edge evaluator is
+//! one function called from one place, printed like every other.
 
+use super::abi::{self, Binding, Kind};
+use super::binop;
+use super::{header_lines, resources_of};
 use crate::builder::GeneratedFile;
-use crate::plan::Plan;
+use crate::plan::*;
+use std::cell::RefCell;
+use std::collections::{BTreeSet, HashSet};
 
-/// Print every scheme of the plan as WGSL files.
-pub fn write(_plan: &Plan, _command: &str) -> Vec<GeneratedFile> {
-    Vec::new()
+/// Print every scheme of the plan as one WGSL module each.
+pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
+    plan.schemes
+        .iter()
+        .map(|(module, entries)| {
+            let mut w = Writer::new(plan, module, entries);
+            w.file(command);
+            GeneratedFile {
+                path: format!("wgsl/{}.wgsl", module.name),
+                contents: w.out.into_bytes(),
+            }
+        })
+        .collect()
+}
+
+/// Entry points of every emitted module, with their stages.
+pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    (abi::entry::VERTEX_STAGE, "compute"),
+    (abi::entry::PATCH_STAGE, "compute"),
+    (abi::entry::EVAL, "compute"),
+    ("eval_vs", "vertex"),
+    ("shade_fs", "fragment"),
+];
+
+/// WGSL keywords and reserved words (WGSL §15), then the predeclared types
+/// and built-in functions this printer uses: never used as a plain name.
+const RESERVED: &str = "\
+    alias break case const const_assert continue continuing default diagnostic discard \
+    else enable false fn for if let loop override requires return struct switch true var \
+    while NULL Self abstract active alignas alignof as asm asm_fragment async attribute \
+    auto await become cast catch class co_await co_return co_yield coherent column_major \
+    common compile compile_fragment concept const_cast consteval constexpr constinit \
+    crate debugger decltype delete demote demote_to_helper do dynamic_cast enum explicit \
+    export extends extern external fallthrough filter final finally friend from fxgroup \
+    get goto groupshared highp impl implements import inline instanceof interface layout \
+    lowp macro macro_rules match mediump meta mod module move mut mutable namespace new \
+    nil noexcept noinline nointerpolation non_coherent noncoherent noperspective null \
+    nullptr of operator package packoffset partition pass patch pixelfragment precise \
+    precision premerge priv protected pub public readonly ref regardless register \
+    reinterpret_cast require resource restrict self set shared sizeof smooth snorm \
+    static static_assert static_cast std subroutine super target template this \
+    thread_local throw trait try type typedef typeid typename typeof union unless unorm \
+    unsafe unsized use using varying virtual volatile wgsl where with writeonly yield \
+    abs array bool cos cross dot f16 f32 i32 mat4x4 normalize ptr sin sqrt texture_2d \
+    textureLoad u32 vec2 vec3 vec4";
+
+/// A name WGSL accepts: reserved words get a trailing `_`; a leading `__`
+/// (reserved to the implementation) is spelled apart.
+fn ident(name: &str) -> String {
+    let mut s = name.to_string();
+    if s.starts_with("__") {
+        s = format!("x{s}");
+    }
+    if RESERVED.split_whitespace().any(|w| w == s) {
+        s.push('_');
+    }
+    s
+}
+
+fn f32_lit(x: f32) -> String {
+    let s = format!("{x:?}f");
+    if x.is_sign_negative() {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
+/// Name of a `Params` field in WGSL.
+fn param(field: &str) -> String {
+    format!("params.{}", ident(field))
+}
+
+/// The read-only alias of a written buffer.
+fn read_only_name(b: &Binding) -> String {
+    format!("{}_ro", b.name)
+}
+
+/// Whether a binding is declared twice (read-write, and read-only alias).
+fn aliased(b: &Binding) -> bool {
+    b.written && b.resource.is_some()
+}
+
+/// Whether a binding is a packed `vec3` buffer.
+fn packed(b: &Binding) -> bool {
+    b.kind == Kind::Vec3Buffer
+}
+
+/// Base colours of the rendering entry point.
+const ORDINARY_RGB: &str = "vec3<f32>(1.0f, 0.55f, 0.1f)";
+const EXTRAORDINARY_RGB: &str = "vec3<f32>(0.2f, 0.4f, 1.0f)";
+
+pub struct Writer<'a> {
+    plan: &'a Plan,
+    module: &'a Module,
+    entries: &'a Entries,
+    out: String,
+    indent: usize,
+    /// Names declared at module scope; locals are renamed around them.
+    globals: HashSet<String>,
+    /// Names of the locals of the function being printed.
+    locals: Vec<String>,
+    /// `(variable, store)` of the `load_*` / `store_*` helpers in use.
+    accessors: RefCell<BTreeSet<(String, bool)>>,
+}
+
+impl<'a> Writer<'a> {
+    fn new(plan: &'a Plan, module: &'a Module, entries: &'a Entries) -> Self {
+        let mut globals: HashSet<String> = HashSet::new();
+        for m in [&plan.common, module] {
+            globals.extend(m.functions.iter().map(|f| ident(&f.name)));
+            globals.extend(m.consts.iter().map(|c| ident(&c.name)));
+            globals.extend(m.structs.iter().map(|s| ident(&s.name)));
+        }
+        for b in abi::BINDINGS {
+            for name in [b.name.to_string(), read_only_name(b)] {
+                globals.insert(format!("load_{name}"));
+                globals.insert(format!("store_{name}"));
+                globals.insert(name);
+            }
+        }
+        for g in ["Params", "VsOut"] {
+            globals.insert(g.to_string());
+        }
+        globals.extend(ENTRY_POINTS.iter().map(|(n, _)| n.to_string()));
+        Writer {
+            plan,
+            module,
+            entries,
+            out: String::new(),
+            indent: 0,
+            globals,
+            locals: Vec::new(),
+            accessors: RefCell::new(BTreeSet::new()),
+        }
+    }
+
+    fn line(&mut self, s: &str) {
+        if s.is_empty() {
+            self.out.push('\n');
+            return;
+        }
+        for _ in 0..self.indent {
+            self.out.push_str("    ");
+        }
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+
+    fn doc(&mut self, doc: &str) {
+        for l in doc.lines() {
+            self.line(format!("// {l}").trim_end());
+        }
+    }
+
+    fn ty(&self, t: &Ty) -> String {
+        match t {
+            Ty::F32 => "f32".into(),
+            Ty::U32 => "u32".into(),
+            Ty::Bool => "bool".into(),
+            Ty::Vec3 => "vec3<f32>".into(),
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].name),
+        }
+    }
+
+    fn fn_name(&self, r: FnRef) -> String {
+        let f = match r {
+            FnRef::Common(i) => &self.plan.common.functions[i],
+            FnRef::Local(i) => &self.module.functions[i],
+        };
+        ident(&f.name)
+    }
+
+    fn file(&mut self, command: &str) {
+        for h in header_lines(command) {
+            self.line(&format!("// {h}"));
+        }
+        self.line("//");
+        self.line(&format!(
+            "// Scheme `{}` for WebGPU: compute entry points vertex_stage_main, patch_main and",
+            self.module.name
+        ));
+        self.line("// eval_main; instanced evaluation eval_vs (vertex) and shade_fs (fragment).");
+        // Functions first, into their own buffer, to learn which accessors they use.
+        let head = std::mem::take(&mut self.out);
+        let plan = self.plan;
+        let module = self.module;
+        self.section("Common module");
+        self.doc(&plan.common.doc);
+        self.line("");
+        self.module_items(&plan.common);
+        self.section(&format!("Scheme `{}`", module.name));
+        self.doc(&module.doc);
+        self.line("");
+        self.module_items(module);
+        self.entry_points();
+        let body = std::mem::replace(&mut self.out, head);
+        self.section("Bindings");
+        self.bindings();
+        self.accessor_fns();
+        self.out.push_str(&body);
+    }
+
+    fn section(&mut self, title: &str) {
+        if !self.out.ends_with("\n\n") {
+            self.line("");
+        }
+        self.line(&format!("// ---- {title} ----"));
+        self.line("");
+    }
+
+    fn bindings(&mut self) {
+        self.line(
+            "// The uniform block (abi::PARAMS): view_proj at byte 0, then u32s from byte 64.",
+        );
+        self.line("struct Params {");
+        for (k, (name, doc)) in abi::PARAMS.iter().enumerate() {
+            let ty = if k == 0 { "mat4x4<f32>" } else { "u32" };
+            self.line(&format!(
+                "    // offset {}: {doc}",
+                abi::params_offset(name)
+            ));
+            self.line(&format!("    {}: {ty},", ident(name)));
+        }
+        self.line("}");
+        for b in abi::BINDINGS {
+            self.line("");
+            self.line(&format!("// {}", b.doc));
+            let decl = |access: &str, name: &str| {
+                let elem = match b.kind {
+                    Kind::U32Buffer => "u32",
+                    _ => "f32",
+                };
+                format!(
+                    "@group(0) @binding({}) var<storage, {access}> {name}: array<{elem}>;",
+                    b.binding
+                )
+            };
+            match b.kind {
+                Kind::Table => self.line(&format!(
+                    "@group(0) @binding({}) var {}: texture_2d<f32>;",
+                    b.binding, b.name
+                )),
+                Kind::Uniform => self.line(&format!(
+                    "@group(0) @binding({}) var<uniform> {}: Params;",
+                    b.binding, b.name
+                )),
+                _ if aliased(b) => {
+                    self.line(&decl("read_write", b.name));
+                    self.line(
+                        "// The same buffer, read-only, for the functions that only read it; no entry",
+                    );
+                    self.line("// point uses both declarations.");
+                    self.line(&decl("read", &read_only_name(b)));
+                }
+                _ => {
+                    let access = if b.written { "read_write" } else { "read" };
+                    self.line(&decl(access, b.name));
+                }
+            }
+        }
+    }
+
+    /// The `load_*` / `store_*` helpers of the packed `vec3` buffers in use.
+    fn accessor_fns(&mut self) {
+        let used: Vec<(String, bool)> = self.accessors.borrow().iter().cloned().collect();
+        for (var, store) in used {
+            self.line("");
+            if store {
+                self.line(&format!("// {var}[i] = v: the packed f32 triple at 3i."));
+                self.line(&format!("fn store_{var}(i: u32, v: vec3<f32>) {{"));
+                self.line("    let o: u32 = (3u * i);");
+                self.line(&format!("    {var}[o] = v.x;"));
+                self.line(&format!("    {var}[(o + 1u)] = v.y;"));
+                self.line(&format!("    {var}[(o + 2u)] = v.z;"));
+            } else {
+                self.line(&format!("// {var}[i]: the packed f32 triple at 3i."));
+                self.line(&format!("fn load_{var}(i: u32) -> vec3<f32> {{"));
+                self.line("    let o: u32 = (3u * i);");
+                self.line(&format!(
+                    "    return vec3<f32>({var}[o], {var}[(o + 1u)], {var}[(o + 2u)]);"
+                ));
+            }
+            self.line("}");
+        }
+    }
+
+    fn module_items(&mut self, m: &Module) {
+        for c in &m.consts {
+            self.doc(&c.doc);
+            match &c.value {
+                ConstValue::U32(x) => self.line(&format!("const {}: u32 = {x}u;", ident(&c.name))),
+                ConstValue::U32Array(xs) => {
+                    let body: Vec<String> = xs.iter().map(|x| format!("{x}u")).collect();
+                    self.line(&format!(
+                        "var<private> {}: array<u32, {n}> = array<u32, {n}>({});",
+                        ident(&c.name),
+                        body.join(", "),
+                        n = xs.len()
+                    ));
+                }
+            }
+            self.line("");
+        }
+        for s in &m.structs {
+            self.line(&format!("struct {} {{", ident(&s.name)));
+            for (n, t) in &s.fields {
+                self.line(&format!("    {}: {},", ident(n), self.ty(t)));
+            }
+            self.line("}");
+            self.line("");
+        }
+        for f in &m.functions {
+            self.function(m, f);
+            self.line("");
+        }
+    }
+
+    /// Names of `f`'s locals: WGSL-safe, unique, not shadowing a global.
+    fn name_locals(&mut self, f: &Function) {
+        let mut names: Vec<String> = Vec::new();
+        for l in &f.locals {
+            let mut n = ident(&l.name);
+            while self.globals.contains(&n) || names.contains(&n) {
+                n.push('_');
+            }
+            names.push(n);
+        }
+        self.locals = names;
+    }
+
+    fn function(&mut self, m: &Module, f: &Function) {
+        self.doc(&f.doc);
+        if f.precise {
+            self.line("// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).");
+        }
+        self.name_locals(f);
+        let args: Vec<String> = f
+            .params
+            .iter()
+            .map(|id| format!("{}: {}", self.locals[id.0], self.ty(&f.locals[id.0].ty)))
+            .collect();
+        let ret = f
+            .ret
+            .as_ref()
+            .map(|t| format!(" -> {}", self.ty(t)))
+            .unwrap_or_default();
+        self.line(&format!(
+            "fn {}({}){ret} {{",
+            ident(&f.name),
+            args.join(", ")
+        ));
+        let written: Vec<Resource> = resources_of(self.plan, m, f)
+            .0
+            .into_iter()
+            .filter(|(_, w)| *w)
+            .map(|(r, _)| r)
+            .collect();
+        self.indent += 1;
+        self.stmts(m, f, &written, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    /// The variable a read of `r` goes through in a function that writes
+    /// `written` (itself or through its callees).
+    fn read_var(&self, r: Resource, written: &[Resource]) -> String {
+        let b = abi::binding_of(r);
+        if aliased(b) && !written.contains(&r) {
+            read_only_name(b)
+        } else {
+            b.name.to_string()
+        }
+    }
+
+    fn stmts(&mut self, m: &Module, f: &Function, written: &[Resource], body: &[Stmt]) {
+        for s in body {
+            match s {
+                Stmt::Let(id, e) | Stmt::Var(id, e) => {
+                    let kw = if matches!(s, Stmt::Let(..)) {
+                        "let"
+                    } else {
+                        "var"
+                    };
+                    let s = format!(
+                        "{kw} {}: {} = {};",
+                        self.locals[id.0],
+                        self.ty(&f.locals[id.0].ty),
+                        self.expr(m, f, written, e)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Assign(id, e) => {
+                    let s = format!("{} = {};", self.locals[id.0], self.expr(m, f, written, e));
+                    self.line(&s);
+                }
+                Stmt::AssignField(id, k, e) => {
+                    let field = self.field_name(&f.locals[id.0].ty, *k);
+                    let s = format!(
+                        "{}.{field} = {};",
+                        self.locals[id.0],
+                        self.expr(m, f, written, e)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Store(r, i, v) => {
+                    let (i, v) = (self.expr(m, f, written, i), self.expr(m, f, written, v));
+                    let b = abi::binding_of(*r);
+                    let s = if packed(b) {
+                        self.accessors
+                            .borrow_mut()
+                            .insert((b.name.to_string(), true));
+                        format!("store_{}({i}, {v});", b.name)
+                    } else {
+                        format!("{}[{i}] = {v};", b.name)
+                    };
+                    self.line(&s);
+                }
+                Stmt::If(c, a, b) => {
+                    let s = format!("if {} {{", self.expr(m, f, written, c));
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, written, a);
+                    self.indent -= 1;
+                    if b.is_empty() {
+                        self.line("}");
+                    } else {
+                        self.line("} else {");
+                        self.indent += 1;
+                        self.stmts(m, f, written, b);
+                        self.indent -= 1;
+                        self.line("}");
+                    }
+                }
+                Stmt::For(id, a, b, body) => {
+                    let v = self.locals[id.0].clone();
+                    let s = format!(
+                        "for (var {v}: {} = {}; {v} < {}; {v} = ({v} + 1u)) {{",
+                        self.ty(&f.locals[id.0].ty),
+                        self.expr(m, f, written, a),
+                        self.expr(m, f, written, b)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, written, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
+                Stmt::Return(e) => {
+                    let s = format!("return {};", self.expr(m, f, written, e));
+                    self.line(&s);
+                }
+            }
+        }
+    }
+
+    fn field_name(&self, t: &Ty, k: usize) -> String {
+        match t {
+            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
+            _ => format!("field{k}"),
+        }
+    }
+
+    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
+        self.plan.expr_ty(m, f, e)
+    }
+
+    fn expr(&self, m: &Module, f: &Function, written: &[Resource], e: &Expr) -> String {
+        match e {
+            Expr::F32(x) => f32_lit(*x),
+            Expr::U32(x) => format!("{x}u"),
+            Expr::Local(id) => self.locals[id.0].clone(),
+            Expr::ConstIndex(c, i) => format!(
+                "{}[{}]",
+                ident(&m.consts[*c].name),
+                self.expr(m, f, written, i)
+            ),
+            Expr::Const(c) => ident(&m.consts[*c].name),
+            Expr::Binary(op, a, b) => format!(
+                "({} {} {})",
+                self.expr(m, f, written, a),
+                binop(*op),
+                self.expr(m, f, written, b)
+            ),
+            Expr::Neg(a) => format!("(-{})", self.expr(m, f, written, a)),
+            Expr::Call(b, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
+                match b {
+                    Builtin::F32FromU32 => format!("f32({})", a[0]),
+                    Builtin::Sqrt => format!("sqrt({})", a[0]),
+                    Builtin::Cos => format!("cos({})", a[0]),
+                    Builtin::Sin => format!("sin({})", a[0]),
+                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
+                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
+                    Builtin::Vec3 => format!("vec3<f32>({}, {}, {})", a[0], a[1], a[2]),
+                }
+            }
+            Expr::CallFn(r, xs) => {
+                let callee = match r {
+                    FnRef::Common(i) => &self.plan.common.functions[*i],
+                    FnRef::Local(i) => &m.functions[*i],
+                };
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
+                format!("{}({})", ident(&callee.name), a.join(", "))
+            }
+            Expr::Field(a, k) => {
+                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
+                format!(
+                    "{}.{}",
+                    self.expr(m, f, written, a),
+                    self.field_name(&t, *k)
+                )
+            }
+            Expr::Make(s, xs) => {
+                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
+                format!(
+                    "{}({})",
+                    ident(&self.plan.common.structs[*s].name),
+                    a.join(", ")
+                )
+            }
+            Expr::Fetch(r, i) => {
+                let idx = self.expr(m, f, written, i);
+                let var = self.read_var(*r, written);
+                if packed(abi::binding_of(*r)) {
+                    let s = format!("load_{var}({idx})");
+                    self.accessors.borrow_mut().insert((var, false));
+                    s
+                } else {
+                    format!("{var}[{idx}]")
+                }
+            }
+            Expr::TableWeight(row, col) => format!(
+                "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
+                self.expr(m, f, written, col),
+                self.expr(m, f, written, row)
+            ),
+        }
+    }
+
+    /// `if (params.class_ == 0u) { … } else if … else { … }` over the
+    /// scheme's patch classes, the last one unconditional (like `eval`).
+    fn class_chain(&mut self, body: &dyn Fn(&Self, &PatchEntry) -> String) {
+        let patches: &'a [PatchEntry] = &self.entries.patches;
+        let class = param("class");
+        for (k, p) in patches.iter().enumerate() {
+            let s = body(self, p);
+            if patches.len() == 1 {
+                self.line(&s);
+            } else if k == 0 {
+                self.line(&format!("if ({class} == {k}u) {{"));
+                self.line(&format!("    {s}"));
+            } else if k + 1 < patches.len() {
+                self.line(&format!("}} else if ({class} == {k}u) {{"));
+                self.line(&format!("    {s}"));
+            } else {
+                self.line("} else {");
+                self.line(&format!("    {s}"));
+                self.line("}");
+            }
+        }
+    }
+
+    /// `var points: u32` = control points per patch of the draw's class.
+    fn points_of_class(&mut self) {
+        self.line("var points: u32 = 0u;");
+        self.class_chain(&|_, p| format!("points = {}u;", p.control_points));
+    }
+
+    fn compute_head(&mut self, name: &str) {
+        self.line(&format!(
+            "@compute @workgroup_size({})",
+            abi::WORKGROUP_SIZE
+        ));
+        self.line(&format!(
+            "fn {name}(@builtin(global_invocation_id) gid: vec3<u32>) {{"
+        ));
+        self.indent += 1;
+        self.line("let k: u32 = gid.x;");
+    }
+
+    fn early_return(&mut self, cond: &str) {
+        self.line(&format!("if {cond} {{"));
+        self.line("    return;");
+        self.line("}");
+    }
+
+    fn end_fn(&mut self) {
+        self.indent -= 1;
+        self.line("}");
+        self.line("");
+    }
+
+    fn entry_points(&mut self) {
+        let first = param("first");
+        let count = param("count");
+        let level = param("level");
+        let class = param("class");
+        let cp_base = param("cp_base");
+        let sample_ty = self.ty(&Ty::Struct(common::SAMPLE));
+        let eval = self.fn_name(FnRef::Local(self.entries.eval));
+        self.section("Entry points");
+
+        self.line(
+            "// Vertex stage for vertices first .. first + count (valence 0: unused vertex).",
+        );
+        self.compute_head(abi::entry::VERTEX_STAGE);
+        self.early_return(&format!("(k >= {count})"));
+        self.line(&format!("let vertex: u32 = ({first} + k);"));
+        self.early_return("(valence[vertex] == 0u)");
+        self.line(&format!(
+            "{}(vertex, vertex_out_offsets[vertex]);",
+            self.fn_name(FnRef::Local(self.entries.vertex_stage))
+        ));
+        self.end_fn();
+
+        self.line(
+            "// Patch stage of the dispatch's class for patches first .. first + count; patch k",
+        );
+        self.line(
+            "// of the dispatch writes its control points from cp_base + k·(points per patch).",
+        );
+        self.compute_head(abi::entry::PATCH_STAGE);
+        self.early_return(&format!("(k >= {count})"));
+        self.line(&format!("let p: u32 = ({first} + k);"));
+        self.line("let face: u32 = patch_faces[p];");
+        self.class_chain(&|w, p| {
+            format!(
+                "{}(face, ({cp_base} + (k * {}u)));",
+                w.fn_name(FnRef::Local(p.function)),
+                p.control_points
+            )
+        });
+        self.end_fn();
+
+        self.line("// (level+1)² samples of each patch of the dispatch, grid point s = iv·(level+1) + iu,");
+        self.line("// into samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
+        self.compute_head(abi::entry::EVAL);
+        self.line(&format!("let side: u32 = ({level} + 1u);"));
+        self.line("let spp: u32 = (side * side);");
+        self.early_return(&format!("(k >= ({count} * spp))"));
+        self.line("let patch_index: u32 = (k / spp);");
+        self.line("let s: u32 = (k % spp);");
+        self.line("let iu: u32 = (s % side);");
+        self.line("let iv: u32 = (s / side);");
+        self.points_of_class();
+        self.line(&format!(
+            "let result: {sample_ty} = {eval}({class}, ({cp_base} + (patch_index * points)), iu, iv, {level});"
+        ));
+        self.line(&format!("let o: u32 = (({} + k) * 6u);", param("out_base")));
+        let comps = [
+            "position.x",
+            "position.y",
+            "position.z",
+            "normal.x",
+            "normal.y",
+            "normal.z",
+        ];
+        for (i, c) in comps.iter().enumerate() {
+            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+        }
+        self.end_fn();
+
+        self.line("// Output of the instanced evaluation.");
+        self.line("struct VsOut {");
+        self.line("    @builtin(position) clip_position: vec4<f32>,");
+        self.line("    @location(0) world_position: vec3<f32>,");
+        self.line("    @location(1) normal: vec3<f32>,");
+        self.line("    @location(2) @interpolate(flat) patch_class: u32,");
+        self.line("}");
+        self.line("");
+        self.line("// Instanced tessellation: an index buffer over the (level+1)² grid vertices, shared by");
+        self.line(
+            "// all patches (vertex index vi = iv·(level+1) + iu), one instance per patch of the",
+        );
+        self.line(
+            "// draw's class: instance inst is patch inst of the draw, its control points from",
+        );
+        self.line("// cp_base + inst·(points per patch). Draw instances 0 .. count.");
+        self.line("@vertex");
+        self.line(
+            "fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
+        );
+        self.indent += 1;
+        self.line(&format!("let side: u32 = ({level} + 1u);"));
+        self.line("let iu: u32 = (vi % side);");
+        self.line("let iv: u32 = (vi / side);");
+        self.points_of_class();
+        self.line(&format!(
+            "let result: {sample_ty} = {eval}({class}, ({cp_base} + (inst * points)), iu, iv, {level});"
+        ));
+        self.line("var out: VsOut;");
+        self.line("out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));");
+        self.line("out.world_position = result.position;");
+        self.line("out.normal = result.normal;");
+        self.line(&format!("out.patch_class = {class};"));
+        self.line("return out;");
+        self.end_fn();
+
+        self.line(
+            "// Two-sided Lambert under a fixed light; ordinary classes orange, the others blue.",
+        );
+        self.line("@fragment");
+        self.line("fn shade_fs(input: VsOut) -> @location(0) vec4<f32> {");
+        self.indent += 1;
+        self.line(&format!("var base: vec3<f32> = {EXTRAORDINARY_RGB};"));
+        let ordinary: Vec<usize> = self
+            .entries
+            .patches
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.class.name() == "ordinary")
+            .map(|(k, _)| k)
+            .collect();
+        for k in ordinary {
+            self.line(&format!("if (input.patch_class == {k}u) {{"));
+            self.line(&format!("    base = {ORDINARY_RGB};"));
+            self.line("}");
+        }
+        let normalize = self.fn_name(FnRef::Common(crate::lower::common_fn::NORMALIZE));
+        self.line(&format!("let n: vec3<f32> = {normalize}(input.normal);"));
+        self.line("let light: vec3<f32> = normalize(vec3<f32>(0.3f, 0.5f, 0.8f));");
+        self.line("let lambert: f32 = abs(dot(n, light));");
+        self.line("return vec4<f32>((base * (0.2f + (0.8f * lambert))), 1.0f);");
+        self.indent -= 1;
+        self.line("}");
+    }
 }

@@ -1,0 +1,187 @@
+//! `render` and `bench`: the commands that run the generated WGSL on a GPU
+//! (plus the CPU half of `bench`), thin layers over `tessgen_runtime::gpu`
+//! and `tessgen_runtime::render`.
+
+use super::{load_mesh, Backend, BenchArgs, CmdResult, RenderArgs};
+use std::process::ExitCode;
+use tessgen_runtime::cpu;
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("--size {s:?}: expected WxH, e.g. 800x600"))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("--size {s:?}: bad width"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("--size {s:?}: bad height"))?;
+    if !(1..=8192).contains(&w) || !(1..=8192).contains(&h) {
+        return Err(format!(
+            "--size {s:?}: width and height must be in 1..=8192"
+        ));
+    }
+    Ok((w, h))
+}
+
+fn parse_camera(s: &str) -> Result<glam::Vec3, String> {
+    let (a, e) = s
+        .split_once(',')
+        .ok_or_else(|| format!("--camera {s:?}: expected AZ,EL in degrees"))?;
+    let az: f32 = a
+        .trim()
+        .parse()
+        .map_err(|_| format!("--camera {s:?}: bad azimuth"))?;
+    let el: f32 = e
+        .trim()
+        .parse()
+        .map_err(|_| format!("--camera {s:?}: bad elevation"))?;
+    let (az, el) = (az.to_radians(), el.to_radians());
+    Ok(glam::Vec3::new(
+        el.cos() * az.sin(),
+        el.sin(),
+        el.cos() * az.cos(),
+    ))
+}
+
+/// Topology and positions of a closed quad mesh, for the GPU commands.
+fn gpu_input(
+    path: &std::path::Path,
+) -> Result<(tessgen_runtime::Topology, Vec<glam::Vec3>), String> {
+    let mesh = load_mesh(path)?;
+    let topo = tessgen_runtime::Topology::build(&mesh, &cpu::topology_options())
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok((
+        topo,
+        mesh.positions
+            .iter()
+            .map(|p| glam::Vec3::from_array(*p))
+            .collect(),
+    ))
+}
+
+pub(crate) fn render(args: &RenderArgs) -> CmdResult {
+    use tessgen_runtime::render::{Camera, RenderOptions};
+    let (w, h) = parse_size(&args.size)?;
+    let dir = parse_camera(&args.camera)?;
+    let (topo, positions) = gpu_input(&args.mesh)?;
+    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+    for p in &positions {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let gpu = tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?;
+    let mesh = tessgen_runtime::gpu::GpuMesh::new(&gpu, &topo, &positions, &args.scheme)
+        .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let opts = RenderOptions {
+        level: args.level,
+        width: w,
+        height: h,
+        camera: Camera::framing(lo, hi, dir),
+        background: [1.0, 1.0, 1.0, 1.0],
+    };
+    let img = mesh.render(&opts).map_err(|e| e.to_string())?;
+    img.save_png(&args.out).map_err(|e| e.to_string())?;
+    eprintln!(
+        "tessgen: rendered {} patches at level {} on {} → {} ({w}x{h})",
+        topo.corners.len(),
+        args.level,
+        gpu.info.name,
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
+}
+
+pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
+    use std::time::Instant;
+    let (topo, positions) = gpu_input(&args.mesh)?;
+    let faces = topo.corners.len() as f64;
+    let runs = args.runs as usize;
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    let gpu = match args.backend {
+        Backend::Wgpu => Some(tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?),
+        Backend::Cpu => None,
+    };
+    let device = gpu
+        .as_ref()
+        .map(|g| g.info.name.clone())
+        .unwrap_or_else(|| format!("CPU, {} threads", rayon_threads()));
+    println!("# tessgen bench: {} ({} faces), scheme {}, backend {} ({device}), median of {runs} runs after 1 warm-up", args.mesh.display(), topo.corners.len(), args.scheme, args.backend.name());
+    println!("| N | samples | construct ms | evaluate ms | samples/s |");
+    println!("|---|---|---|---|---|");
+    match &gpu {
+        None => {
+            for &level in &args.levels {
+                if level == 0 || level > cpu::MAX_LEVEL {
+                    return Err(format!("level {level} out of range 1..={}", cpu::MAX_LEVEL));
+                }
+                let (mut tc, mut te) = (Vec::new(), Vec::new());
+                let mut samples = 0;
+                for run in 0..=runs {
+                    let t0 = Instant::now();
+                    let patches =
+                        cpu::construct(&topo, &positions, kernels).map_err(|e| e.to_string())?;
+                    let t1 = Instant::now();
+                    let t = cpu::evaluate(&patches, level).map_err(|e| e.to_string())?;
+                    let t2 = Instant::now();
+                    samples = t.positions.len();
+                    if run > 0 {
+                        tc.push((t1 - t0).as_secs_f64());
+                        te.push((t2 - t1).as_secs_f64());
+                    }
+                }
+                let (c, e) = (median(tc), median(te));
+                println!(
+                    "| {level} | {samples} | {:.3} | {:.3} | {:.3e} |",
+                    c * 1e3,
+                    e * 1e3,
+                    samples as f64 / (c + e)
+                );
+            }
+        }
+        Some(g) => {
+            let mesh = tessgen_runtime::gpu::GpuMesh::new(g, &topo, &positions, &args.scheme)
+                .map_err(|e| e.to_string())?;
+            for &level in &args.levels {
+                let (mut tc, mut te) = (Vec::new(), Vec::new());
+                let mut samples = 0;
+                for run in 0..=runs {
+                    let t0 = Instant::now();
+                    mesh.construct().map_err(|e| e.to_string())?;
+                    mesh.wait().map_err(|e| e.to_string())?;
+                    let t1 = Instant::now();
+                    let t = mesh.evaluate(level).map_err(|e| e.to_string())?;
+                    let t2 = Instant::now();
+                    samples = t.positions.len();
+                    if run > 0 {
+                        tc.push((t1 - t0).as_secs_f64());
+                        te.push((t2 - t1).as_secs_f64());
+                    }
+                }
+                let (c, e) = (median(tc), median(te));
+                println!(
+                    "| {level} | {samples} | {:.3} | {:.3} | {:.3e} |",
+                    c * 1e3,
+                    e * 1e3,
+                    samples as f64 / (c + e)
+                );
+            }
+            println!("(wgpu: evaluate includes the readback of positions and normals to the CPU)");
+        }
+    }
+    let _ = faces;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+}

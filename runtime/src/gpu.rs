@@ -1,0 +1,846 @@
+//! The wgpu GPU path: the generated WGSL runs the vertex and patch stages in
+//! compute passes and evaluates patches either into a storage buffer (for
+//! readback) or in an instanced vertex shader (for drawing).
+//!
+//! Layout follows OpenSubdiv's `Far` idea: topology, rings and the stencil
+//! table are uploaded once as flat buffers / an `R32Float` texture; the GPU
+//! only indexes them. Patches are sorted by facet class so each class is one
+//! dispatch (or one instanced draw). Device limits are respected by splitting
+//! dispatches and readbacks into chunks, never by truncating.
+
+use crate::cpu::{self, Tessellation};
+use crate::kernels::{self, common::SchemeKernels};
+use crate::topology::Topology;
+use glam::{Mat4, Vec3};
+use std::collections::HashMap;
+use wgpu::naga;
+
+/// Errors of the GPU path.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    #[error(
+        "no GPU adapter found (on CI install Mesa's lavapipe: apt-get install mesa-vulkan-drivers)"
+    )]
+    NoAdapter,
+    #[error("no adapter matches TESSGEN_ADAPTER={0:?}")]
+    AdapterNotFound(String),
+    #[error("requesting the device failed: {0}")]
+    Device(String),
+    #[error("no WGSL for scheme `{0}` in this build")]
+    NoShader(String),
+    #[error("generated WGSL does not parse/validate: {0}")]
+    Shader(String),
+    #[error("the stencil table ({width}x{height}) exceeds max_texture_dimension_2d = {max}")]
+    TableTooLarge { width: u32, height: u32, max: u32 },
+    #[error("{what} needs {needed} bytes in one binding, more than max_storage_buffer_binding_size = {max}")]
+    BufferTooLarge {
+        what: &'static str,
+        needed: u64,
+        max: u64,
+    },
+    #[error("wgpu reported an error: {0}")]
+    Wgpu(String),
+    #[error("image: {0}")]
+    Image(String),
+    #[error("readback failed: {0}")]
+    Readback(String),
+    #[error(transparent)]
+    Tess(#[from] cpu::TessError),
+    #[error("positions: expected {expected}, got {got}")]
+    PositionCount { expected: usize, got: usize },
+}
+
+/// The limits this crate plans its dispatches with. Defaults come from the
+/// device; tests force them small to exercise splitting.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    pub max_workgroups_per_dimension: u32,
+    pub max_texture_dimension_2d: u32,
+    pub max_storage_buffer_binding_size: u64,
+}
+
+/// A device and queue.
+pub struct Gpu {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub limits: Limits,
+}
+
+impl Gpu {
+    /// Pick an adapter: `TESSGEN_ADAPTER` (substring of the adapter name) if
+    /// set, else the first high-performance adapter, software ones included
+    /// (Mesa's lavapipe in CI).
+    pub fn new() -> Result<Gpu, GpuError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Gpu, GpuError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if std::env::var_os("WGPU_BACKEND").is_none() {
+            desc.backends = wgpu::Backends::PRIMARY;
+        }
+        let instance = wgpu::Instance::new(desc);
+        let adapter = match std::env::var("TESSGEN_ADAPTER") {
+            Ok(want) => {
+                let all = instance.enumerate_adapters(wgpu::Backends::all()).await;
+                all.into_iter()
+                    .find(|a| {
+                        a.get_info()
+                            .name
+                            .to_lowercase()
+                            .contains(&want.to_lowercase())
+                    })
+                    .ok_or(GpuError::AdapterNotFound(want))?
+            }
+            Err(_) => instance
+                .request_adapter(&wgpu::RequestAdapterOptions {
+                    power_preference: wgpu::PowerPreference::HighPerformance,
+                    force_fallback_adapter: false,
+                    compatible_surface: None,
+                    ..Default::default()
+                })
+                .await
+                .map_err(|_| GpuError::NoAdapter)?,
+        };
+        let info = adapter.get_info();
+        let alimits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("tessgen"),
+                required_features: wgpu::Features::empty(),
+                required_limits: alimits.clone(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| GpuError::Device(e.to_string()))?;
+        let limits = Limits {
+            max_workgroups_per_dimension: alimits.max_compute_workgroups_per_dimension,
+            max_texture_dimension_2d: alimits.max_texture_dimension_2d,
+            max_storage_buffer_binding_size: alimits.max_storage_buffer_binding_size as u64,
+        };
+        Ok(Gpu {
+            device,
+            queue,
+            info,
+            limits,
+        })
+    }
+
+    /// Run `f` and turn any wgpu validation error it caused into a `GpuError`.
+    pub(crate) fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let out = f();
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(GpuError::Wgpu(e.to_string())),
+            None => Ok(out),
+        }
+    }
+}
+
+/// Which bindings each entry point of a WGSL module uses (naga reflection),
+/// so bind groups match the pipelines' automatic layouts exactly.
+fn entry_bindings(source: &str) -> Result<HashMap<String, Vec<u32>>, GpuError> {
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| GpuError::Shader(e.emit_to_string(source)))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| GpuError::Shader(e.emit_to_string(source)))?;
+    let mut out = HashMap::new();
+    for (i, ep) in module.entry_points.iter().enumerate() {
+        let fi = info.get_entry_point(i);
+        let mut used = Vec::new();
+        for (h, var) in module.global_variables.iter() {
+            if !fi[h].is_empty() {
+                if let Some(b) = &var.binding {
+                    used.push(b.binding);
+                }
+            }
+        }
+        used.sort_unstable();
+        out.insert(ep.name.clone(), used);
+    }
+    Ok(out)
+}
+
+/// One class's patches: a contiguous range of `patch_faces` and of the
+/// control-point buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClassRange {
+    pub class: u32,
+    /// First patch (index into `patch_faces`).
+    pub first: u32,
+    pub count: u32,
+    /// First control point (in points).
+    pub cp_base: u32,
+    /// Control points per patch.
+    pub points: u32,
+}
+
+const PARAMS_SIZE: u64 = 96;
+
+fn params_bytes(
+    view_proj: Mat4,
+    first: u32,
+    count: u32,
+    class: u32,
+    cp_base: u32,
+    level: u32,
+    out_base: u32,
+) -> Vec<u8> {
+    let mut b = Vec::with_capacity(PARAMS_SIZE as usize);
+    for x in view_proj.to_cols_array() {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    for x in [first, count, class, cp_base, level, out_base, 0, 0] {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    b
+}
+
+fn u32_bytes(x: &[u32]) -> Vec<u8> {
+    // A zero-length storage binding is invalid; pad empty arrays to one element.
+    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 4]);
+    }
+    b
+}
+
+fn vec3_bytes(x: &[Vec3]) -> Vec<u8> {
+    let mut b: Vec<u8> = x
+        .iter()
+        .flat_map(|v| v.to_array())
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 12]);
+    }
+    b
+}
+
+/// A control mesh on the GPU with one scheme's pipelines.
+pub struct GpuMesh<'g> {
+    gpu: &'g Gpu,
+    pub scheme: &'static SchemeKernels,
+    pub limits: Limits,
+    pub classes: Vec<ClassRange>,
+    /// Face of each patch (patches sorted by class).
+    pub patch_faces: Vec<u32>,
+    num_vertices: u32,
+    buffers: HashMap<u32, wgpu::Buffer>,
+    table_view: wgpu::TextureView,
+    module: wgpu::ShaderModule,
+    bindings: HashMap<String, Vec<u32>>,
+    vertex_pipeline: wgpu::ComputePipeline,
+    patch_pipeline: wgpu::ComputePipeline,
+    eval_pipeline: wgpu::ComputePipeline,
+}
+
+/// Binding numbers (crate `tessgen-codegen`'s `backend::abi::BINDINGS`).
+mod binding {
+    pub const POSITIONS: u32 = 0;
+    pub const VALENCE: u32 = 1;
+    pub const RING_OFFSETS: u32 = 2;
+    pub const RING: u32 = 3;
+    pub const VERTEX_OUT_OFFSETS: u32 = 4;
+    pub const VERTEX_OUT: u32 = 5;
+    pub const CORNER_VERTEX: u32 = 6;
+    pub const CORNER_SECTOR: u32 = 7;
+    pub const CONTROL_POINTS: u32 = 8;
+    pub const TABLE: u32 = 9;
+    pub const PARAMS: u32 = 10;
+    pub const PATCH_FACES: u32 = 11;
+    pub const SAMPLES: u32 = 12;
+}
+
+impl<'g> GpuMesh<'g> {
+    /// Upload a mesh and build the scheme's pipelines, with the device's limits.
+    pub fn new(
+        gpu: &'g Gpu,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme: &str,
+    ) -> Result<Self, GpuError> {
+        Self::with_limits(gpu, topo, positions, scheme, gpu.limits)
+    }
+
+    /// Like [`GpuMesh::new`] with explicit (smaller) limits.
+    pub fn with_limits(
+        gpu: &'g Gpu,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme_name: &str,
+        limits: Limits,
+    ) -> Result<Self, GpuError> {
+        let scheme = cpu::scheme(scheme_name)?;
+        let source =
+            kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
+        let bindings = entry_bindings(source)?;
+        let face_class = cpu::face_classes(topo, scheme)?;
+        if positions.len() != topo.valence.len() {
+            return Err(GpuError::PositionCount {
+                expected: topo.valence.len(),
+                got: positions.len(),
+            });
+        }
+        // Patches sorted by class; control points laid out class by class.
+        let mut patch_faces = Vec::with_capacity(face_class.len());
+        let mut classes = Vec::new();
+        let mut cp_base = 0u32;
+        for (c, ck) in scheme.classes.iter().enumerate() {
+            let first = patch_faces.len() as u32;
+            patch_faces.extend(
+                face_class
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, k)| **k == c as u32)
+                    .map(|(f, _)| f as u32),
+            );
+            let count = patch_faces.len() as u32 - first;
+            classes.push(ClassRange {
+                class: c as u32,
+                first,
+                count,
+                cp_base,
+                points: ck.control_points,
+            });
+            cp_base += count * ck.control_points;
+        }
+        let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
+        let mut total = 0u32;
+        for &n in &topo.valence {
+            vertex_out_offsets.push(total);
+            if n > 0 {
+                total += scheme.rows_per_n * n + scheme.rows_fixed;
+            }
+        }
+        vertex_out_offsets.push(total);
+        let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
+
+        let dev = &gpu.device;
+        let storage = |label: &str, contents: Vec<u8>, extra: wgpu::BufferUsages| {
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: contents.len() as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            });
+            gpu.queue.write_buffer(&buf, 0, &contents);
+            buf
+        };
+        let check = |what: &'static str, bytes: u64| {
+            if bytes > limits.max_storage_buffer_binding_size {
+                Err(GpuError::BufferTooLarge {
+                    what,
+                    needed: bytes,
+                    max: limits.max_storage_buffer_binding_size,
+                })
+            } else {
+                Ok(())
+            }
+        };
+        check("vertex_out", total as u64 * 12)?;
+        check("control_points", cp_base as u64 * 12)?;
+        check("ring", topo.ring.len() as u64 * 4)?;
+        let mut buffers = HashMap::new();
+        buffers.insert(
+            binding::POSITIONS,
+            storage(
+                "positions",
+                vec3_bytes(positions),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::VALENCE,
+            storage(
+                "valence",
+                u32_bytes(&topo.valence),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::RING_OFFSETS,
+            storage(
+                "ring_offsets",
+                u32_bytes(&topo.ring_offsets),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::RING,
+            storage("ring", u32_bytes(&topo.ring), wgpu::BufferUsages::empty()),
+        );
+        buffers.insert(
+            binding::VERTEX_OUT_OFFSETS,
+            storage(
+                "vertex_out_offsets",
+                u32_bytes(&vertex_out_offsets),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::VERTEX_OUT,
+            storage(
+                "vertex_out",
+                vec3_bytes(&vec![Vec3::ZERO; total as usize]),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::CORNER_VERTEX,
+            storage(
+                "corner_vertex",
+                u32_bytes(&corner_vertex),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::CORNER_SECTOR,
+            storage(
+                "corner_sector",
+                u32_bytes(&corner_sector),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+        buffers.insert(
+            binding::CONTROL_POINTS,
+            storage(
+                "control_points",
+                vec3_bytes(&vec![Vec3::ZERO; cp_base as usize]),
+                wgpu::BufferUsages::COPY_SRC,
+            ),
+        );
+        buffers.insert(
+            binding::PATCH_FACES,
+            storage(
+                "patch_faces",
+                u32_bytes(&patch_faces),
+                wgpu::BufferUsages::empty(),
+            ),
+        );
+
+        // The stencil table as an R32Float texture (x = ring slot, y = row).
+        let table = kernels::table();
+        let width = kernels::common::TABLE_WIDTH;
+        let height = (table.len() as u32) / width;
+        if width > limits.max_texture_dimension_2d || height > limits.max_texture_dimension_2d {
+            return Err(GpuError::TableTooLarge {
+                width,
+                height,
+                max: limits.max_texture_dimension_2d,
+            });
+        }
+        let texture = dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some("stencil_table"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let bytes: Vec<u8> = table.iter().flat_map(|w| w.to_le_bytes()).collect();
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            &bytes,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * width),
+                rows_per_image: Some(height),
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        let table_view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+
+        let (module, vertex_pipeline, patch_pipeline, eval_pipeline) = gpu.scoped(|| {
+            let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(scheme.name),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipe = |entry: &str| {
+                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: None,
+                    module: &module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            };
+            let v = pipe("vertex_stage_main");
+            let p = pipe("patch_main");
+            let e = pipe("eval_main");
+            (module, v, p, e)
+        })?;
+        let mesh = GpuMesh {
+            gpu,
+            scheme,
+            limits,
+            classes,
+            patch_faces,
+            num_vertices: topo.valence.len() as u32,
+            buffers,
+            table_view,
+            module,
+            bindings,
+            vertex_pipeline,
+            patch_pipeline,
+            eval_pipeline,
+        };
+        mesh.construct()?;
+        Ok(mesh)
+    }
+
+    pub(crate) fn gpu(&self) -> &Gpu {
+        self.gpu
+    }
+
+    /// A Params uniform buffer.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn params(
+        &self,
+        view_proj: Mat4,
+        first: u32,
+        count: u32,
+        class: u32,
+        cp_base: u32,
+        level: u32,
+        out_base: u32,
+    ) -> wgpu::Buffer {
+        self.params_buffer(&params_bytes(
+            view_proj, first, count, class, cp_base, level, out_base,
+        ))
+    }
+
+    fn params_buffer(&self, bytes: &[u8]) -> wgpu::Buffer {
+        let buf = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("params"),
+            size: PARAMS_SIZE,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.gpu.queue.write_buffer(&buf, 0, bytes);
+        buf
+    }
+
+    /// Bind group for `entry` with exactly the bindings it uses.
+    pub(crate) fn bind_group(
+        &self,
+        entry: &str,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        samples: Option<&wgpu::Buffer>,
+    ) -> wgpu::BindGroup {
+        let used = self.bindings.get(entry).cloned().unwrap_or_default();
+        let mut entries = Vec::new();
+        for b in used {
+            let resource = match b {
+                binding::TABLE => wgpu::BindingResource::TextureView(&self.table_view),
+                binding::PARAMS => params.as_entire_binding(),
+                binding::SAMPLES => match samples {
+                    Some(s) => s.as_entire_binding(),
+                    None => continue,
+                },
+                other => match self.buffers.get(&other) {
+                    Some(buf) => buf.as_entire_binding(),
+                    None => continue,
+                },
+            };
+            entries.push(wgpu::BindGroupEntry {
+                binding: b,
+                resource,
+            });
+        }
+        self.gpu
+            .device
+            .create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(entry),
+                layout,
+                entries: &entries,
+            })
+    }
+
+    /// Items per dispatch so that `items · per_item / 64` workgroups fit the limit.
+    fn chunk(&self, per_item: u64) -> u64 {
+        let max_threads = self.limits.max_workgroups_per_dimension as u64 * 64;
+        (max_threads / per_item.max(1)).max(1)
+    }
+
+    /// Run the vertex and patch stages (again), e.g. after moving positions.
+    pub fn construct(&self) -> Result<(), GpuError> {
+        let dev = &self.gpu.device;
+        self.gpu.scoped(|| {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("construct"),
+            });
+            let mut groups = Vec::new();
+            let vchunk = self.chunk(1) as u32;
+            let mut first = 0;
+            while first < self.num_vertices {
+                let count = vchunk.min(self.num_vertices - first);
+                let p = self.params_buffer(&params_bytes(Mat4::IDENTITY, first, count, 0, 0, 1, 0));
+                let layout = self.vertex_pipeline.get_bind_group_layout(0);
+                groups.push((
+                    0,
+                    self.bind_group("vertex_stage_main", &layout, &p, None),
+                    count.div_ceil(64),
+                ));
+                first += count;
+            }
+            let pchunk = self.chunk(1) as u32;
+            for c in &self.classes {
+                let mut k = 0;
+                while k < c.count {
+                    let count = pchunk.min(c.count - k);
+                    let p = self.params_buffer(&params_bytes(
+                        Mat4::IDENTITY,
+                        c.first + k,
+                        count,
+                        c.class,
+                        c.cp_base + k * c.points,
+                        1,
+                        0,
+                    ));
+                    let layout = self.patch_pipeline.get_bind_group_layout(0);
+                    groups.push((
+                        1,
+                        self.bind_group("patch_main", &layout, &p, None),
+                        count.div_ceil(64),
+                    ));
+                    k += count;
+                }
+            }
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("construct"),
+                    timestamp_writes: None,
+                });
+                for (stage, group, wgs) in &groups {
+                    pass.set_pipeline(if *stage == 0 {
+                        &self.vertex_pipeline
+                    } else {
+                        &self.patch_pipeline
+                    });
+                    pass.set_bind_group(0, group, &[]);
+                    pass.dispatch_workgroups(*wgs, 1, 1);
+                }
+            }
+            self.gpu.queue.submit([enc.finish()]);
+        })
+    }
+
+    /// Block until all submitted GPU work is done (for timing).
+    pub fn wait(&self) -> Result<(), GpuError> {
+        self.gpu
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| GpuError::Readback(e.to_string()))
+    }
+
+    /// Upload moved control-mesh positions and rebuild the patches; the
+    /// topology, rings and table stay on the GPU.
+    pub fn update_positions(&self, positions: &[Vec3]) -> Result<(), GpuError> {
+        if positions.len() as u32 != self.num_vertices {
+            return Err(GpuError::PositionCount {
+                expected: self.num_vertices as usize,
+                got: positions.len(),
+            });
+        }
+        if let Some(buf) = self.buffers.get(&binding::POSITIONS) {
+            self.gpu.queue.write_buffer(buf, 0, &vec3_bytes(positions));
+        }
+        self.construct()
+    }
+
+    /// Evaluate every patch on a `level × level` grid with `eval_main` and
+    /// read it back, in face order (the same layout as the CPU path).
+    pub fn evaluate(&self, level: u32) -> Result<Tessellation, GpuError> {
+        if level == 0 || level > cpu::MAX_LEVEL {
+            return Err(cpu::TessError::Level(level).into());
+        }
+        let spp = ((level + 1) * (level + 1)) as u64;
+        let faces = self.patch_faces.len();
+        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
+        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        // Patches per readback chunk: within the dispatch and binding limits.
+        let by_dispatch = self.chunk(spp);
+        let by_binding = (self.limits.max_storage_buffer_binding_size / (spp * 24)).max(1);
+        if spp * 24 > self.limits.max_storage_buffer_binding_size {
+            return Err(GpuError::BufferTooLarge {
+                what: "samples of one patch",
+                needed: spp * 24,
+                max: self.limits.max_storage_buffer_binding_size,
+            });
+        }
+        let chunk = by_dispatch.min(by_binding) as u32;
+        let dev = &self.gpu.device;
+        for c in &self.classes {
+            let mut k = 0;
+            while k < c.count {
+                let count = chunk.min(c.count - k);
+                let bytes = count as u64 * spp * 24;
+                let samples = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples readback"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                self.gpu.scoped(|| {
+                    let p = self.params_buffer(&params_bytes(
+                        Mat4::IDENTITY,
+                        c.first + k,
+                        count,
+                        c.class,
+                        c.cp_base + k * c.points,
+                        level,
+                        0,
+                    ));
+                    let layout = self.eval_pipeline.get_bind_group_layout(0);
+                    let group = self.bind_group("eval_main", &layout, &p, Some(&samples));
+                    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("eval"),
+                    });
+                    {
+                        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("eval"),
+                            timestamp_writes: None,
+                        });
+                        pass.set_pipeline(&self.eval_pipeline);
+                        pass.set_bind_group(0, &group, &[]);
+                        pass.dispatch_workgroups(((count as u64 * spp).div_ceil(64)) as u32, 1, 1);
+                    }
+                    enc.copy_buffer_to_buffer(&samples, 0, &staging, 0, bytes);
+                    self.gpu.queue.submit([enc.finish()]);
+                })?;
+                let floats = self.read(&staging)?;
+                for (i, s) in floats.chunks_exact(6).enumerate() {
+                    let patch = c.first + k + (i as u64 / spp) as u32;
+                    let face = self.patch_faces[patch as usize] as usize;
+                    let at = face * spp as usize + (i as u64 % spp) as usize;
+                    positions[at] = Vec3::new(s[0], s[1], s[2]);
+                    normals[at] = Vec3::new(s[3], s[4], s[5]);
+                }
+                k += count;
+            }
+        }
+        Ok(Tessellation {
+            level,
+            faces,
+            positions,
+            normals,
+        })
+    }
+
+    /// Read back the control points (class-sorted layout, see [`ClassRange`]).
+    pub fn control_points(&self) -> Result<Vec<Vec3>, GpuError> {
+        let Some(src) = self.buffers.get(&binding::CONTROL_POINTS) else {
+            return Ok(Vec::new());
+        };
+        let staging = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("control points readback"),
+            size: src.size(),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self
+            .gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("cp readback"),
+            });
+        enc.copy_buffer_to_buffer(src, 0, &staging, 0, src.size());
+        self.gpu.queue.submit([enc.finish()]);
+        let f = self.read(&staging)?;
+        Ok(f.chunks_exact(3)
+            .map(|c| Vec3::new(c[0], c[1], c[2]))
+            .collect())
+    }
+
+    fn read(&self, staging: &wgpu::Buffer) -> Result<Vec<f32>, GpuError> {
+        let bytes = self.read_bytes(staging)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect())
+    }
+
+    /// Map a MAP_READ buffer and copy its bytes out.
+    pub(crate) fn read_bytes(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        self.gpu
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let data = staging
+            .get_mapped_range(..)
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let out = data.to_vec();
+        drop(data);
+        staging.unmap();
+        Ok(out)
+    }
+
+    /// The shader module (for render pipelines).
+    pub fn module(&self) -> &wgpu::ShaderModule {
+        &self.module
+    }
+}
+
+/// Load-free entry point, like [`cpu::tessellate_mesh`] but on the GPU:
+/// topology + scheme + level → grids read back in face order.
+pub fn tessellate_mesh(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+) -> Result<Tessellation, GpuError> {
+    let kernels = cpu::scheme(scheme)?;
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let gpu = Gpu::new()?;
+    GpuMesh::new(&gpu, &topo, &positions, kernels.name)?.evaluate(level)
+}

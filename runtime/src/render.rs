@@ -1,0 +1,285 @@
+//! Headless rendering: the generated `eval_vs` evaluates an instanced
+//! refinement pattern (one cache-ordered index buffer over the patch grid,
+//! one instance per patch) and `shade_fs` lights it from the evaluated
+//! normals — ordinary patches orange, extraordinary ones blue, as in the
+//! PCCM paper's figures. Renders offscreen and reads the image back.
+
+use crate::gpu::{GpuError, GpuMesh};
+use crate::pattern;
+use glam::{Mat4, Vec3};
+
+/// A look-at perspective camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov_y: f32,
+}
+
+impl Camera {
+    /// A camera that frames the bounding box `lo..hi` from direction `dir`.
+    pub fn framing(lo: Vec3, hi: Vec3, dir: Vec3) -> Camera {
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(1e-6);
+        let fov_y: f32 = 35.0;
+        let dist = radius / (fov_y.to_radians() * 0.5).sin() * 0.8;
+        Camera {
+            eye: center + dir.normalize_or(Vec3::Z) * dist,
+            target: center,
+            up: Vec3::Y,
+            fov_y,
+        }
+    }
+
+    /// Column-major clip-from-world matrix (WebGPU depth range 0..1).
+    pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        let dist = (self.eye - self.target).length().max(1e-6);
+        let (near, far) = (dist * 0.01, dist * 10.0);
+        // Right-handed view, perspective with depth 0..1 (WebGPU/Vulkan/D3D).
+        let f = (self.target - self.eye).normalize_or(Vec3::NEG_Z);
+        let s = f.cross(self.up).normalize_or(Vec3::X);
+        let u = s.cross(f);
+        let view = Mat4::from_cols(
+            glam::Vec4::new(s.x, u.x, -f.x, 0.0),
+            glam::Vec4::new(s.y, u.y, -f.y, 0.0),
+            glam::Vec4::new(s.z, u.z, -f.z, 0.0),
+            glam::Vec4::new(-s.dot(self.eye), -u.dot(self.eye), f.dot(self.eye), 1.0),
+        );
+        let h = 1.0 / (self.fov_y.to_radians() * 0.5).tan();
+        let r = far / (near - far);
+        let proj = Mat4::from_cols(
+            glam::Vec4::new(h / aspect, 0.0, 0.0, 0.0),
+            glam::Vec4::new(0.0, h, 0.0, 0.0),
+            glam::Vec4::new(0.0, 0.0, r, -1.0),
+            glam::Vec4::new(0.0, 0.0, r * near, 0.0),
+        );
+        proj * view
+    }
+}
+
+/// What to render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderOptions {
+    pub level: u32,
+    pub width: u32,
+    pub height: u32,
+    pub camera: Camera,
+    /// Background colour, linear RGBA.
+    pub background: [f64; 4],
+}
+
+/// An RGBA8 image, row-major, top row first.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+impl Image {
+    /// Encode as PNG.
+    pub fn save_png(&self, path: impl AsRef<std::path::Path>) -> Result<(), GpuError> {
+        let path = path.as_ref();
+        image::save_buffer(
+            path,
+            &self.rgba,
+            self.width,
+            self.height,
+            image::ExtendedColorType::Rgba8,
+        )
+        .map_err(|e| GpuError::Image(format!("{}: {e}", path.display())))
+    }
+
+    /// Decode a PNG (for reference-image tests).
+    pub fn load_png(path: impl AsRef<std::path::Path>) -> Result<Image, GpuError> {
+        let path = path.as_ref();
+        let img = image::open(path)
+            .map_err(|e| GpuError::Image(format!("{}: {e}", path.display())))?
+            .to_rgba8();
+        Ok(Image {
+            width: img.width(),
+            height: img.height(),
+            rgba: img.into_raw(),
+        })
+    }
+
+    /// Number of pixels close to an RGB colour (each channel within `tol`).
+    pub fn count_color(&self, rgb: [u8; 3], tol: u8) -> usize {
+        self.rgba
+            .chunks_exact(4)
+            .filter(|p| (0..3).all(|c| p[c].abs_diff(rgb[c]) <= tol))
+            .count()
+    }
+}
+
+const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+impl GpuMesh<'_> {
+    /// Render the surface offscreen.
+    pub fn render(&self, opts: &RenderOptions) -> Result<Image, GpuError> {
+        let gpu = self.gpu();
+        let dev = &gpu.device;
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
+        let view_proj = opts.camera.view_proj(w as f32 / h as f32);
+        let indices = pattern::cache_friendly_indices(level, 20);
+        let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        gpu.scoped(|| {
+            let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("tessgen render"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: self.module(),
+                    entry_point: Some("eval_vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    front_face: wgpu::FrontFace::Ccw,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: self.module(),
+                    entry_point: Some("shade_fs"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            let index_buffer = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("refinement pattern"),
+                size: index_bytes.len() as u64,
+                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            gpu.queue.write_buffer(&index_buffer, 0, &index_bytes);
+            let extent = wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            };
+            let target = |format, usage| {
+                dev.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("render target"),
+                    size: extent,
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+            };
+            let color = target(
+                COLOR,
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+            );
+            let depth = target(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
+            let color_view = color.create_view(&Default::default());
+            let depth_view = depth.create_view(&Default::default());
+            // One instanced draw per facet class (patches are sorted by class).
+            let mut draws = Vec::new();
+            for c in &self.classes {
+                if c.count == 0 {
+                    continue;
+                }
+                let p = self.params(view_proj, c.first, c.count, c.class, c.cp_base, level, 0);
+                let group =
+                    self.bind_group("eval_vs", &pipeline.get_bind_group_layout(0), &p, None);
+                draws.push((group, c.count));
+            }
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("render"),
+            });
+            {
+                let [r, g, b, a] = opts.background;
+                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("render"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &color_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                        view: &depth_view,
+                        depth_ops: Some(wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(1.0),
+                            store: wgpu::StoreOp::Store,
+                        }),
+                        stencil_ops: None,
+                    }),
+                    timestamp_writes: None,
+                    occlusion_query_set: None,
+                    multiview_mask: None,
+                });
+                pass.set_pipeline(&pipeline);
+                pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
+                for (group, count) in &draws {
+                    pass.set_bind_group(0, group, &[]);
+                    pass.draw_indexed(0..indices.len() as u32, 0, 0..*count);
+                }
+            }
+            let row = (4 * w).div_ceil(256) * 256;
+            let readback = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("image readback"),
+                size: (row * h) as u64,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            enc.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &color,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &readback,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                extent,
+            );
+            gpu.queue.submit([enc.finish()]);
+            (readback, row)
+        })
+        .and_then(|(readback, row)| {
+            let bytes = self.read_bytes(&readback)?;
+            let mut rgba = Vec::with_capacity((4 * w * h) as usize);
+            for y in 0..h {
+                let start = (y * row) as usize;
+                rgba.extend_from_slice(&bytes[start..start + (4 * w) as usize]);
+            }
+            Ok(Image {
+                width: w,
+                height: h,
+                rgba,
+            })
+        })
+    }
+}

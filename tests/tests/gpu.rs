@@ -1,0 +1,139 @@
+//! The wgpu path on whatever adapter is present (Mesa's lavapipe in CI):
+//! GPU equals CPU within f32 tolerance, GPU output is watertight bit for bit,
+//! `update_positions` equals a fresh build, and forced-small device limits
+//! split the work without changing a bit.
+
+mod common;
+
+use glam::Vec3;
+use std::sync::OnceLock;
+use tessgen_runtime::gpu::{Gpu, GpuMesh, Limits};
+use tessgen_runtime::{cpu, weld, Topology};
+
+fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| match Gpu::new() {
+        Ok(g) => {
+            println!(
+                "adapter: {} ({:?}, {})",
+                g.info.name, g.info.device_type, g.info.driver_info
+            );
+            g
+        }
+        Err(e) => panic!("{e}"),
+    })
+}
+
+fn load(name: &str) -> (Topology, Vec<Vec3>, f32) {
+    let mesh = common::mesh(name);
+    let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
+    let positions = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    (topo, positions, common::bbox_diagonal(&mesh))
+}
+
+const LEVELS: &[u32] = &[1, 2, 7, 8, 16];
+
+#[test]
+fn gpu_matches_cpu_and_is_watertight() {
+    for name in common::CLOSED_MESHES {
+        let (topo, positions, diag) = load(name);
+        let euler = topo.euler_characteristic();
+        let kernels = cpu::scheme("pccm").expect("pccm");
+        let patches = cpu::construct(&topo, &positions, kernels).expect("construct");
+        let g = GpuMesh::new(gpu(), &topo, &positions, "pccm")
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        for &level in LEVELS {
+            let c = cpu::evaluate(&patches, level).expect("cpu");
+            let t = g.evaluate(level).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let (mut dp, mut da) = (0.0f64, 0.0f64);
+            for k in 0..c.positions.len() {
+                dp = dp.max(((t.positions[k] - c.positions[k]).length() / diag) as f64);
+                da = da.max(common::angle_deg(t.normals[k], c.normals[k]));
+            }
+            let r = weld::weld(&t);
+            println!("{name} level {level}: max |gpu - cpu| = {dp:.2e} × diagonal, normals {da:.2e}°, open edges {}", r.open_edges);
+            assert!(
+                dp <= 1e-5,
+                "{name} level {level}: positions differ by {dp} × diagonal"
+            );
+            assert!(da <= 0.05, "{name} level {level}: normals differ by {da}°");
+            assert!(
+                r.is_closed_manifold(),
+                "{name} level {level}: GPU output has {} open edges",
+                r.open_edges
+            );
+            assert_eq!(r.euler, euler, "{name} level {level}: Euler characteristic");
+        }
+    }
+}
+
+#[test]
+fn update_positions_equals_a_fresh_build() {
+    let (topo, positions, _) = load("catmark_righthanded");
+    let g = GpuMesh::new(gpu(), &topo, &positions, "pccm").expect("gpu mesh");
+    let moved: Vec<Vec3> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| *p + Vec3::new((i as f32 * 0.37).sin(), (i as f32 * 0.11).cos(), 0.25) * 0.05)
+        .collect();
+    g.update_positions(&moved).expect("update");
+    let updated = g.evaluate(8).expect("evaluate");
+    let fresh = GpuMesh::new(gpu(), &topo, &moved, "pccm")
+        .expect("fresh")
+        .evaluate(8)
+        .expect("evaluate");
+    assert_eq!(
+        updated, fresh,
+        "update_positions must equal a fresh build bit for bit"
+    );
+    let before = GpuMesh::new(gpu(), &topo, &positions, "pccm")
+        .expect("gpu")
+        .evaluate(8)
+        .expect("evaluate");
+    assert_ne!(
+        updated.positions, before.positions,
+        "the update must change the surface"
+    );
+}
+
+#[test]
+fn forced_small_limits_split_without_changing_results() {
+    let (topo, positions, _) = load("catmark_righthanded");
+    let normal = GpuMesh::new(gpu(), &topo, &positions, "pccm")
+        .expect("gpu")
+        .evaluate(7)
+        .expect("evaluate");
+    let small = Limits {
+        // one workgroup of 64 threads per dispatch
+        max_workgroups_per_dimension: 1,
+        max_texture_dimension_2d: gpu().limits.max_texture_dimension_2d,
+        max_storage_buffer_binding_size: gpu().limits.max_storage_buffer_binding_size,
+    };
+    let split = GpuMesh::with_limits(gpu(), &topo, &positions, "pccm", small)
+        .expect("gpu")
+        .evaluate(7)
+        .expect("evaluate");
+    assert_eq!(normal, split);
+    // 128 KiB bindings: control points still fit, samples are read back in 6 chunks.
+    let tiny_binding = Limits {
+        max_storage_buffer_binding_size: 128 * 1024,
+        ..gpu().limits
+    };
+    let split = GpuMesh::with_limits(gpu(), &topo, &positions, "pccm", tiny_binding)
+        .expect("gpu")
+        .evaluate(7)
+        .expect("evaluate");
+    assert_eq!(normal, split);
+    let tiny_texture = Limits {
+        max_texture_dimension_2d: 64,
+        ..gpu().limits
+    };
+    assert!(matches!(
+        GpuMesh::with_limits(gpu(), &topo, &positions, "pccm", tiny_texture),
+        Err(tessgen_runtime::gpu::GpuError::TableTooLarge { .. })
+    ));
+}

@@ -1,0 +1,72 @@
+//! Snapshots of every GLSL file the generator emits for the built-in schemes.
+//! Review every changed snapshot before accepting it (`cargo insta review`);
+//! CI runs with INSTA_UPDATE=no.
+
+use tessgen_codegen::{Builder, Target};
+
+fn build() -> tessgen_codegen::Output {
+    Builder::new()
+        .builtin_schemes()
+        .target(Target::Glsl)
+        .command("tessgen generate --out generated")
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn text(out: &tessgen_codegen::Output, path: &str) -> String {
+    let f = out
+        .file(path)
+        .unwrap_or_else(|| panic!("{path} not emitted"));
+    String::from_utf8(f.contents.clone()).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// Snapshot name of an emitted path: `glsl/pccm_eval.comp` → `glsl_pccm_eval_comp`.
+fn name(path: &str) -> String {
+    path.replace(['/', '.'], "_")
+}
+
+const FILES: &[&str] = &[
+    "glsl/regular.vert",
+    "glsl/regular.tesc",
+    "glsl/regular.tese",
+    "glsl/regular_vertex_stage.comp",
+    "glsl/regular_patch.comp",
+    "glsl/regular_eval.comp",
+    "glsl/pccm.vert",
+    "glsl/pccm.tesc",
+    "glsl/pccm.tese",
+    "glsl/pccm_vertex_stage.comp",
+    "glsl/pccm_patch.comp",
+    "glsl/pccm_eval.comp",
+];
+
+#[test]
+fn glsl_emits_six_files_per_scheme() {
+    let out = build();
+    let mut emitted: Vec<&str> = out
+        .files
+        .iter()
+        .map(|f| f.path.as_str())
+        .filter(|p| p.starts_with("glsl/"))
+        .collect();
+    emitted.sort_unstable();
+    let mut expected = FILES.to_vec();
+    expected.sort_unstable();
+    assert_eq!(emitted, expected);
+}
+
+#[test]
+fn glsl_regular() {
+    let out = build();
+    for path in FILES.iter().filter(|p| p.starts_with("glsl/regular")) {
+        insta::assert_snapshot!(name(path), text(&out, path));
+    }
+}
+
+#[test]
+fn glsl_pccm() {
+    let out = build();
+    for path in FILES.iter().filter(|p| p.starts_with("glsl/pccm")) {
+        insta::assert_snapshot!(name(path), text(&out, path));
+    }
+}

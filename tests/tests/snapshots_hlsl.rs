@@ -1,0 +1,45 @@
+//! Snapshots of every HLSL file the generator emits for the built-in
+//! schemes. Review every changed snapshot before accepting it
+//! (`cargo insta review`); CI runs with INSTA_UPDATE=no.
+
+use tessgen_codegen::{Builder, Target};
+
+fn build() -> tessgen_codegen::Output {
+    Builder::new()
+        .builtin_schemes()
+        .target(Target::Hlsl)
+        .command("tessgen generate --out generated")
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn text(out: &tessgen_codegen::Output, path: &str) -> String {
+    let f = out
+        .file(path)
+        .unwrap_or_else(|| panic!("{path} not emitted"));
+    String::from_utf8(f.contents.clone()).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+#[test]
+fn hlsl_files_are_one_per_scheme() {
+    let out = build();
+    let hlsl: Vec<&str> = out
+        .files
+        .iter()
+        .map(|f| f.path.as_str())
+        .filter(|p| p.starts_with("hlsl/"))
+        .collect();
+    assert_eq!(hlsl, ["hlsl/regular.hlsl", "hlsl/pccm.hlsl"]);
+}
+
+#[test]
+fn hlsl_regular() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_regular_hlsl", text(&out, "hlsl/regular.hlsl"));
+}
+
+#[test]
+fn hlsl_pccm() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_pccm_hlsl", text(&out, "hlsl/pccm.hlsl"));
+}

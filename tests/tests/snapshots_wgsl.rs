@@ -1,0 +1,45 @@
+//! Snapshots of every WGSL module the generator emits for the built-in
+//! schemes. Review every changed snapshot before accepting it (`cargo insta
+//! review`); CI runs with INSTA_UPDATE=no.
+
+use tessgen_codegen::{Builder, Target};
+
+fn build() -> tessgen_codegen::Output {
+    Builder::new()
+        .builtin_schemes()
+        .target(Target::Wgsl)
+        .command("tessgen generate --out generated")
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn text(out: &tessgen_codegen::Output, path: &str) -> String {
+    let f = out
+        .file(path)
+        .unwrap_or_else(|| panic!("{path} not emitted"));
+    String::from_utf8(f.contents.clone()).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+/// Exactly one module per scheme, nothing else under `wgsl/`.
+#[test]
+fn wgsl_files() {
+    let out = build();
+    let mut paths: Vec<&str> = out
+        .files
+        .iter()
+        .map(|f| f.path.as_str())
+        .filter(|p| p.starts_with("wgsl/"))
+        .collect();
+    paths.sort();
+    assert_eq!(paths, ["wgsl/pccm.wgsl", "wgsl/regular.wgsl"]);
+}
+
+#[test]
+fn wgsl_regular() {
+    insta::assert_snapshot!("wgsl_regular_wgsl", text(&build(), "wgsl/regular.wgsl"));
+}
+
+#[test]
+fn wgsl_pccm() {
+    insta::assert_snapshot!("wgsl_pccm_wgsl", text(&build(), "wgsl/pccm.wgsl"));
+}
