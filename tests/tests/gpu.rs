@@ -39,14 +39,24 @@ const LEVELS: &[u32] = &[1, 2, 7, 8, 16];
 
 #[test]
 fn gpu_matches_cpu_and_is_watertight() {
-    for name in common::CLOSED_MESHES {
+    check_meshes(common::CLOSED_MESHES, LEVELS);
+}
+
+/// The 27,776-quad mesh, at fewer levels to keep CI quick.
+#[test]
+fn gpu_matches_cpu_on_the_big_mesh() {
+    check_meshes(&[common::BIG_MESH], &[1, 2, 7, 8]);
+}
+
+fn check_meshes(names: &[&str], levels: &[u32]) {
+    for name in names {
         let (topo, positions, diag) = load(name);
         let euler = topo.euler_characteristic();
         let kernels = cpu::scheme("pccm").expect("pccm");
         let patches = cpu::construct(&topo, &positions, kernels).expect("construct");
         let g = GpuMesh::new(gpu(), &topo, &positions, "pccm")
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-        for &level in LEVELS {
+        for &level in levels {
             let c = cpu::evaluate(&patches, level).expect("cpu");
             let t = g.evaluate(level).unwrap_or_else(|e| panic!("{name}: {e}"));
             let (mut dp, mut da) = (0.0f64, 0.0f64);

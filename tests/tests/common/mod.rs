@@ -12,6 +12,10 @@ pub const CLOSED_MESHES: &[&str] = &[
     "catmark_righthanded",
 ];
 
+/// The large closed mesh of the shared set (catmark_righthanded refined
+/// three times, 27,776 quads); checked at fewer levels to keep CI fast.
+pub const BIG_MESH: &str = "big/catmark_righthanded_L3";
+
 pub fn data(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("data")
