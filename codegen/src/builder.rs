@@ -221,28 +221,13 @@ impl Builder {
         })
     }
 
-    /// Compile and write into the output directory; returns the written paths.
+    /// Compile and write into the output directory; returns every generated
+    /// path. Files whose contents are already right are left untouched, so
+    /// build scripts don't retrigger.
     pub fn write(&self) -> Result<Vec<PathBuf>, BuildError> {
         let dir = self.out_dir.clone().ok_or(BuildError::NoOutDir)?;
         let out = self.compile()?;
-        let mut written = Vec::new();
-        for f in &out.files {
-            let path = dir.join(&f.path);
-            if let Some(parent) = path.parent() {
-                std::fs::create_dir_all(parent).map_err(|source| BuildError::Io {
-                    path: parent.to_path_buf(),
-                    source,
-                })?;
-            }
-            // Leave unchanged files untouched so build scripts don't retrigger.
-            if std::fs::read(&path).ok().as_deref() != Some(&f.contents[..]) {
-                std::fs::write(&path, &f.contents).map_err(|source| BuildError::Io {
-                    path: path.clone(),
-                    source,
-                })?;
-            }
-            written.push(path);
-        }
-        Ok(written)
+        crate::outdir::write(&dir, &out.files)?;
+        Ok(out.files.iter().map(|f| dir.join(&f.path)).collect())
     }
 }

@@ -15,6 +15,7 @@ pub mod builder;
 pub mod dsl;
 pub mod form;
 pub mod lower;
+pub mod outdir;
 pub mod plan;
 pub mod scheme;
 pub mod sym;

@@ -186,11 +186,15 @@ impl Function {
             precise: false,
         }
     }
+    /// A new local. Names are unique within a function (a clash, e.g. a
+    /// scheme output named like a lowering temporary, gets a `_k` suffix),
+    /// so every printer can use them as they are.
     pub fn local(&mut self, name: impl Into<String>, ty: Ty) -> LocalId {
-        self.locals.push(Local {
-            name: name.into(),
-            ty,
-        });
+        let mut name = name.into();
+        if self.locals.iter().any(|l| l.name == name) {
+            name = format!("{name}_{}", self.locals.len());
+        }
+        self.locals.push(Local { name, ty });
         LocalId(self.locals.len() - 1)
     }
     pub fn param(&mut self, name: impl Into<String>, ty: Ty) -> LocalId {
@@ -426,5 +430,19 @@ pub mod build {
     /// Symmetric lerp `x·l + y·r` (watertight.md Rule 2).
     pub fn lerp(x: Expr, y: Expr, wl: LocalId, wr: LocalId) -> Expr {
         add(mul(x, l(wl)), mul(y, l(wr)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn local_names_are_unique() {
+        let mut f = Function::new("f", "");
+        let a = f.local("sector_0", Ty::U32);
+        let b = f.local("sector_0", Ty::Vec3);
+        assert_ne!(f.locals[a.0].name, f.locals[b.0].name);
+        assert_eq!(f.locals[b.0].name, "sector_0_1");
     }
 }

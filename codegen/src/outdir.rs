@@ -1,14 +1,11 @@
 //! Writing generated files into a directory and checking a directory against
-//! them, byte for byte.
-//!
-//! Candidate for `tessgen_codegen::Output` (e.g. `Output::write_to(dir)` and
-//! `Output::check_dir(dir, ignore) -> Vec<Mismatch>`), so that build scripts
-//! and CI jobs can use it without the CLI.
+//! them, byte for byte: what `Builder::write` and `tessgen generate [--check]`
+//! do, usable from build scripts and CI jobs without the CLI.
 
+use crate::builder::{BuildError, GeneratedFile};
 use std::collections::BTreeSet;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
-use tessgen_codegen::GeneratedFile;
 
 /// One way a directory differs from the generated files. Paths are relative,
 /// `/`-separated, as in [`GeneratedFile::path`].
@@ -41,8 +38,11 @@ impl Mismatch {
     }
 }
 
-fn io_error(path: &Path, e: std::io::Error) -> String {
-    format!("{}: {e}", path.display())
+fn io_error(path: &Path, source: std::io::Error) -> BuildError {
+    BuildError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
 }
 
 /// Compare `dir` with `files`: every generated file must exist with the same
@@ -53,7 +53,7 @@ pub fn check(
     dir: &Path,
     files: &[GeneratedFile],
     ignore: &[&str],
-) -> Result<Vec<Mismatch>, String> {
+) -> Result<Vec<Mismatch>, BuildError> {
     let mut out = Vec::new();
     for f in files {
         let path = dir.join(&f.path);
@@ -80,7 +80,7 @@ pub fn extra_files(
     dir: &Path,
     files: &[GeneratedFile],
     ignore: &[&str],
-) -> Result<Vec<String>, String> {
+) -> Result<Vec<String>, BuildError> {
     let known: BTreeSet<&str> = files
         .iter()
         .map(|f| f.path.as_str())
@@ -96,7 +96,7 @@ pub fn extra_files(
 }
 
 /// Every non-directory entry under `dir`, as `prefix`-relative `/`-separated paths.
-fn walk(dir: &Path, prefix: &str, out: &mut Vec<String>) -> Result<(), String> {
+fn walk(dir: &Path, prefix: &str, out: &mut Vec<String>) -> Result<(), BuildError> {
     let entries = std::fs::read_dir(dir).map_err(|e| io_error(dir, e))?;
     for entry in entries {
         let entry = entry.map_err(|e| io_error(dir, e))?;
@@ -119,7 +119,7 @@ fn walk(dir: &Path, prefix: &str, out: &mut Vec<String>) -> Result<(), String> {
 /// Write `files` under `dir`, creating directories; files whose contents are
 /// already right are left untouched (so their mtimes do not change).
 /// Returns the relative paths actually written.
-pub fn write(dir: &Path, files: &[GeneratedFile]) -> Result<Vec<String>, String> {
+pub fn write(dir: &Path, files: &[GeneratedFile]) -> Result<Vec<String>, BuildError> {
     let mut written = Vec::new();
     for f in files {
         let path: PathBuf = dir.join(&f.path);
