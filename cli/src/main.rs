@@ -4,17 +4,16 @@
 //! libraries.
 
 mod gpu_cmds;
-mod mesh_stats;
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use mesh_stats::MeshStats;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
+use tessgen_runtime::stats::MeshStats;
 use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
 
 /// Largest `--max-valence` accepted: the table has O(n²) rows of 2n + 1 columns.

@@ -25,6 +25,7 @@ pub mod obj;
 pub mod pattern;
 #[cfg(feature = "gpu")]
 pub mod render;
+pub mod stats;
 pub mod topology;
 pub mod weld;
 

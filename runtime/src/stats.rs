@@ -1,16 +1,14 @@
 //! Mesh-level statistics computed from a [`Mesh`] alone, without building the
-//! half-edge [`Topology`](tessgen_runtime::Topology).
+//! half-edge [`Topology`](crate::Topology).
 //!
 //! `tessgen inspect` must report on meshes that topology rejects (open
 //! meshes, non-manifold edges, too-high valences), so everything here works on
 //! any valid polygon mesh. For closed manifold meshes the numbers agree with
 //! the `Topology` ones (checked by the tests below).
-//!
-//! Candidate for `tessgen_runtime::mesh` (e.g. `Mesh::stats()`).
 
+use crate::Mesh;
 use serde::Serialize;
 use std::collections::BTreeMap;
-use tessgen_runtime::Mesh;
 
 /// How many boundary edges are listed by name.
 pub const FIRST_BOUNDARY_EDGES: usize = 8;
@@ -128,8 +126,8 @@ impl MeshStats {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::{Topology, TopologyError, TopologyOptions};
     use std::path::PathBuf;
-    use tessgen_runtime::{Topology, TopologyError, TopologyOptions};
 
     fn meshes() -> Vec<(String, Mesh)> {
         let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/meshes");
