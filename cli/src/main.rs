@@ -37,6 +37,26 @@ enum Command {
     Tessellate(TessellateArgs),
     Render(RenderArgs),
     Bench(BenchArgs),
+    Compare(CompareArgs),
+}
+
+/// Compare schemes with the exact Catmull-Clark limit: distance (% of local quad size), normal deviation, boundary smoothness, watertightness.
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// Input OBJ mesh (closed, all quads).
+    mesh: PathBuf,
+    /// Comma-separated schemes.
+    #[arg(long, default_value = "pccm", value_delimiter = ',')]
+    schemes: Vec<String>,
+    /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid).
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
+    level: u32,
+    /// Limit samples: a CCLIM001 .bin file, or a directory holding <mesh name>.bin.
+    #[arg(long, value_name = "DIR|FILE")]
+    reference: Option<PathBuf>,
+    /// Print JSON instead of a Markdown table.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Render a mesh's smooth surface offscreen to a PNG with the generated WGSL (ordinary patches orange, extraordinary blue).
@@ -201,6 +221,7 @@ fn main() -> ExitCode {
         Command::Tessellate(args) => tessellate(args),
         Command::Render(args) => gpu_cmds::render(args),
         Command::Bench(args) => gpu_cmds::bench(args),
+        Command::Compare(args) => compare(args),
     };
     result.unwrap_or_else(|message| {
         eprintln!("tessgen: error: {message}");
@@ -482,6 +503,63 @@ struct InspectReport<'a> {
     extraordinary_fraction: f64,
     topology_ok: bool,
     topology_error: Option<&'a str>,
+}
+
+fn compare(args: &CompareArgs) -> CmdResult {
+    use tessgen_runtime::accuracy::{self, LimitSamples};
+    let mesh = load_mesh(&args.mesh)?;
+    let limit = match &args.reference {
+        None => None,
+        Some(r) => {
+            let path = if r.is_dir() {
+                let stem = args
+                    .mesh
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                r.join(format!("{stem}.bin"))
+            } else {
+                r.clone()
+            };
+            let lim = LimitSamples::load(&path).map_err(|e| e.to_string())?;
+            if lim.faces != mesh.num_faces() {
+                return Err(format!(
+                    "{}: {} faces of limit samples, the mesh has {}",
+                    path.display(),
+                    lim.faces,
+                    mesh.num_faces()
+                ));
+            }
+            Some(lim)
+        }
+    };
+    let mut rows = Vec::new();
+    let mut failed = false;
+    for scheme in &args.schemes {
+        match accuracy::compare(&mesh, scheme, args.level, limit.as_ref()) {
+            Ok(r) => rows.push(r),
+            Err(e) => {
+                eprintln!("tessgen: {scheme}: {e}");
+                failed = true;
+            }
+        }
+    }
+    let name = args
+        .mesh
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if args.json {
+        let text = serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?;
+        println!("{text}");
+    } else {
+        print!("{}", accuracy::markdown(&name, &rows));
+    }
+    Ok(if failed {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 #[cfg(test)]

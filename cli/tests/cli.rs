@@ -440,3 +440,48 @@ fn tessellate_errors() {
     assert_exit(&o, 1);
     assert!(stderr(&o).contains("x.obj"), "{}", all(&o));
 }
+
+#[test]
+fn compare_reports_a_table_and_json() {
+    let torus = mesh("catmark_torus.obj");
+    let reference =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/data/cc_limit");
+    let o = tessgen([
+        "compare".as_ref(),
+        torus.as_os_str(),
+        "--schemes".as_ref(),
+        "pccm,regular".as_ref(),
+        "--reference".as_ref(),
+        reference.as_os_str(),
+    ]);
+    assert_ok(&o);
+    assert!(
+        stdout(&o).contains("| catmark_torus | pccm | 8 |"),
+        "{}",
+        all(&o)
+    );
+    assert!(
+        stdout(&o).contains("| catmark_torus | regular | 8 |"),
+        "{}",
+        all(&o)
+    );
+    let o = tessgen(["compare".as_ref(), torus.as_os_str(), "--json".as_ref()]);
+    assert_ok(&o);
+    let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(j[0]["open_edges"], 0);
+    // A scheme that cannot handle the mesh fails the command but still reports the others.
+    let cube = mesh("catmark_cube.obj");
+    let o = tessgen([
+        "compare".as_ref(),
+        cube.as_os_str(),
+        "--schemes".as_ref(),
+        "pccm,regular".as_ref(),
+    ]);
+    assert_exit(&o, 1);
+    assert!(
+        stdout(&o).contains("| catmark_cube | pccm |"),
+        "{}",
+        all(&o)
+    );
+    assert!(stderr(&o).contains("face 0"), "{}", all(&o));
+}

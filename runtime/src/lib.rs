@@ -16,6 +16,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod accuracy;
 pub mod cpu;
 #[cfg(feature = "gpu")]
 pub mod gpu;
