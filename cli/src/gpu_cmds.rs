@@ -81,6 +81,7 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
         height: h,
         camera: Camera::framing(lo, hi, dir),
         background: [1.0, 1.0, 1.0, 1.0],
+        wireframe: args.wireframe,
     };
     let img = mesh.render(&opts).map_err(|e| e.to_string())?;
     img.save_png(&args.out).map_err(|e| e.to_string())?;

@@ -76,6 +76,9 @@ struct RenderArgs {
     /// Image size.
     #[arg(long, value_name = "WxH", default_value = "800x600")]
     size: String,
+    /// Darken patch boundaries (wireframe of the base faces).
+    #[arg(long)]
+    wireframe: bool,
     /// Camera direction as azimuth,elevation in degrees around the mesh's bounding-box centre.
     #[arg(
         long,

@@ -62,7 +62,7 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 76) uint cp_base;
     layout(offset = 80) uint level;
     layout(offset = 84) uint out_base;
-    layout(offset = 88) uint pad0;
+    layout(offset = 88) uint flags;
     layout(offset = 92) uint pad1;
 } params;
 

@@ -26,7 +26,7 @@ struct Params {
     uint cp_base; // offset 76: first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]
     uint level; // offset 80: tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N
     uint out_base; // offset 84: first sample written by eval_main
-    uint pad0; // offset 88: padding
+    uint flags; // offset 88: bit 0: shade_fs darkens patch boundaries (wireframe overlay); other bits 0
     uint pad1; // offset 92: padding
 };
 

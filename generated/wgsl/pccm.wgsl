@@ -22,8 +22,8 @@ struct Params {
     level: u32,
     // offset 84: first sample written by eval_main
     out_base: u32,
-    // offset 88: padding
-    pad0: u32,
+    // offset 88: bit 0: shade_fs darkens patch boundaries (wireframe overlay); other bits 0
+    flags: u32,
     // offset 92: padding
     pad1: u32,
 }
@@ -559,6 +559,7 @@ struct VsOut {
     @location(0) world_position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) patch_class: u32,
+    @location(3) uv: vec2<f32>,
 }
 
 // Instanced tessellation: an index buffer over the (level+1)² grid vertices, shared by
@@ -582,6 +583,7 @@ fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -
     out.world_position = result.position;
     out.normal = result.normal;
     out.patch_class = params.class_;
+    out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32(params.level));
     return out;
 }
 
@@ -595,5 +597,13 @@ fn shade_fs(input: VsOut) -> @location(0) vec4<f32> {
     let n: vec3<f32> = tessgen_normalize(input.normal);
     let light: vec3<f32> = normalize(vec3<f32>(0.3f, 0.5f, 0.8f));
     let lambert: f32 = abs(dot(n, light));
-    return vec4<f32>((base * (0.2f + (0.8f * lambert))), 1.0f);
+    var color: vec3<f32> = (base * (0.2f + (0.8f * lambert)));
+    // Wireframe overlay of patch boundaries (params.flags bit 0).
+    if ((params.flags & 1u) != 0u) {
+        let edge: f32 = min(min(input.uv.x, (1.0f - input.uv.x)), min(input.uv.y, (1.0f - input.uv.y)));
+        if (edge < (1.5f * fwidth(edge))) {
+            color = (color * 0.15f);
+        }
+    }
+    return vec4<f32>(color, 1.0f);
 }

@@ -525,10 +525,12 @@ impl<'g> GpuMesh<'g> {
         cp_base: u32,
         level: u32,
         out_base: u32,
+        flags: u32,
     ) -> wgpu::Buffer {
-        self.params_buffer(&params_bytes(
-            view_proj, first, count, class, cp_base, level, out_base,
-        ))
+        let mut bytes = params_bytes(view_proj, first, count, class, cp_base, level, out_base);
+        // `flags` follows out_base (abi::PARAMS, byte 88).
+        bytes[88..92].copy_from_slice(&flags.to_le_bytes());
+        self.params_buffer(&bytes)
     }
 
     fn params_buffer(&self, bytes: &[u8]) -> wgpu::Buffer {

@@ -68,6 +68,8 @@ pub struct RenderOptions {
     pub camera: Camera,
     /// Background colour, linear RGBA.
     pub background: [f64; 4],
+    /// Darken patch boundaries (a wireframe of the base faces).
+    pub wireframe: bool,
 }
 
 /// An RGBA8 image, row-major, top row first.
@@ -201,7 +203,16 @@ impl GpuMesh<'_> {
                 if c.count == 0 {
                     continue;
                 }
-                let p = self.params(view_proj, c.first, c.count, c.class, c.cp_base, level, 0);
+                let p = self.params(
+                    view_proj,
+                    c.first,
+                    c.count,
+                    c.class,
+                    c.cp_base,
+                    level,
+                    0,
+                    u32::from(opts.wireframe),
+                );
                 let group =
                     self.bind_group("eval_vs", &pipeline.get_bind_group_layout(0), &p, None);
                 draws.push((group, c.count));

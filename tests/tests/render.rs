@@ -14,7 +14,7 @@ use tessgen_runtime::{cpu, Topology};
 
 const ORANGE: [u8; 3] = [255, 140, 26];
 
-fn render(gpu: &Gpu, name: &str, level: u32, w: u32, h: u32) -> Image {
+fn render(gpu: &Gpu, name: &str, level: u32, w: u32, h: u32, wireframe: bool) -> Image {
     let mesh = common::mesh(name);
     let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
     let positions: Vec<Vec3> = mesh
@@ -34,6 +34,7 @@ fn render(gpu: &Gpu, name: &str, level: u32, w: u32, h: u32) -> Image {
         height: h,
         camera: Camera::framing(lo, hi, Vec3::new(0.57, 0.42, 0.7)),
         background: [1.0, 1.0, 1.0, 1.0],
+        wireframe,
     };
     g.render(&opts).expect("render")
 }
@@ -50,7 +51,7 @@ fn differing(a: &Image, b: &Image, tol: u8) -> usize {
 #[test]
 fn cube_matches_reference_image() {
     let gpu = Gpu::new().expect("adapter");
-    let img = render(&gpu, "catmark_cube", 8, 256, 256);
+    let img = render(&gpu, "catmark_cube", 8, 256, 256, false);
     let path = common::data("render/catmark_cube_l8.png");
     if std::env::var_os("TESSGEN_UPDATE_REFERENCE").is_some() {
         img.save_png(&path).expect("write reference");
@@ -81,7 +82,7 @@ fn cube_matches_reference_image() {
 #[test]
 fn righthanded_shows_both_patch_colours() {
     let gpu = Gpu::new().expect("adapter");
-    let img = render(&gpu, "catmark_righthanded", 6, 320, 240);
+    let img = render(&gpu, "catmark_righthanded", 6, 320, 240, false);
     // Lit colours vary; match hue loosely: orange = red high, blue low; blue = blue high, red low.
     let (mut orange, mut blue) = (0, 0);
     for p in img.rgba.chunks_exact(4) {
@@ -96,4 +97,23 @@ fn righthanded_shows_both_patch_colours() {
     println!("righthanded: {orange} orange-ish and {blue} blue-ish pixels");
     assert!(orange > 500, "ordinary (orange) patches missing: {orange}");
     assert!(blue > 500, "extraordinary (blue) patches missing: {blue}");
+}
+
+#[test]
+fn wireframe_darkens_patch_boundaries() {
+    let gpu = Gpu::new().expect("adapter");
+    let plain = render(&gpu, "catmark_righthanded", 6, 320, 240, false);
+    let wire = render(&gpu, "catmark_righthanded", 6, 320, 240, true);
+    let dark = |img: &Image| {
+        img.rgba
+            .chunks_exact(4)
+            .filter(|p| p[0] < 50 && p[1] < 50 && p[2] < 60)
+            .count()
+    };
+    let (a, b) = (dark(&plain), dark(&wire));
+    println!("dark pixels: plain {a}, wireframe {b}");
+    assert!(
+        b > a + 500,
+        "wireframe adds no dark boundary pixels ({a} → {b})"
+    );
 }

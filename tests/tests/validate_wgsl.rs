@@ -389,7 +389,8 @@ fn entry_point_bindings() {
                     "12 samples read_write",
                 ],
                 "eval_vs" => &["8 control_points_ro read", "10 params -"],
-                "shade_fs" => &[],
+                // The wireframe flag.
+                "shade_fs" => &["10 params -"],
                 other => panic!("{}: unexpected entry point {other}", f.path),
             };
             assert_eq!(got, want, "{}: {}", f.path, ep.name);

@@ -74,7 +74,7 @@ pub const PARAMS: &[(&str, &str)] = &[
     ("cp_base", "first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]"),
     ("level", "tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N"),
     ("out_base", "first sample written by eval_main"),
-    ("pad0", "padding"),
+    ("flags", "bit 0: shade_fs darkens patch boundaries (wireframe overlay); other bits 0"),
     ("pad1", "padding"),
 ];
 

@@ -706,6 +706,7 @@ impl<'a> Writer<'a> {
         self.line("    @location(0) world_position: vec3<f32>,");
         self.line("    @location(1) normal: vec3<f32>,");
         self.line("    @location(2) @interpolate(flat) patch_class: u32,");
+        self.line("    @location(3) uv: vec2<f32>,");
         self.line("}");
         self.line("");
         self.line("// Instanced tessellation: an index buffer over the (level+1)² grid vertices, shared by");
@@ -733,6 +734,9 @@ impl<'a> Writer<'a> {
         self.line("out.world_position = result.position;");
         self.line("out.normal = result.normal;");
         self.line(&format!("out.patch_class = {class};"));
+        self.line(&format!(
+            "out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32({level}));"
+        ));
         self.line("return out;");
         self.end_fn();
 
@@ -760,7 +764,15 @@ impl<'a> Writer<'a> {
         self.line(&format!("let n: vec3<f32> = {normalize}(input.normal);"));
         self.line("let light: vec3<f32> = normalize(vec3<f32>(0.3f, 0.5f, 0.8f));");
         self.line("let lambert: f32 = abs(dot(n, light));");
-        self.line("return vec4<f32>((base * (0.2f + (0.8f * lambert))), 1.0f);");
+        self.line("var color: vec3<f32> = (base * (0.2f + (0.8f * lambert)));");
+        self.line("// Wireframe overlay of patch boundaries (params.flags bit 0).");
+        self.line("if ((params.flags & 1u) != 0u) {");
+        self.line("    let edge: f32 = min(min(input.uv.x, (1.0f - input.uv.x)), min(input.uv.y, (1.0f - input.uv.y)));");
+        self.line("    if (edge < (1.5f * fwidth(edge))) {");
+        self.line("        color = (color * 0.15f);");
+        self.line("    }");
+        self.line("}");
+        self.line("return vec4<f32>(color, 1.0f);");
         self.indent -= 1;
         self.line("}");
     }
