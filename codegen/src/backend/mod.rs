@@ -137,6 +137,30 @@ pub fn binop(op: crate::plan::BinOp) -> &'static str {
     }
 }
 
+/// Lines of a dispatch over a scheme's patch classes, in C-family syntax
+/// (WGSL, GLSL, HLSL): `if (class == 0u) { s0 } else if … else { sN }`, the
+/// last class unconditional, like the Plan's own `eval` dispatch. One
+/// statement per class; a single class needs no test.
+pub fn class_chain_lines(class: &str, stmts: &[String]) -> Vec<String> {
+    let mut out = Vec::new();
+    for (k, s) in stmts.iter().enumerate() {
+        if stmts.len() == 1 {
+            out.push(s.clone());
+        } else if k == 0 {
+            out.push(format!("if ({class} == {k}u) {{"));
+            out.push(format!("    {s}"));
+        } else if k + 1 < stmts.len() {
+            out.push(format!("}} else if ({class} == {k}u) {{"));
+            out.push(format!("    {s}"));
+        } else {
+            out.push("} else {".into());
+            out.push(format!("    {s}"));
+            out.push("}".into());
+        }
+    }
+    out
+}
+
 /// The header every generated file starts with (after the target's comment
 /// marker): generator version and the command that made it.
 pub fn header_lines(command: &str) -> Vec<String> {

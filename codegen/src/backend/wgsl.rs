@@ -580,23 +580,9 @@ impl<'a> Writer<'a> {
     /// `if (params.class_ == 0u) { … } else if … else { … }` over the
     /// scheme's patch classes, the last one unconditional (like `eval`).
     fn class_chain(&mut self, body: &dyn Fn(&Self, &PatchEntry) -> String) {
-        let patches: &'a [PatchEntry] = &self.entries.patches;
-        let class = param("class");
-        for (k, p) in patches.iter().enumerate() {
-            let s = body(self, p);
-            if patches.len() == 1 {
-                self.line(&s);
-            } else if k == 0 {
-                self.line(&format!("if ({class} == {k}u) {{"));
-                self.line(&format!("    {s}"));
-            } else if k + 1 < patches.len() {
-                self.line(&format!("}} else if ({class} == {k}u) {{"));
-                self.line(&format!("    {s}"));
-            } else {
-                self.line("} else {");
-                self.line(&format!("    {s}"));
-                self.line("}");
-            }
+        let stmts: Vec<String> = self.entries.patches.iter().map(|p| body(self, p)).collect();
+        for line in super::class_chain_lines(&param("class"), &stmts) {
+            self.line(&line);
         }
     }
 
