@@ -60,6 +60,18 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
             "codegen/schemes/pccm.tess",
             include_str!("../schemes/pccm.tess"),
         ),
+        SchemeSource::new(
+            "codegen/schemes/acc.tess",
+            include_str!("../schemes/acc.tess"),
+        ),
+        SchemeSource::new(
+            "codegen/schemes/gregory.tess",
+            include_str!("../schemes/gregory.tess"),
+        ),
+        SchemeSource::new(
+            "codegen/schemes/gregory_osd.tess",
+            include_str!("../schemes/gregory_osd.tess"),
+        ),
     ]
 }
 

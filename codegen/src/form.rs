@@ -16,6 +16,36 @@ pub enum Form {
     /// PCCM c-patch: 24 coefficients stored `6i + {v, t0, t1, b211, b121, b112}`,
     /// evaluated as four quartic triangles (`spec/pccm.md` §4.3–§5.2).
     CPatch,
+    /// ACC (`spec/acc.md`): a bicubic geometry patch (16 points, stored like
+    /// [`Form::Bicubic`]) plus the two tangent patches U (3×4) and V (4×3)
+    /// whose cross product is the shading normal. The 24 tangent coefficients
+    /// are declared per corner in the corner's own frame (`a` toward
+    /// `v_{i+1}`, `b` toward `v_{i-1}`, derivatives `D_a`, `D_b`) and stored
+    /// `16 + 6i + {da00, da01, da10, da11, db00, db10}`; evaluation maps them
+    /// back to U, V with the corner's signs (see [`Form::acc_tangent_slot`]).
+    Acc,
+    /// Gregory patch (`spec/gregory.md`): 20 points stored `5i + {p, ep, em,
+    /// fp, fm}` (OpenSubdiv order), interior points blended rationally.
+    Gregory,
+}
+
+/// What a control-point slot holds: its stencil weights sum to 1 (a point)
+/// or to 0 (a vector, e.g. an ACC tangent coefficient).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlotKind {
+    Point,
+    Vector,
+}
+
+/// Where an ACC tangent coefficient of the corner frame lands in U or V.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TangentSlot {
+    /// `false`: U (3×4, index `[a][b]` with a along u); `true`: V (4×3).
+    pub in_v: bool,
+    pub a: usize,
+    pub b: usize,
+    /// The stored corner-frame value is `sign ×` the U/V coefficient.
+    pub negate: bool,
 }
 
 impl Form {
@@ -23,6 +53,8 @@ impl Form {
         match name {
             "bicubic" => Some(Form::Bicubic),
             "cpatch" => Some(Form::CPatch),
+            "acc" => Some(Form::Acc),
+            "gregory" => Some(Form::Gregory),
             _ => None,
         }
     }
@@ -31,8 +63,13 @@ impl Form {
         match self {
             Form::Bicubic => "bicubic",
             Form::CPatch => "cpatch",
+            Form::Acc => "acc",
+            Form::Gregory => "gregory",
         }
     }
+
+    /// Every form name, for error messages.
+    pub const NAMES: &'static str = "`bicubic`, `cpatch`, `acc` or `gregory`";
 
     /// Per-corner slots a scheme must define with `out SLOT[i] = …`.
     pub fn slots(self) -> &'static [&'static str] {
@@ -41,6 +78,62 @@ impl Form {
             // b01 one step toward v_{i-1}, b11 the interior point.
             Form::Bicubic => &["b00", "b10", "b01", "b11"],
             Form::CPatch => &["v", "t0", "t1", "b211", "b121", "b112"],
+            // Geometry as Bicubic; then D_a[0][0], D_a[0][1], D_a[1][0],
+            // D_a[1][1], D_b[0][0], D_b[1][0] of the corner frame (first
+            // index along a, second along b).
+            Form::Acc => &[
+                "b00", "b10", "b01", "b11", "da00", "da01", "da10", "da11", "db00", "db10",
+            ],
+            Form::Gregory => &["p", "ep", "em", "fp", "fm"],
+        }
+    }
+
+    /// Whether slot `slot` is a point (weights sum to 1) or a vector (0).
+    pub fn slot_kind(self, slot: usize) -> SlotKind {
+        match self {
+            Form::Acc if slot >= 4 => SlotKind::Vector,
+            _ => SlotKind::Point,
+        }
+    }
+
+    /// ACC: where tangent slot `slot` (4..10) of corner `corner` lands.
+    ///
+    /// Corner k's frame is `a` = toward v_{k+1}, `b` = toward v_{k-1}:
+    /// corner 0 (a, b) = (u, v), 1 = (v, −u), 2 = (−u, −v), 3 = (−v, u). So
+    /// `D_a` is U, V, −U, −V and `D_b` is V, −U, −V, U at corners 0..3, and a
+    /// corner-frame index `[α][β]` (α along a) maps to the grid by the same
+    /// rotation as the geometry points.
+    pub fn acc_tangent_slot(corner: usize, slot: usize) -> TangentSlot {
+        // (is D_b, α, β) of the slot in the corner frame.
+        let (is_db, al, be) = match slot {
+            4 => (false, 0, 0),
+            5 => (false, 0, 1),
+            6 => (false, 1, 0),
+            7 => (false, 1, 1),
+            8 => (true, 0, 0),
+            _ => (true, 1, 0),
+        };
+        // Degrees along (a, b): D_a is quadratic in a, cubic in b; D_b the reverse.
+        let (da, db) = if is_db { (3, 2) } else { (2, 3) };
+        // Grid position (x along u, y along v) of corner-frame index (α, β):
+        // corner 0 (α, β); 1 (d_b−β, α); 2 (d_a−α, d_b−β); 3 (β, d_a−α),
+        // where the u- and v-degrees follow which of U/V the patch is.
+        let k = corner % 4;
+        // Which global patch: D_a is U at corners 0, 2 and V at 1, 3.
+        let in_v = (k % 2 == 1) != is_db;
+        let (x, y) = match k {
+            0 => (al, be),
+            1 => (db - be, al),
+            2 => (da - al, db - be),
+            _ => (be, da - al),
+        };
+        // D_a = U, V, −U, −V; D_b = V, −U, −V, U.
+        let negate = if is_db { k == 1 || k == 2 } else { k >= 2 };
+        TangentSlot {
+            in_v,
+            a: x,
+            b: y,
+            negate,
         }
     }
 
@@ -71,6 +164,9 @@ impl Form {
                 (4 * k + l) as usize
             }
             Form::CPatch => 6 * corner + slot,
+            Form::Acc if slot < 4 => Form::Bicubic.storage_index(corner, slot),
+            Form::Acc => 16 + 6 * corner + (slot - 4),
+            Form::Gregory => 5 * corner + slot,
         }
     }
 
@@ -80,7 +176,7 @@ impl Form {
         let next = (edge + 1) % 4;
         match self {
             // b00 of corner k, b10 of corner k, b01 of corner k+1, b00 of corner k+1.
-            Form::Bicubic => [
+            Form::Bicubic | Form::Acc => [
                 self.storage_index(edge, 0),
                 self.storage_index(edge, 1),
                 self.storage_index(next, 2),
@@ -88,6 +184,8 @@ impl Form {
             ],
             // (v^i, t^i_0, t^{i+1}_1, v^{i+1}) — pccm.md §4.1.
             Form::CPatch => [6 * edge, 6 * edge + 1, 6 * next + 2, 6 * next],
+            // (P_k, E_k⁺, E_{k+1}⁻, P_{k+1}) — gregory.md §2.
+            Form::Gregory => [5 * edge, 5 * edge + 1, 5 * next + 2, 5 * next],
         }
     }
 }
@@ -121,7 +219,7 @@ mod tests {
 
     #[test]
     fn edge_curves_run_corner_to_corner() {
-        for f in [Form::Bicubic, Form::CPatch] {
+        for f in [Form::Bicubic, Form::CPatch, Form::Acc, Form::Gregory] {
             for e in 0..4 {
                 let c = f.edge_curve(e);
                 assert_eq!(c[0], f.storage_index(e, 0));
@@ -132,5 +230,99 @@ mod tests {
         assert_eq!(Form::Bicubic.edge_curve(0), [0, 4, 8, 12]);
         // Edge 2 runs v2 -> v3 along v = 1, u decreasing.
         assert_eq!(Form::Bicubic.edge_curve(2), [15, 11, 7, 3]);
+    }
+
+    #[test]
+    fn acc_tangent_slots_cover_u_and_v_once() {
+        let mut seen_u = [[0; 4]; 3];
+        let mut seen_v = [[0; 3]; 4];
+        for c in 0..4 {
+            for s in 4..10 {
+                let t = Form::acc_tangent_slot(c, s);
+                if t.in_v {
+                    seen_v[t.a][t.b] += 1;
+                } else {
+                    seen_u[t.a][t.b] += 1;
+                }
+            }
+        }
+        assert!(seen_u.iter().flatten().all(|&k| k == 1), "{seen_u:?}");
+        assert!(seen_v.iter().flatten().all(|&k| k == 1), "{seen_v:?}");
+        // acc.md §4(b): corner tangents U[0][0] = T0 (c0), V[3][0] = T0 (c1),
+        // U[2][3] = −T0 (c2), V[0][2] = −T0 (c3); U[2][0] = −T1 (c1).
+        let t = |c, s| Form::acc_tangent_slot(c, s);
+        assert_eq!(
+            t(0, 4),
+            TangentSlot {
+                in_v: false,
+                a: 0,
+                b: 0,
+                negate: false
+            }
+        );
+        assert_eq!(
+            t(1, 4),
+            TangentSlot {
+                in_v: true,
+                a: 3,
+                b: 0,
+                negate: false
+            }
+        );
+        assert_eq!(
+            t(2, 4),
+            TangentSlot {
+                in_v: false,
+                a: 2,
+                b: 3,
+                negate: true
+            }
+        );
+        assert_eq!(
+            t(3, 4),
+            TangentSlot {
+                in_v: true,
+                a: 0,
+                b: 2,
+                negate: true
+            }
+        );
+        assert_eq!(
+            t(1, 8),
+            TangentSlot {
+                in_v: false,
+                a: 2,
+                b: 0,
+                negate: true
+            }
+        );
+        assert_eq!(
+            t(3, 8),
+            TangentSlot {
+                in_v: false,
+                a: 0,
+                b: 3,
+                negate: false
+            }
+        );
+        // Cross-boundary coefficients: V[1][0] (c0 db10), U[0][1] (c0 da01).
+        assert_eq!(
+            t(0, 9),
+            TangentSlot {
+                in_v: true,
+                a: 1,
+                b: 0,
+                negate: false
+            }
+        );
+        assert_eq!(
+            t(0, 5),
+            TangentSlot {
+                in_v: false,
+                a: 0,
+                b: 1,
+                negate: false
+            }
+        );
     }
 }

@@ -212,6 +212,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         m.functions.push(match pe.form {
             Form::Bicubic => bicubic_surface(pe.class),
             Form::CPatch => cpatch_surface(pe.class),
+            Form::Acc => acc_surface(pe.class),
+            Form::Gregory => gregory_surface(pe.class),
         });
         surfaces.push(idx);
     }
@@ -629,6 +631,102 @@ fn surface_params(f: &mut Function) -> (LocalId, LocalId, LocalId, LocalId) {
     (cp, iu, iv, level)
 }
 
+/// A `Curve` field: 0 = point, 1 = derivative.
+fn field(id: LocalId, k: usize) -> Expr {
+    Expr::Field(Box::new(l(id)), k)
+}
+
+/// Bind `e` to a new `vec3` local.
+fn let_vec(f: &mut Function, name: &str, e: Expr) -> LocalId {
+    let id = f.local(name, Ty::Vec3);
+    f.body.push(Stmt::Let(id, e));
+    id
+}
+
+/// Bind `e` to a new `f32` local.
+fn let_f32(f: &mut Function, name: &str, e: Expr) -> LocalId {
+    let id = f.local(name, Ty::F32);
+    f.body.push(Stmt::Let(id, e));
+    id
+}
+
+/// Tensor-product cubic Bézier over `grid[k][l]` (k along u): symmetric de
+/// Casteljau along u on each of the four rows, then along v on the row
+/// points (position, ∂/∂v) and on the row derivatives (∂/∂u). Returns the
+/// locals `(position, du, dv)`.
+fn tensor_cubic(
+    f: &mut Function,
+    prefix: &str,
+    grid: &[[Expr; 4]; 4],
+    (lu, ru): (LocalId, LocalId),
+    (lv, rv): (LocalId, LocalId),
+) -> (Expr, Expr, Expr) {
+    let mut rows = Vec::new();
+    for row in 0..4 {
+        let id = f.local(format!("{prefix}row{row}"), Ty::Struct(plan::common::CURVE));
+        f.body.push(Stmt::Let(
+            id,
+            call(
+                FnRef::Common(common_fn::CUBIC),
+                vec![
+                    grid[0][row].clone(),
+                    grid[1][row].clone(),
+                    grid[2][row].clone(),
+                    grid[3][row].clone(),
+                    l(lu),
+                    l(ru),
+                ],
+            ),
+        ));
+        rows.push(id);
+    }
+    let along_v = f.local(format!("{prefix}along_v"), Ty::Struct(plan::common::CURVE));
+    let along_u = f.local(format!("{prefix}along_u"), Ty::Struct(plan::common::CURVE));
+    for (id, k) in [(along_v, 0), (along_u, 1)] {
+        f.body.push(Stmt::Let(
+            id,
+            call(
+                FnRef::Common(common_fn::CUBIC),
+                vec![
+                    field(rows[0], k),
+                    field(rows[1], k),
+                    field(rows[2], k),
+                    field(rows[3], k),
+                    l(lv),
+                    l(rv),
+                ],
+            ),
+        ));
+    }
+    (field(along_v, 0), field(along_u, 0), field(along_v, 1))
+}
+
+/// Quadratic Bézier by symmetric de Casteljau (`x·l + y·r` at every step).
+fn quadratic(f: &mut Function, name: &str, b: [Expr; 3], wl: LocalId, wr: LocalId) -> Expr {
+    let [b0, b1, b2] = b;
+    let q0 = let_vec(f, &format!("{name}_0"), lerp(b0, b1.clone(), wl, wr));
+    let q1 = let_vec(f, &format!("{name}_1"), lerp(b1, b2, wl, wr));
+    lerp(l(q0), l(q1), wl, wr)
+}
+
+/// Normalised cross product through the guarded common normalize.
+fn unit_cross(a: Expr, b: Expr) -> Expr {
+    call(
+        FnRef::Common(common_fn::NORMALIZE),
+        vec![Expr::Call(Builtin::Cross, vec![a, b])],
+    )
+}
+
+/// Stored control point `k` of the patch at `cp`.
+fn cp_at(cp: LocalId, k: usize) -> Expr {
+    fetch(Resource::ControlPoints, add(l(cp), u(k as u32)))
+}
+
+/// The 16 stored points of a [`Form::Bicubic`] layout as a grid `[k][l]`.
+fn bicubic_grid(cp: LocalId) -> [[Expr; 4]; 4] {
+    std::array::from_fn(|k| std::array::from_fn(|row| cp_at(cp, 4 * k + row)))
+}
+
 fn bicubic_surface(class: Class) -> Function {
     let mut f = Function::new(
         format!("{}_surface", class.name()),
@@ -641,60 +739,245 @@ fn bicubic_surface(class: Class) -> Function {
     f.body.extend(st);
     let (lv, rv, st) = weights(&mut f, "v", iv, level);
     f.body.extend(st);
-    let g = |k: u32, lrow: u32| fetch(Resource::ControlPoints, add(l(cp), u(4 * k + lrow)));
-    let mut rows = Vec::new();
-    for row in 0..4u32 {
-        let id = f.local(format!("row{row}"), Ty::Struct(plan::common::CURVE));
-        f.body.push(Stmt::Let(
-            id,
-            call(
-                FnRef::Common(common_fn::CUBIC),
-                vec![g(0, row), g(1, row), g(2, row), g(3, row), l(lu), l(ru)],
-            ),
-        ));
-        rows.push(id);
-    }
-    let field = |id: LocalId, k: usize| Expr::Field(Box::new(l(id)), k);
-    let along_v = f.local("along_v", Ty::Struct(plan::common::CURVE));
-    let along_u = f.local("along_u", Ty::Struct(plan::common::CURVE));
-    f.body.push(Stmt::Let(
-        along_v,
-        call(
-            FnRef::Common(common_fn::CUBIC),
-            vec![
-                field(rows[0], 0),
-                field(rows[1], 0),
-                field(rows[2], 0),
-                field(rows[3], 0),
-                l(lv),
-                l(rv),
-            ],
-        ),
-    ));
-    f.body.push(Stmt::Let(
-        along_u,
-        call(
-            FnRef::Common(common_fn::CUBIC),
-            vec![
-                field(rows[0], 1),
-                field(rows[1], 1),
-                field(rows[2], 1),
-                field(rows[3], 1),
-                l(lv),
-                l(rv),
-            ],
-        ),
-    ));
-    let normal = call(
-        FnRef::Common(common_fn::NORMALIZE),
-        vec![Expr::Call(
-            Builtin::Cross,
-            vec![field(along_u, 0), field(along_v, 1)],
-        )],
-    );
+    let (pos, du, dv) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv));
+    let normal = unit_cross(du, dv);
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
-        vec![field(along_v, 0), normal],
+        vec![pos, normal],
+    )));
+    f
+}
+
+/// ACC (acc.md §5): position from the bicubic geometry patch, normal from
+/// the tangent patches, `normalize(U × V)`.
+fn acc_surface(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface", class.name()),
+        "ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch \
+         (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, \
+         cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per \
+         corner in the corner's own frame (points 16..40) and mapped back with its signs here.",
+    );
+    let (cp, iu, iv, level) = surface_params(&mut f);
+    let (lu, ru, st) = weights(&mut f, "u", iu, level);
+    f.body.extend(st);
+    let (lv, rv, st) = weights(&mut f, "v", iv, level);
+    f.body.extend(st);
+    let (pos, _, _) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv));
+    let pos = let_vec(&mut f, "position", pos);
+    // U[a][b] (3×4) and V[a][b] (4×3) as expressions over stored points.
+    let mut uc: [[Option<Expr>; 4]; 4] = Default::default();
+    let mut vc: [[Option<Expr>; 4]; 4] = Default::default();
+    for corner in 0..4 {
+        for slot in 4..10 {
+            let t = Form::acc_tangent_slot(corner, slot);
+            let mut e = cp_at(cp, Form::Acc.storage_index(corner, slot));
+            if t.negate {
+                e = Expr::Neg(Box::new(e));
+            }
+            let dst = if t.in_v { &mut vc } else { &mut uc };
+            dst[t.a][t.b] = Some(e);
+        }
+    }
+    let take = |m: &mut [[Option<Expr>; 4]; 4], a: usize, b: usize| {
+        m[a][b]
+            .take()
+            .expect("every ACC tangent coefficient is stored once")
+    };
+    // U: quadratic along u per v-row, then cubic along v.
+    let mut urows = Vec::new();
+    for b in 0..4 {
+        let q = quadratic(
+            &mut f,
+            &format!("urow{b}"),
+            [
+                take(&mut uc, 0, b),
+                take(&mut uc, 1, b),
+                take(&mut uc, 2, b),
+            ],
+            lu,
+            ru,
+        );
+        urows.push(let_vec(&mut f, &format!("urow{b}"), q));
+    }
+    let tu = f.local("tangent_u", Ty::Struct(plan::common::CURVE));
+    f.body.push(Stmt::Let(
+        tu,
+        call(
+            FnRef::Common(common_fn::CUBIC),
+            vec![
+                l(urows[0]),
+                l(urows[1]),
+                l(urows[2]),
+                l(urows[3]),
+                l(lv),
+                l(rv),
+            ],
+        ),
+    ));
+    // V: quadratic along v per u-column, then cubic along u.
+    let mut vcols = Vec::new();
+    for a in 0..4 {
+        let q = quadratic(
+            &mut f,
+            &format!("vcol{a}"),
+            [
+                take(&mut vc, a, 0),
+                take(&mut vc, a, 1),
+                take(&mut vc, a, 2),
+            ],
+            lv,
+            rv,
+        );
+        vcols.push(let_vec(&mut f, &format!("vcol{a}"), q));
+    }
+    let tv = f.local("tangent_v", Ty::Struct(plan::common::CURVE));
+    f.body.push(Stmt::Let(
+        tv,
+        call(
+            FnRef::Common(common_fn::CUBIC),
+            vec![
+                l(vcols[0]),
+                l(vcols[1]),
+                l(vcols[2]),
+                l(vcols[3]),
+                l(lu),
+                l(ru),
+            ],
+        ),
+    ));
+    let normal = unit_cross(field(tu, 0), field(tv, 0));
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::SAMPLE,
+        vec![l(pos), normal],
+    )));
+    f
+}
+
+/// Gregory patch (gregory.md §4): each interior point is the rational blend
+/// of its pair `F⁺, F⁻`; both weights come from the integer coordinates and
+/// the corner's 0/0 is guarded to ½, ½ (its Bernstein weight is 0 there).
+/// Normals use the exact derivatives: the frozen-grid Bézier derivative plus
+/// `Σ B_i B_j ∂b_ij`, so the golden values and the G¹ proof both apply.
+fn gregory_surface(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface", class.name()),
+        "Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with \
+         integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by \
+         symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).",
+    );
+    let (cp, iu, iv, level) = surface_params(&mut f);
+    let (lu, ru, st) = weights(&mut f, "u", iu, level);
+    f.body.extend(st);
+    let (lv, rv, st) = weights(&mut f, "v", iv, level);
+    f.body.extend(st);
+    let g = Form::Gregory;
+    // Boundary points of the grid from P, E⁺, E⁻ (slots 0..3 sit where the
+    // bicubic layout puts b00, b10, b01).
+    let mut grid: [[Expr; 4]; 4] = std::array::from_fn(|_| std::array::from_fn(|_| f32c(0.0)));
+    for corner in 0..4 {
+        for slot in 0..3 {
+            let k = Form::Bicubic.storage_index(corner, slot);
+            grid[k / 4][k % 4] = cp_at(cp, g.storage_index(corner, slot));
+        }
+    }
+    // Interior pair weights, as integers: (w⁺, w⁻) per corner (gregory.md §4).
+    let pairs: [(Expr, Expr); 4] = [
+        (l(iu), l(iv)),
+        (l(iv), sub(l(level), l(iu))),
+        (sub(l(level), l(iu)), sub(l(level), l(iv))),
+        (sub(l(level), l(iv)), l(iu)),
+    ];
+    // d(w⁺)/du, d(w⁺)/dv, d(w⁻)/du, d(w⁻)/dv in parameter units.
+    const DW: [[f32; 4]; 4] = [
+        [1.0, 0.0, 0.0, 1.0],
+        [0.0, 1.0, -1.0, 0.0],
+        [-1.0, 0.0, 0.0, -1.0],
+        [0.0, -1.0, 1.0, 0.0],
+    ];
+    let nf = let_f32(&mut f, "nf", to_f32(l(level)));
+    let mut corr_u: Vec<Expr> = Vec::new();
+    let mut corr_v: Vec<Expr> = Vec::new();
+    for (corner, (wp, wm)) in pairs.into_iter().enumerate() {
+        let fp = let_vec(
+            &mut f,
+            &format!("fp{corner}"),
+            cp_at(cp, g.storage_index(corner, 3)),
+        );
+        let fm = let_vec(
+            &mut f,
+            &format!("fm{corner}"),
+            cp_at(cp, g.storage_index(corner, 4)),
+        );
+        let wpi = f.local(format!("wp{corner}"), Ty::U32);
+        let wmi = f.local(format!("wm{corner}"), Ty::U32);
+        f.body.push(Stmt::Let(wpi, wp));
+        f.body.push(Stmt::Let(wmi, wm));
+        let sum = f.local(format!("ws{corner}"), Ty::U32);
+        f.body.push(Stmt::Let(sum, add(l(wpi), l(wmi))));
+        // Blend weights (guarded): a = w⁺/s, b = w⁻/s; and the derivative
+        // factor 1/s² in parameter units (s/level)².
+        let a = f.local(format!("a{corner}"), Ty::F32);
+        let b = f.local(format!("b{corner}"), Ty::F32);
+        let inv2 = f.local(format!("inv_s2_{corner}"), Ty::F32);
+        f.body.push(Stmt::Var(a, f32c(0.5)));
+        f.body.push(Stmt::Var(b, f32c(0.5)));
+        f.body.push(Stmt::Var(inv2, f32c(0.0)));
+        let sf = f.local(format!("sf{corner}"), Ty::F32);
+        f.body.push(Stmt::If(
+            bin(BinOp::Gt, l(sum), u(0)),
+            vec![
+                Stmt::Assign(a, div(to_f32(l(wpi)), to_f32(l(sum)))),
+                Stmt::Assign(b, div(to_f32(l(wmi)), to_f32(l(sum)))),
+                Stmt::Let(sf, div(to_f32(l(sum)), l(nf))),
+                Stmt::Assign(inv2, div(f32c(1.0), mul(l(sf), l(sf)))),
+            ],
+            vec![],
+        ));
+        let k = Form::Bicubic.storage_index(corner, 3);
+        let x = let_vec(
+            &mut f,
+            &format!("x{corner}"),
+            add(mul(l(fp), l(a)), mul(l(fm), l(b))),
+        );
+        grid[k / 4][k % 4] = l(x);
+        // ∂X/∂t = (w⁺'·w⁻ − w⁻'·w⁺)(F⁺ − F⁻)/s², weights in parameter units.
+        let wpf = let_f32(&mut f, &format!("wpf{corner}"), div(to_f32(l(wpi)), l(nf)));
+        let wmf = let_f32(&mut f, &format!("wmf{corner}"), div(to_f32(l(wmi)), l(nf)));
+        let diff = let_vec(&mut f, &format!("dfm{corner}"), sub(l(fp), l(fm)));
+        // Bernstein weight of this slot: B_i(u)·B_j(v), i, j ∈ {1, 2}.
+        let (i, j) = (k / 4, k % 4);
+        let bern = |t_l: LocalId, t_r: LocalId, idx: usize| -> Expr {
+            // B_1 = 3·r·l², B_2 = 3·r²·l with l = 1 − t, r = t.
+            if idx == 1 {
+                mul(mul(f32c(3.0), l(t_r)), mul(l(t_l), l(t_l)))
+            } else {
+                mul(mul(f32c(3.0), mul(l(t_r), l(t_r))), l(t_l))
+            }
+        };
+        let bw = let_f32(
+            &mut f,
+            &format!("bw{corner}"),
+            mul(bern(lu, ru, i), bern(lv, rv, j)),
+        );
+        for (dir, out) in [(0usize, &mut corr_u), (1usize, &mut corr_v)] {
+            let (dp, dm) = (DW[corner][dir], DW[corner][2 + dir]);
+            let num = sub(mul(f32c(dp as f64), l(wmf)), mul(f32c(dm as f64), l(wpf)));
+            out.push(mul(l(diff), mul(mul(num, l(inv2)), l(bw))));
+        }
+    }
+    let (pos, du, dv) = tensor_cubic(&mut f, "", &grid, (lu, ru), (lv, rv));
+    let sum4 = |v: Vec<Expr>| {
+        v.into_iter()
+            .reduce(add)
+            .expect("four interior corrections")
+    };
+    let du = let_vec(&mut f, "du", add(du, sum4(corr_u)));
+    let dv = let_vec(&mut f, "dv", add(dv, sum4(corr_v)));
+    let normal = unit_cross(l(du), l(dv));
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::SAMPLE,
+        vec![pos, normal],
     )));
     f
 }

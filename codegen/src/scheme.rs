@@ -7,7 +7,7 @@
 //! tangent vectors) at some valence.
 
 use crate::dsl::{self, DefAst, DefKind, SchemeAst};
-use crate::form::Form;
+use crate::form::{Form, SlotKind};
 use crate::sym::{self, BinOp, CmpOp, Env, Func, Sym, Value};
 use proc_macro2::Span;
 use std::collections::BTreeMap;
@@ -346,11 +346,15 @@ impl Scheme {
                             sum += w;
                         }
                     }
-                    if (sum - 1.0).abs() > AFFINE_TOLERANCE {
+                    let (want, what) = match pc.form.slot_kind(slot_i) {
+                        SlotKind::Point => (1.0, "a point"),
+                        SlotKind::Vector => (0.0, "a tangent vector"),
+                    };
+                    if (sum - want).abs() > AFFINE_TOLERANCE {
                         return Err(SchemeError::new(
                             d.span,
                             format!(
-                                "control point `{}[{corner}]` ({} slot {}) weights sum to {sum} at corner valences {vals:?}, expected 1",
+                                "control point `{}[{corner}]` ({} slot {}) weights sum to {sum} at corner valences {vals:?}, expected {want} ({what})",
                                 d.name,
                                 pc.form.name(),
                                 pc.form.slots()[slot_i]
@@ -708,10 +712,7 @@ impl Resolver {
         let form = Form::from_name(&p.form.to_string()).ok_or_else(|| {
             SchemeError::new(
                 p.form.span(),
-                format!(
-                    "unknown patch form `{}`; expected `bicubic` or `cpatch`",
-                    p.form
-                ),
+                format!("unknown patch form `{}`; expected {}", p.form, Form::NAMES),
             )
         })?;
         self.patch.clear();

@@ -499,7 +499,10 @@ fn unknown_form() {
     expect_err(
         &text,
         "bspline",
-        &["unknown patch form `bspline`", "`bicubic` or `cpatch`"],
+        &[
+            "unknown patch form `bspline`",
+            "`bicubic`, `cpatch`, `acc` or `gregory`",
+        ],
     );
 }
 

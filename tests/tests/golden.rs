@@ -155,10 +155,11 @@ fn rel(a: Vec3, b: Vec3, scale: f32) -> f64 {
     ((a - b).length() / scale.max(1.0)) as f64
 }
 
+/// Angle in degrees, in f64 via atan2 (acos of an f32 dot product cannot
+/// resolve angles below ~0.02°).
 fn angle_deg(a: Vec3, b: Vec3) -> f64 {
-    (a.normalize().dot(b.normalize()).clamp(-1.0, 1.0) as f64)
-        .acos()
-        .to_degrees()
+    let (a, b) = (a.as_dvec3(), b.as_dvec3());
+    a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
 /// (u, v) in the golden files are multiples of 1/20.
@@ -324,5 +325,133 @@ fn vertex_stage_rows_match_reference_stencils() {
                 assert_eq!(got, *w as f32, "valence {n} {key} slot {c}");
             }
         }
+    }
+}
+
+fn ring_of(case: &Value) -> ([u32; 4], Vec<Vec3>) {
+    let n = f64s(&case["valences"]);
+    let valences = [n[0] as u32, n[1] as u32, n[2] as u32, n[3] as u32];
+    let pos = case["ring_positions"]
+        .as_array()
+        .expect("ring")
+        .iter()
+        .map(v3)
+        .collect();
+    (valences, pos)
+}
+
+/// Positions and normals of `scheme` at the golden (u, v) samples of `key`.
+fn check_eval(name: &str, case: &Value, key: &str, worst: &mut Worst) {
+    let scheme = kernels::scheme(name).expect("scheme");
+    let (valences, pos) = ring_of(case);
+    let scale = scale_of(&pos);
+    let q = Quad::new(scheme, valences, pos);
+    for s in case[key]["eval"].as_array().expect("eval") {
+        let (iu, iv) = grid(&s["uv"]);
+        let out = (scheme.eval)(&q.cp, q.class, 0, iu, iv, LEVEL);
+        let e = rel(out.position, v3(&s["position"]), scale);
+        let a = angle_deg(out.normal, v3(&s["normal"]));
+        assert!(
+            e < 1e-5,
+            "{name} {valences:?} at {}: position off by {e}",
+            s["uv"]
+        );
+        assert!(
+            a < 1e-3,
+            "{name} {valences:?} at {}: normal off by {a}°",
+            s["uv"]
+        );
+        assert!(out.position.is_finite() && out.normal.is_finite());
+        worst.pos = worst.pos.max(e);
+        worst.angle = worst.angle.max(a);
+    }
+}
+
+/// ACC (acc.md §7.5): geometry points, both tangent patches (through the
+/// corner-frame storage map of the `acc` form) and evaluation, on all four
+/// golden quads (valences 4444, 5444, 3546, 8374).
+#[test]
+fn acc_matches_schemes_reference() {
+    use tessgen_codegen::form::Form;
+    let g = common::json("spec/schemes_reference.json");
+    let scheme = kernels::scheme("acc").expect("acc");
+    let mut worst = Worst::default();
+    for case in g["quad_cases"].as_array().expect("cases") {
+        let (valences, pos) = ring_of(case);
+        let scale = scale_of(&pos);
+        let q = Quad::new(scheme, valences, pos);
+        let acc = &case["acc"];
+        for (i, b) in acc["geometry_bezier_16"]
+            .as_array()
+            .expect("geometry")
+            .iter()
+            .enumerate()
+        {
+            let e = rel(q.cp[i], v3(b), scale);
+            assert!(e < 1e-5, "{valences:?}: b[{}][{}] off by {e}", i / 4, i % 4);
+            worst.cp = worst.cp.max(e);
+        }
+        if valences != [4; 4] {
+            let u = acc["tangent_u_3x4"].as_array().expect("U");
+            let v = acc["tangent_v_4x3"].as_array().expect("V");
+            for corner in 0..4 {
+                for slot in 4..10 {
+                    let t = Form::acc_tangent_slot(corner, slot);
+                    let want = if t.in_v {
+                        v3(&v[3 * t.a + t.b])
+                    } else {
+                        v3(&u[4 * t.a + t.b])
+                    };
+                    let want = if t.negate { -want } else { want };
+                    let got = q.cp[Form::Acc.storage_index(corner, slot)];
+                    let e = rel(got, want, scale);
+                    assert!(
+                        e < 1e-5,
+                        "{valences:?}: corner {corner} slot {} ({t:?}) off by {e}",
+                        Form::Acc.slots()[slot]
+                    );
+                    worst.cp = worst.cp.max(e);
+                }
+            }
+        }
+        check_eval("acc", case, "acc", &mut worst);
+    }
+    println!("acc golden: worst {worst:?}");
+}
+
+/// Gregory, both variants (gregory.md §6): the 20 control points on the
+/// extraordinary golden quads, and position and (exact-derivative) normal
+/// at the golden samples on all four, the corner samples included (the
+/// guarded blend must stay finite).
+#[test]
+fn gregory_matches_schemes_reference() {
+    let g = common::json("spec/schemes_reference.json");
+    for (name, key) in [("gregory", "gregory_paper"), ("gregory_osd", "gregory_osd")] {
+        let scheme = kernels::scheme(name).expect("scheme");
+        let mut worst = Worst::default();
+        for case in g["quad_cases"].as_array().expect("cases") {
+            let (valences, pos) = ring_of(case);
+            let scale = scale_of(&pos);
+            let q = Quad::new(scheme, valences, pos);
+            if valences != [4; 4] {
+                for (i, b) in case[key]["control_20"]
+                    .as_array()
+                    .expect("control_20")
+                    .iter()
+                    .enumerate()
+                {
+                    let e = rel(q.cp[i], v3(b), scale);
+                    assert!(
+                        e < 1e-5,
+                        "{name} {valences:?}: point {i} (corner {}, {}) off by {e}",
+                        i / 5,
+                        ["P", "E+", "E-", "F+", "F-"][i % 5]
+                    );
+                    worst.cp = worst.cp.max(e);
+                }
+            }
+            check_eval(name, case, key, &mut worst);
+        }
+        println!("{name} golden: worst {worst:?}");
     }
 }

@@ -133,6 +133,14 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
             let layout = match p.form {
                 crate::form::Form::Bicubic => "Bézier net `G[k][l]` at `4k + l` (k along u)",
                 crate::form::Form::CPatch => "`6i + {v, t0, t1, b211, b121, b112}` per corner i",
+                crate::form::Form::Acc => {
+                    "geometry `G[k][l]` at `4k + l`; tangent coefficients at \
+                     `16 + 6i + {da00, da01, da10, da11, db00, db10}` in corner i's frame \
+                     (a toward v_{i+1}, b toward v_{i-1})"
+                }
+                crate::form::Form::Gregory => {
+                    "`5i + {P, E⁺, E⁻, F⁺, F⁻}` per corner i (OpenSubdiv order)"
+                }
             };
             let faces = match p.class {
                 crate::Class::Ordinary => "all corners valence 4",
