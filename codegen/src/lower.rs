@@ -652,14 +652,16 @@ fn let_f32(f: &mut Function, name: &str, e: Expr) -> LocalId {
 
 /// Tensor-product cubic Bézier over `grid[k][l]` (k along u): symmetric de
 /// Casteljau along u on each of the four rows, then along v on the row
-/// points (position, ∂/∂v) and on the row derivatives (∂/∂u). Returns the
-/// locals `(position, du, dv)`.
+/// points (position, ∂/∂v) and, if `with_du`, on the row derivatives
+/// (∂/∂u). Returns `(position, du, dv)`; `du` is the zero vector without
+/// `with_du` (nothing is emitted for it).
 fn tensor_cubic(
     f: &mut Function,
     prefix: &str,
     grid: &[[Expr; 4]; 4],
     (lu, ru): (LocalId, LocalId),
     (lv, rv): (LocalId, LocalId),
+    with_du: bool,
 ) -> (Expr, Expr, Expr) {
     let mut rows = Vec::new();
     for row in 0..4 {
@@ -681,8 +683,13 @@ fn tensor_cubic(
         rows.push(id);
     }
     let along_v = f.local(format!("{prefix}along_v"), Ty::Struct(plan::common::CURVE));
-    let along_u = f.local(format!("{prefix}along_u"), Ty::Struct(plan::common::CURVE));
-    for (id, k) in [(along_v, 0), (along_u, 1)] {
+    let mut passes = vec![(along_v, 0)];
+    let along_u = with_du.then(|| {
+        let id = f.local(format!("{prefix}along_u"), Ty::Struct(plan::common::CURVE));
+        passes.push((id, 1));
+        id
+    });
+    for (id, k) in passes {
         f.body.push(Stmt::Let(
             id,
             call(
@@ -698,7 +705,11 @@ fn tensor_cubic(
             ),
         ));
     }
-    (field(along_v, 0), field(along_u, 0), field(along_v, 1))
+    let du = match along_u {
+        Some(id) => field(id, 0),
+        None => Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+    };
+    (field(along_v, 0), du, field(along_v, 1))
 }
 
 /// Quadratic Bézier by symmetric de Casteljau (`x·l + y·r` at every step).
@@ -739,7 +750,7 @@ fn bicubic_surface(class: Class) -> Function {
     f.body.extend(st);
     let (lv, rv, st) = weights(&mut f, "v", iv, level);
     f.body.extend(st);
-    let (pos, du, dv) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv));
+    let (pos, du, dv) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv), true);
     let normal = unit_cross(du, dv);
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
@@ -763,7 +774,7 @@ fn acc_surface(class: Class) -> Function {
     f.body.extend(st);
     let (lv, rv, st) = weights(&mut f, "v", iv, level);
     f.body.extend(st);
-    let (pos, _, _) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv));
+    let (pos, _, _) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv), false);
     let pos = let_vec(&mut f, "position", pos);
     // U[a][b] (3×4) and V[a][b] (4×3) as expressions over stored points.
     let mut uc: [[Option<Expr>; 4]; 4] = Default::default();
@@ -961,12 +972,24 @@ fn gregory_surface(class: Class) -> Function {
             mul(bern(lu, ru, i), bern(lv, rv, j)),
         );
         for (dir, out) in [(0usize, &mut corr_u), (1usize, &mut corr_v)] {
-            let (dp, dm) = (DW[corner][dir], DW[corner][2 + dir]);
-            let num = sub(mul(f32c(dp as f64), l(wmf)), mul(f32c(dm as f64), l(wpf)));
+            // w⁺'·w⁻ − w⁻'·w⁺ with w' ∈ {−1, 0, 1}: written without the
+            // zero and unit factors.
+            let terms: Vec<Expr> = [(DW[corner][dir], wmf), (-DW[corner][2 + dir], wpf)]
+                .into_iter()
+                .filter(|(c, _)| *c != 0.0)
+                .map(|(c, w)| {
+                    if c > 0.0 {
+                        l(w)
+                    } else {
+                        Expr::Neg(Box::new(l(w)))
+                    }
+                })
+                .collect();
+            let num = terms.into_iter().reduce(add).unwrap_or(f32c(0.0));
             out.push(mul(l(diff), mul(mul(num, l(inv2)), l(bw))));
         }
     }
-    let (pos, du, dv) = tensor_cubic(&mut f, "", &grid, (lu, ru), (lv, rv));
+    let (pos, du, dv) = tensor_cubic(&mut f, "", &grid, (lu, ru), (lv, rv), true);
     let sum4 = |v: Vec<Expr>| {
         v.into_iter()
             .reduce(add)

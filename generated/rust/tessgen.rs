@@ -597,6 +597,935 @@ pub mod pccm {
     };
 }
 
+/// ACC (Loop & Schaefer 2008): a bicubic geometry patch per quad plus two
+/// tangent patches whose cross product is a continuous shading normal.
+/// Ordinary quads use the regular bicubic patch (the two coincide there, and
+/// its derivatives are the tangent patches). Math and golden values:
+/// spec/acc.md.
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod acc {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 2745, 2755, 2768, 2784, 2803, 2825, 2850, 2878, 2909, 2943, 2980, 3020, 3063, 3109, 3158, 3210, 3265, 3323, 3384, 3448, 3515, 3585, 3658, 3734, 3813, 3895, 3980, 4068, 4159, 4253];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 4350;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 3;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 1;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
+    
+    /// Vertex stage of `acc`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((3u32 * n) + 1u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `acc` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((2u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((2u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((2u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((2u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 0u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 0u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 0u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let f_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((0u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let f_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((0u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let f_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((0u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 12u32)) as usize] = v_1;
+        out[((cp_base + 15u32)) as usize] = v_2;
+        out[((cp_base + 3u32)) as usize] = v_3;
+        out[((cp_base + 4u32)) as usize] = e_0_0;
+        out[((cp_base + 13u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 2u32)) as usize] = e_3_0;
+        out[((cp_base + 1u32)) as usize] = e_0_1;
+        out[((cp_base + 8u32)) as usize] = e_1_1;
+        out[((cp_base + 14u32)) as usize] = e_2_1;
+        out[((cp_base + 7u32)) as usize] = e_3_1;
+        out[((cp_base + 5u32)) as usize] = f_0_0;
+        out[((cp_base + 9u32)) as usize] = f_1_0;
+        out[((cp_base + 10u32)) as usize] = f_2_0;
+        out[((cp_base + 6u32)) as usize] = f_3_0;
+    }
+    
+    /// Patch stage of `acc` for extraordinary quads: the 40 control points of a acc patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((2u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((2u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((2u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((2u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 0u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 0u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 0u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let f_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((0u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let f_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((0u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let f_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((0u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
+        let t_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let t_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let t_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let t_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let t_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let t_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let t_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let t_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 12u32)) as usize] = v_1;
+        out[((cp_base + 15u32)) as usize] = v_2;
+        out[((cp_base + 3u32)) as usize] = v_3;
+        out[((cp_base + 4u32)) as usize] = e_0_0;
+        out[((cp_base + 13u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 2u32)) as usize] = e_3_0;
+        out[((cp_base + 1u32)) as usize] = e_0_1;
+        out[((cp_base + 8u32)) as usize] = e_1_1;
+        out[((cp_base + 14u32)) as usize] = e_2_1;
+        out[((cp_base + 7u32)) as usize] = e_3_1;
+        out[((cp_base + 5u32)) as usize] = f_0_0;
+        out[((cp_base + 9u32)) as usize] = f_1_0;
+        out[((cp_base + 10u32)) as usize] = f_2_0;
+        out[((cp_base + 6u32)) as usize] = f_3_0;
+        let mid_0: Vec3 = (3.0f32 * (e_1_1 - e_0_0));
+        let mid_1: Vec3 = (3.0f32 * (e_2_1 - e_1_0));
+        let mid_2: Vec3 = (3.0f32 * (e_3_1 - e_2_0));
+        let mid_3: Vec3 = (3.0f32 * (e_0_1 - e_3_0));
+        out[((cp_base + 16u32)) as usize] = t_0_0;
+        out[((cp_base + 22u32)) as usize] = t_1_0;
+        out[((cp_base + 28u32)) as usize] = t_2_0;
+        out[((cp_base + 34u32)) as usize] = t_3_0;
+        out[((cp_base + 20u32)) as usize] = t_0_1;
+        out[((cp_base + 26u32)) as usize] = t_1_1;
+        out[((cp_base + 32u32)) as usize] = t_2_1;
+        out[((cp_base + 38u32)) as usize] = t_3_1;
+        out[((cp_base + 18u32)) as usize] = mid_0;
+        out[((cp_base + 24u32)) as usize] = mid_1;
+        out[((cp_base + 30u32)) as usize] = mid_2;
+        out[((cp_base + 36u32)) as usize] = mid_3;
+        out[((cp_base + 19u32)) as usize] = (3.0f32 * (f_1_0 - f_0_0));
+        out[((cp_base + 25u32)) as usize] = (3.0f32 * (f_2_0 - f_1_0));
+        out[((cp_base + 31u32)) as usize] = (3.0f32 * (f_3_0 - f_2_0));
+        out[((cp_base + 37u32)) as usize] = (3.0f32 * (f_0_0 - f_3_0));
+        out[((cp_base + 21u32)) as usize] = ((3.0f32 * (f_0_0 - e_0_0)) + ((((2.0f32 * c_0) * mid_0) - (c_1 * t_0_0)) / 3.0f32));
+        out[((cp_base + 27u32)) as usize] = ((3.0f32 * (f_1_0 - e_1_0)) + ((((2.0f32 * c_1) * mid_1) - (c_2 * t_1_0)) / 3.0f32));
+        out[((cp_base + 33u32)) as usize] = ((3.0f32 * (f_2_0 - e_2_0)) + ((((2.0f32 * c_2) * mid_2) - (c_3 * t_2_0)) / 3.0f32));
+        out[((cp_base + 39u32)) as usize] = ((3.0f32 * (f_3_0 - e_3_0)) + ((((2.0f32 * c_3) * mid_3) - (c_0 * t_3_0)) / 3.0f32));
+        out[((cp_base + 17u32)) as usize] = ((3.0f32 * (f_0_0 - e_0_1)) - ((((2.0f32 * c_0) * mid_3) + (c_3 * t_0_1)) / 3.0f32));
+        out[((cp_base + 23u32)) as usize] = ((3.0f32 * (f_1_0 - e_1_1)) - ((((2.0f32 * c_1) * mid_0) + (c_0 * t_1_1)) / 3.0f32));
+        out[((cp_base + 29u32)) as usize] = ((3.0f32 * (f_2_0 - e_2_1)) - ((((2.0f32 * c_2) * mid_1) + (c_1 * t_2_1)) / 3.0f32));
+        out[((cp_base + 35u32)) as usize] = ((3.0f32 * (f_3_0 - e_3_1)) - ((((2.0f32 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0f32));
+    }
+    
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 4u32)) as usize], cp[((cp_base + 8u32)) as usize], cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 1u32)) as usize], cp[((cp_base + 5u32)) as usize], cp[((cp_base + 9u32)) as usize], cp[((cp_base + 13u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], cp[((cp_base + 6u32)) as usize], cp[((cp_base + 10u32)) as usize], cp[((cp_base + 14u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+    }
+    
+    /// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here.
+    pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 4u32)) as usize], cp[((cp_base + 8u32)) as usize], cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 1u32)) as usize], cp[((cp_base + 5u32)) as usize], cp[((cp_base + 9u32)) as usize], cp[((cp_base + 13u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], cp[((cp_base + 6u32)) as usize], cp[((cp_base + 10u32)) as usize], cp[((cp_base + 14u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let position: Vec3 = along_v.point;
+        let urow0_0: Vec3 = ((cp[((cp_base + 16u32)) as usize] * lu) + (cp[((cp_base + 18u32)) as usize] * ru));
+        let urow0_1: Vec3 = ((cp[((cp_base + 18u32)) as usize] * lu) + ((-cp[((cp_base + 26u32)) as usize]) * ru));
+        let urow0: Vec3 = ((urow0_0 * lu) + (urow0_1 * ru));
+        let urow1_0: Vec3 = ((cp[((cp_base + 17u32)) as usize] * lu) + (cp[((cp_base + 19u32)) as usize] * ru));
+        let urow1_1: Vec3 = ((cp[((cp_base + 19u32)) as usize] * lu) + ((-cp[((cp_base + 27u32)) as usize]) * ru));
+        let urow1: Vec3 = ((urow1_0 * lu) + (urow1_1 * ru));
+        let urow2_0: Vec3 = ((cp[((cp_base + 39u32)) as usize] * lu) + ((-cp[((cp_base + 31u32)) as usize]) * ru));
+        let urow2_1: Vec3 = (((-cp[((cp_base + 31u32)) as usize]) * lu) + ((-cp[((cp_base + 29u32)) as usize]) * ru));
+        let urow2: Vec3 = ((urow2_0 * lu) + (urow2_1 * ru));
+        let urow3_0: Vec3 = ((cp[((cp_base + 38u32)) as usize] * lu) + ((-cp[((cp_base + 30u32)) as usize]) * ru));
+        let urow3_1: Vec3 = (((-cp[((cp_base + 30u32)) as usize]) * lu) + ((-cp[((cp_base + 28u32)) as usize]) * ru));
+        let urow3: Vec3 = ((urow3_0 * lu) + (urow3_1 * ru));
+        let tangent_u: Curve = tessgen_cubic(urow0, urow1, urow2, urow3, lv, rv);
+        let vcol0_0: Vec3 = ((cp[((cp_base + 20u32)) as usize] * lv) + ((-cp[((cp_base + 36u32)) as usize]) * rv));
+        let vcol0_1: Vec3 = (((-cp[((cp_base + 36u32)) as usize]) * lv) + ((-cp[((cp_base + 34u32)) as usize]) * rv));
+        let vcol0: Vec3 = ((vcol0_0 * lv) + (vcol0_1 * rv));
+        let vcol1_0: Vec3 = ((cp[((cp_base + 21u32)) as usize] * lv) + ((-cp[((cp_base + 37u32)) as usize]) * rv));
+        let vcol1_1: Vec3 = (((-cp[((cp_base + 37u32)) as usize]) * lv) + ((-cp[((cp_base + 35u32)) as usize]) * rv));
+        let vcol1: Vec3 = ((vcol1_0 * lv) + (vcol1_1 * rv));
+        let vcol2_0: Vec3 = ((cp[((cp_base + 23u32)) as usize] * lv) + (cp[((cp_base + 25u32)) as usize] * rv));
+        let vcol2_1: Vec3 = ((cp[((cp_base + 25u32)) as usize] * lv) + ((-cp[((cp_base + 33u32)) as usize]) * rv));
+        let vcol2: Vec3 = ((vcol2_0 * lv) + (vcol2_1 * rv));
+        let vcol3_0: Vec3 = ((cp[((cp_base + 22u32)) as usize] * lv) + (cp[((cp_base + 24u32)) as usize] * rv));
+        let vcol3_1: Vec3 = ((cp[((cp_base + 24u32)) as usize] * lv) + ((-cp[((cp_base + 32u32)) as usize]) * rv));
+        let vcol3: Vec3 = ((vcol3_0 * lv) + (vcol3_1 * rv));
+        let tangent_v: Curve = tessgen_cubic(vcol0, vcol1, vcol2, vcol3, lu, ru);
+        return Sample { position: position, normal: tessgen_normalize(tangent_u.point.cross(tangent_v.point)) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        if (class == 0u32) {
+            sample = ordinary_surface(cp, cp_base, iu, iv, level);
+        } else {
+            sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+            let mut edge: u32 = 3u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if (iu == level) {
+                    edge = 1u32;
+                    t = iv;
+                } else {
+                    if (iv == level) {
+                        edge = 2u32;
+                        t = (level - iu);
+                    }
+                }
+            }
+            let curve: u32 = ((class * 16u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "acc",
+        rows_per_n: 3,
+        rows_fixed: 1,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "ordinary", form: "bicubic", control_points: 16, patch: ordinary_patch },
+            ClassKernels { class: "extraordinary", form: "acc", control_points: 40, patch: extraordinary_patch },
+        ],
+        eval: eval,
+    };
+}
+
+/// Gregory patches, ACC-2 (Loop, Schaefer, Ni, Castaño 2009), paper variant:
+/// 20 points per quad, interior points split into rationally blended pairs,
+/// corners and tangent planes at the Catmull-Clark limit. Ordinary quads use
+/// the regular bicubic patch (the Gregory patch reduces to it there). Math
+/// and golden values: spec/gregory.md.
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod gregory {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 4380, 4390, 4403, 4419, 4438, 4460, 4485, 4513, 4544, 4578, 4615, 4655, 4698, 4744, 4793, 4845, 4900, 4958, 5019, 5083, 5150, 5220, 5293, 5369, 5448, 5530, 5615, 5703, 5794, 5888];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 5985;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 3;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 1;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
+    
+    /// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((3u32 * n) + 1u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((1u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((1u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((1u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((1u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let f_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((0u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let f_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((0u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let f_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((0u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 12u32)) as usize] = v_1;
+        out[((cp_base + 15u32)) as usize] = v_2;
+        out[((cp_base + 3u32)) as usize] = v_3;
+        out[((cp_base + 4u32)) as usize] = e_0_0;
+        out[((cp_base + 13u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 2u32)) as usize] = e_3_0;
+        out[((cp_base + 1u32)) as usize] = e_0_1;
+        out[((cp_base + 8u32)) as usize] = e_1_1;
+        out[((cp_base + 14u32)) as usize] = e_2_1;
+        out[((cp_base + 7u32)) as usize] = e_3_1;
+        out[((cp_base + 5u32)) as usize] = f_0_0;
+        out[((cp_base + 9u32)) as usize] = f_1_0;
+        out[((cp_base + 10u32)) as usize] = f_2_0;
+        out[((cp_base + 6u32)) as usize] = f_3_0;
+    }
+    
+    /// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((1u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((1u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((1u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((1u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let r_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let r_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let r_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 5u32)) as usize] = v_1;
+        out[((cp_base + 10u32)) as usize] = v_2;
+        out[((cp_base + 15u32)) as usize] = v_3;
+        out[((cp_base + 1u32)) as usize] = e_0_0;
+        out[((cp_base + 6u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 16u32)) as usize] = e_3_0;
+        out[((cp_base + 2u32)) as usize] = e_0_1;
+        out[((cp_base + 7u32)) as usize] = e_1_1;
+        out[((cp_base + 12u32)) as usize] = e_2_1;
+        out[((cp_base + 17u32)) as usize] = e_3_1;
+        out[((cp_base + 3u32)) as usize] = (((((c_1 * v_0) + (((3.0f32 - (2.0f32 * c_0)) - c_1) * e_0_0)) + ((2.0f32 * c_0) * e_1_1)) + r_0_0) / 3.0f32);
+        out[((cp_base + 8u32)) as usize] = (((((c_2 * v_1) + (((3.0f32 - (2.0f32 * c_1)) - c_2) * e_1_0)) + ((2.0f32 * c_1) * e_2_1)) + r_1_0) / 3.0f32);
+        out[((cp_base + 13u32)) as usize] = (((((c_3 * v_2) + (((3.0f32 - (2.0f32 * c_2)) - c_3) * e_2_0)) + ((2.0f32 * c_2) * e_3_1)) + r_2_0) / 3.0f32);
+        out[((cp_base + 18u32)) as usize] = (((((c_0 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_0) * e_3_0)) + ((2.0f32 * c_3) * e_0_1)) + r_3_0) / 3.0f32);
+        out[((cp_base + 4u32)) as usize] = (((((c_3 * v_0) + (((3.0f32 - (2.0f32 * c_0)) - c_3) * e_0_1)) + ((2.0f32 * c_0) * e_3_0)) - r_0_1) / 3.0f32);
+        out[((cp_base + 9u32)) as usize] = (((((c_0 * v_1) + (((3.0f32 - (2.0f32 * c_1)) - c_0) * e_1_1)) + ((2.0f32 * c_1) * e_0_0)) - r_1_1) / 3.0f32);
+        out[((cp_base + 14u32)) as usize] = (((((c_1 * v_2) + (((3.0f32 - (2.0f32 * c_2)) - c_1) * e_2_1)) + ((2.0f32 * c_2) * e_1_0)) - r_2_1) / 3.0f32);
+        out[((cp_base + 19u32)) as usize] = (((((c_2 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_2) * e_3_1)) + ((2.0f32 * c_3) * e_2_0)) - r_3_1) / 3.0f32);
+    }
+    
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 4u32)) as usize], cp[((cp_base + 8u32)) as usize], cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 1u32)) as usize], cp[((cp_base + 5u32)) as usize], cp[((cp_base + 9u32)) as usize], cp[((cp_base + 13u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], cp[((cp_base + 6u32)) as usize], cp[((cp_base + 10u32)) as usize], cp[((cp_base + 14u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+    }
+    
+    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+    pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let nf: f32 = (level as f32);
+        let fp0: Vec3 = cp[((cp_base + 3u32)) as usize];
+        let fm0: Vec3 = cp[((cp_base + 4u32)) as usize];
+        let wp0: u32 = iu;
+        let wm0: u32 = iv;
+        let ws0: u32 = (wp0 + wm0);
+        let mut a0: f32 = 0.5f32;
+        let mut b0: f32 = 0.5f32;
+        let mut inv_s2_0: f32 = 0.0f32;
+        if (ws0 > 0u32) {
+            a0 = ((wp0 as f32) / (ws0 as f32));
+            b0 = ((wm0 as f32) / (ws0 as f32));
+            let sf0: f32 = ((ws0 as f32) / nf);
+            inv_s2_0 = (1.0f32 / (sf0 * sf0));
+        }
+        let x0: Vec3 = ((fp0 * a0) + (fm0 * b0));
+        let wpf0: f32 = ((wp0 as f32) / nf);
+        let wmf0: f32 = ((wm0 as f32) / nf);
+        let dfm0: Vec3 = (fp0 - fm0);
+        let bw0: f32 = (((3.0f32 * ru) * (lu * lu)) * ((3.0f32 * rv) * (lv * lv)));
+        let fp1: Vec3 = cp[((cp_base + 8u32)) as usize];
+        let fm1: Vec3 = cp[((cp_base + 9u32)) as usize];
+        let wp1: u32 = iv;
+        let wm1: u32 = (level - iu);
+        let ws1: u32 = (wp1 + wm1);
+        let mut a1: f32 = 0.5f32;
+        let mut b1: f32 = 0.5f32;
+        let mut inv_s2_1: f32 = 0.0f32;
+        if (ws1 > 0u32) {
+            a1 = ((wp1 as f32) / (ws1 as f32));
+            b1 = ((wm1 as f32) / (ws1 as f32));
+            let sf1: f32 = ((ws1 as f32) / nf);
+            inv_s2_1 = (1.0f32 / (sf1 * sf1));
+        }
+        let x1: Vec3 = ((fp1 * a1) + (fm1 * b1));
+        let wpf1: f32 = ((wp1 as f32) / nf);
+        let wmf1: f32 = ((wm1 as f32) / nf);
+        let dfm1: Vec3 = (fp1 - fm1);
+        let bw1: f32 = (((3.0f32 * (ru * ru)) * lu) * ((3.0f32 * rv) * (lv * lv)));
+        let fp2: Vec3 = cp[((cp_base + 13u32)) as usize];
+        let fm2: Vec3 = cp[((cp_base + 14u32)) as usize];
+        let wp2: u32 = (level - iu);
+        let wm2: u32 = (level - iv);
+        let ws2: u32 = (wp2 + wm2);
+        let mut a2: f32 = 0.5f32;
+        let mut b2: f32 = 0.5f32;
+        let mut inv_s2_2: f32 = 0.0f32;
+        if (ws2 > 0u32) {
+            a2 = ((wp2 as f32) / (ws2 as f32));
+            b2 = ((wm2 as f32) / (ws2 as f32));
+            let sf2: f32 = ((ws2 as f32) / nf);
+            inv_s2_2 = (1.0f32 / (sf2 * sf2));
+        }
+        let x2: Vec3 = ((fp2 * a2) + (fm2 * b2));
+        let wpf2: f32 = ((wp2 as f32) / nf);
+        let wmf2: f32 = ((wm2 as f32) / nf);
+        let dfm2: Vec3 = (fp2 - fm2);
+        let bw2: f32 = (((3.0f32 * (ru * ru)) * lu) * ((3.0f32 * (rv * rv)) * lv));
+        let fp3: Vec3 = cp[((cp_base + 18u32)) as usize];
+        let fm3: Vec3 = cp[((cp_base + 19u32)) as usize];
+        let wp3: u32 = (level - iv);
+        let wm3: u32 = iu;
+        let ws3: u32 = (wp3 + wm3);
+        let mut a3: f32 = 0.5f32;
+        let mut b3: f32 = 0.5f32;
+        let mut inv_s2_3: f32 = 0.0f32;
+        if (ws3 > 0u32) {
+            a3 = ((wp3 as f32) / (ws3 as f32));
+            b3 = ((wm3 as f32) / (ws3 as f32));
+            let sf3: f32 = ((ws3 as f32) / nf);
+            inv_s2_3 = (1.0f32 / (sf3 * sf3));
+        }
+        let x3: Vec3 = ((fp3 * a3) + (fm3 * b3));
+        let wpf3: f32 = ((wp3 as f32) / nf);
+        let wmf3: f32 = ((wm3 as f32) / nf);
+        let dfm3: Vec3 = (fp3 - fm3);
+        let bw3: f32 = (((3.0f32 * ru) * (lu * lu)) * ((3.0f32 * (rv * rv)) * lv));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 1u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 5u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], x0, x1, cp[((cp_base + 6u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 16u32)) as usize], x3, x2, cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 15u32)) as usize], cp[((cp_base + 17u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 10u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+        let du: Vec3 = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
+        let dv: Vec3 = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
+        return Sample { position: along_v.point, normal: tessgen_normalize(du.cross(dv)) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        if (class == 0u32) {
+            sample = ordinary_surface(cp, cp_base, iu, iv, level);
+        } else {
+            sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+            let mut edge: u32 = 3u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if (iu == level) {
+                    edge = 1u32;
+                    t = iv;
+                } else {
+                    if (iv == level) {
+                        edge = 2u32;
+                        t = (level - iu);
+                    }
+                }
+            }
+            let curve: u32 = ((class * 16u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "gregory",
+        rows_per_n: 3,
+        rows_fixed: 1,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "ordinary", form: "bicubic", control_points: 16, patch: ordinary_patch },
+            ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
+        ],
+        eval: eval,
+    };
+}
+
+/// Gregory patches, OpenSubdiv-compatible variant (gregory.md §3, "OpenSubdiv
+/// variant"): as `gregory`, but the edge points use OpenSubdiv's rule
+/// P + 1/(n·λ_n) Σ cos(2π(i−j)/n)·e_i over the ACC edge points, so surfaces
+/// match OpenSubdiv's legacy Gregory patches. Its corner tangent plane is not
+/// the Catmull-Clark limit plane (up to 1.8° off); it is still G¹ across edges.
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod gregory_osd {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 6015, 6025, 6038, 6054, 6073, 6095, 6120, 6148, 6179, 6213, 6250, 6290, 6333, 6379, 6428, 6480, 6535, 6593, 6654, 6718, 6785, 6855, 6928, 7004, 7083, 7165, 7250, 7338, 7429, 7523];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 7620;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 3;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 1;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
+    
+    /// Vertex stage of `gregory_osd`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((3u32 * n) + 1u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `gregory_osd` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((1u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((1u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((1u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((1u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let f_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((0u32 * n_0) + 0u32)) + sector_0)) as usize];
+        let f_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((0u32 * n_1) + 0u32)) + sector_1)) as usize];
+        let f_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((0u32 * n_2) + 0u32)) + sector_2)) as usize];
+        let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 12u32)) as usize] = v_1;
+        out[((cp_base + 15u32)) as usize] = v_2;
+        out[((cp_base + 3u32)) as usize] = v_3;
+        out[((cp_base + 4u32)) as usize] = e_0_0;
+        out[((cp_base + 13u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 2u32)) as usize] = e_3_0;
+        out[((cp_base + 1u32)) as usize] = e_0_1;
+        out[((cp_base + 8u32)) as usize] = e_1_1;
+        out[((cp_base + 14u32)) as usize] = e_2_1;
+        out[((cp_base + 7u32)) as usize] = e_3_1;
+        out[((cp_base + 5u32)) as usize] = f_0_0;
+        out[((cp_base + 9u32)) as usize] = f_1_0;
+        out[((cp_base + 10u32)) as usize] = f_2_0;
+        out[((cp_base + 6u32)) as usize] = f_3_0;
+    }
+    
+    /// Patch stage of `gregory_osd` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
+        let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
+        let n_0: u32 = inputs.valence[(vertex_0) as usize];
+        let out_base_0: u32 = inputs.vertex_out_offsets[(vertex_0) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 4u32) + 1u32)) as usize];
+        let sector_1: u32 = inputs.corner_sector[(((face * 4u32) + 1u32)) as usize];
+        let n_1: u32 = inputs.valence[(vertex_1) as usize];
+        let out_base_1: u32 = inputs.vertex_out_offsets[(vertex_1) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 4u32) + 2u32)) as usize];
+        let sector_2: u32 = inputs.corner_sector[(((face * 4u32) + 2u32)) as usize];
+        let n_2: u32 = inputs.valence[(vertex_2) as usize];
+        let out_base_2: u32 = inputs.vertex_out_offsets[(vertex_2) as usize];
+        let vertex_3: u32 = inputs.corner_vertex[(((face * 4u32) + 3u32)) as usize];
+        let sector_3: u32 = inputs.corner_sector[(((face * 4u32) + 3u32)) as usize];
+        let n_3: u32 = inputs.valence[(vertex_3) as usize];
+        let out_base_3: u32 = inputs.vertex_out_offsets[(vertex_3) as usize];
+        let v_0: Vec3 = inputs.vertex_out[((out_base_0 + ((1u32 * n_0) + 0u32))) as usize];
+        let v_1: Vec3 = inputs.vertex_out[((out_base_1 + ((1u32 * n_1) + 0u32))) as usize];
+        let v_2: Vec3 = inputs.vertex_out[((out_base_2 + ((1u32 * n_2) + 0u32))) as usize];
+        let v_3: Vec3 = inputs.vertex_out[((out_base_3 + ((1u32 * n_3) + 0u32))) as usize];
+        let e_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let e_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let e_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let e_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((1u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
+        let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
+        let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
+        let r_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
+        let r_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
+        let r_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
+        out[((cp_base + 0u32)) as usize] = v_0;
+        out[((cp_base + 5u32)) as usize] = v_1;
+        out[((cp_base + 10u32)) as usize] = v_2;
+        out[((cp_base + 15u32)) as usize] = v_3;
+        out[((cp_base + 1u32)) as usize] = e_0_0;
+        out[((cp_base + 6u32)) as usize] = e_1_0;
+        out[((cp_base + 11u32)) as usize] = e_2_0;
+        out[((cp_base + 16u32)) as usize] = e_3_0;
+        out[((cp_base + 2u32)) as usize] = e_0_1;
+        out[((cp_base + 7u32)) as usize] = e_1_1;
+        out[((cp_base + 12u32)) as usize] = e_2_1;
+        out[((cp_base + 17u32)) as usize] = e_3_1;
+        out[((cp_base + 3u32)) as usize] = (((((c_1 * v_0) + (((3.0f32 - (2.0f32 * c_0)) - c_1) * e_0_0)) + ((2.0f32 * c_0) * e_1_1)) + r_0_0) / 3.0f32);
+        out[((cp_base + 8u32)) as usize] = (((((c_2 * v_1) + (((3.0f32 - (2.0f32 * c_1)) - c_2) * e_1_0)) + ((2.0f32 * c_1) * e_2_1)) + r_1_0) / 3.0f32);
+        out[((cp_base + 13u32)) as usize] = (((((c_3 * v_2) + (((3.0f32 - (2.0f32 * c_2)) - c_3) * e_2_0)) + ((2.0f32 * c_2) * e_3_1)) + r_2_0) / 3.0f32);
+        out[((cp_base + 18u32)) as usize] = (((((c_0 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_0) * e_3_0)) + ((2.0f32 * c_3) * e_0_1)) + r_3_0) / 3.0f32);
+        out[((cp_base + 4u32)) as usize] = (((((c_3 * v_0) + (((3.0f32 - (2.0f32 * c_0)) - c_3) * e_0_1)) + ((2.0f32 * c_0) * e_3_0)) - r_0_1) / 3.0f32);
+        out[((cp_base + 9u32)) as usize] = (((((c_0 * v_1) + (((3.0f32 - (2.0f32 * c_1)) - c_0) * e_1_1)) + ((2.0f32 * c_1) * e_0_0)) - r_1_1) / 3.0f32);
+        out[((cp_base + 14u32)) as usize] = (((((c_1 * v_2) + (((3.0f32 - (2.0f32 * c_2)) - c_1) * e_2_1)) + ((2.0f32 * c_2) * e_1_0)) - r_2_1) / 3.0f32);
+        out[((cp_base + 19u32)) as usize] = (((((c_2 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_2) * e_3_1)) + ((2.0f32 * c_3) * e_2_0)) - r_3_1) / 3.0f32);
+    }
+    
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 4u32)) as usize], cp[((cp_base + 8u32)) as usize], cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 1u32)) as usize], cp[((cp_base + 5u32)) as usize], cp[((cp_base + 9u32)) as usize], cp[((cp_base + 13u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], cp[((cp_base + 6u32)) as usize], cp[((cp_base + 10u32)) as usize], cp[((cp_base + 14u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+    }
+    
+    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+    pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let nf: f32 = (level as f32);
+        let fp0: Vec3 = cp[((cp_base + 3u32)) as usize];
+        let fm0: Vec3 = cp[((cp_base + 4u32)) as usize];
+        let wp0: u32 = iu;
+        let wm0: u32 = iv;
+        let ws0: u32 = (wp0 + wm0);
+        let mut a0: f32 = 0.5f32;
+        let mut b0: f32 = 0.5f32;
+        let mut inv_s2_0: f32 = 0.0f32;
+        if (ws0 > 0u32) {
+            a0 = ((wp0 as f32) / (ws0 as f32));
+            b0 = ((wm0 as f32) / (ws0 as f32));
+            let sf0: f32 = ((ws0 as f32) / nf);
+            inv_s2_0 = (1.0f32 / (sf0 * sf0));
+        }
+        let x0: Vec3 = ((fp0 * a0) + (fm0 * b0));
+        let wpf0: f32 = ((wp0 as f32) / nf);
+        let wmf0: f32 = ((wm0 as f32) / nf);
+        let dfm0: Vec3 = (fp0 - fm0);
+        let bw0: f32 = (((3.0f32 * ru) * (lu * lu)) * ((3.0f32 * rv) * (lv * lv)));
+        let fp1: Vec3 = cp[((cp_base + 8u32)) as usize];
+        let fm1: Vec3 = cp[((cp_base + 9u32)) as usize];
+        let wp1: u32 = iv;
+        let wm1: u32 = (level - iu);
+        let ws1: u32 = (wp1 + wm1);
+        let mut a1: f32 = 0.5f32;
+        let mut b1: f32 = 0.5f32;
+        let mut inv_s2_1: f32 = 0.0f32;
+        if (ws1 > 0u32) {
+            a1 = ((wp1 as f32) / (ws1 as f32));
+            b1 = ((wm1 as f32) / (ws1 as f32));
+            let sf1: f32 = ((ws1 as f32) / nf);
+            inv_s2_1 = (1.0f32 / (sf1 * sf1));
+        }
+        let x1: Vec3 = ((fp1 * a1) + (fm1 * b1));
+        let wpf1: f32 = ((wp1 as f32) / nf);
+        let wmf1: f32 = ((wm1 as f32) / nf);
+        let dfm1: Vec3 = (fp1 - fm1);
+        let bw1: f32 = (((3.0f32 * (ru * ru)) * lu) * ((3.0f32 * rv) * (lv * lv)));
+        let fp2: Vec3 = cp[((cp_base + 13u32)) as usize];
+        let fm2: Vec3 = cp[((cp_base + 14u32)) as usize];
+        let wp2: u32 = (level - iu);
+        let wm2: u32 = (level - iv);
+        let ws2: u32 = (wp2 + wm2);
+        let mut a2: f32 = 0.5f32;
+        let mut b2: f32 = 0.5f32;
+        let mut inv_s2_2: f32 = 0.0f32;
+        if (ws2 > 0u32) {
+            a2 = ((wp2 as f32) / (ws2 as f32));
+            b2 = ((wm2 as f32) / (ws2 as f32));
+            let sf2: f32 = ((ws2 as f32) / nf);
+            inv_s2_2 = (1.0f32 / (sf2 * sf2));
+        }
+        let x2: Vec3 = ((fp2 * a2) + (fm2 * b2));
+        let wpf2: f32 = ((wp2 as f32) / nf);
+        let wmf2: f32 = ((wm2 as f32) / nf);
+        let dfm2: Vec3 = (fp2 - fm2);
+        let bw2: f32 = (((3.0f32 * (ru * ru)) * lu) * ((3.0f32 * (rv * rv)) * lv));
+        let fp3: Vec3 = cp[((cp_base + 18u32)) as usize];
+        let fm3: Vec3 = cp[((cp_base + 19u32)) as usize];
+        let wp3: u32 = (level - iv);
+        let wm3: u32 = iu;
+        let ws3: u32 = (wp3 + wm3);
+        let mut a3: f32 = 0.5f32;
+        let mut b3: f32 = 0.5f32;
+        let mut inv_s2_3: f32 = 0.0f32;
+        if (ws3 > 0u32) {
+            a3 = ((wp3 as f32) / (ws3 as f32));
+            b3 = ((wm3 as f32) / (ws3 as f32));
+            let sf3: f32 = ((ws3 as f32) / nf);
+            inv_s2_3 = (1.0f32 / (sf3 * sf3));
+        }
+        let x3: Vec3 = ((fp3 * a3) + (fm3 * b3));
+        let wpf3: f32 = ((wp3 as f32) / nf);
+        let wmf3: f32 = ((wm3 as f32) / nf);
+        let dfm3: Vec3 = (fp3 - fm3);
+        let bw3: f32 = (((3.0f32 * ru) * (lu * lu)) * ((3.0f32 * (rv * rv)) * lv));
+        let row0: Curve = tessgen_cubic(cp[((cp_base + 0u32)) as usize], cp[((cp_base + 1u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 5u32)) as usize], lu, ru);
+        let row1: Curve = tessgen_cubic(cp[((cp_base + 2u32)) as usize], x0, x1, cp[((cp_base + 6u32)) as usize], lu, ru);
+        let row2: Curve = tessgen_cubic(cp[((cp_base + 16u32)) as usize], x3, x2, cp[((cp_base + 12u32)) as usize], lu, ru);
+        let row3: Curve = tessgen_cubic(cp[((cp_base + 15u32)) as usize], cp[((cp_base + 17u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 10u32)) as usize], lu, ru);
+        let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+        let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+        let du: Vec3 = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
+        let dv: Vec3 = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
+        return Sample { position: along_v.point, normal: tessgen_normalize(du.cross(dv)) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        if (class == 0u32) {
+            sample = ordinary_surface(cp, cp_base, iu, iv, level);
+        } else {
+            sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+            let mut edge: u32 = 3u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if (iu == level) {
+                    edge = 1u32;
+                    t = iv;
+                } else {
+                    if (iv == level) {
+                        edge = 2u32;
+                        t = (level - iu);
+                    }
+                }
+            }
+            let curve: u32 = ((class * 16u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "gregory_osd",
+        rows_per_n: 3,
+        rows_fixed: 1,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "ordinary", form: "bicubic", control_points: 16, patch: ordinary_patch },
+            ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
+        ],
+        eval: eval,
+    };
+}
+
 /// Every scheme in this file.
 #[allow(dead_code)]
-pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS];
+pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS, &acc::KERNELS, &gregory::KERNELS, &gregory_osd::KERNELS];

@@ -39,22 +39,31 @@ const LEVELS: &[u32] = &[1, 2, 7, 8, 16];
 
 #[test]
 fn gpu_matches_cpu_and_is_watertight() {
-    check_meshes(common::CLOSED_MESHES, LEVELS);
+    check_meshes("pccm", common::CLOSED_MESHES, LEVELS);
+}
+
+/// ACC, Gregory and the OpenSubdiv Gregory variant through the same WGSL
+/// path.
+#[test]
+fn gpu_acc_and_gregory_match_cpu_and_are_watertight() {
+    for scheme in ["acc", "gregory", "gregory_osd"] {
+        check_meshes(scheme, common::CLOSED_MESHES, LEVELS);
+    }
 }
 
 /// The 27,776-quad mesh, at fewer levels to keep CI quick.
 #[test]
 fn gpu_matches_cpu_on_the_big_mesh() {
-    check_meshes(&[common::BIG_MESH], &[1, 2, 7, 8]);
+    check_meshes("pccm", &[common::BIG_MESH], &[1, 2, 7, 8]);
 }
 
-fn check_meshes(names: &[&str], levels: &[u32]) {
+fn check_meshes(scheme: &str, names: &[&str], levels: &[u32]) {
     for name in names {
         let (topo, positions, diag) = load(name);
         let euler = topo.euler_characteristic();
-        let kernels = cpu::scheme("pccm").expect("pccm");
+        let kernels = cpu::scheme(scheme).expect("scheme");
         let patches = cpu::construct(&topo, &positions, kernels).expect("construct");
-        let g = GpuMesh::new(gpu(), &topo, &positions, "pccm")
+        let g = GpuMesh::new(gpu(), &topo, &positions, scheme)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         for &level in levels {
             let c = cpu::evaluate(&patches, level).expect("cpu");
@@ -65,18 +74,24 @@ fn check_meshes(names: &[&str], levels: &[u32]) {
                 da = da.max(common::angle_deg(t.normals[k], c.normals[k]));
             }
             let r = weld::weld(&t);
-            println!("{name} level {level}: max |gpu - cpu| = {dp:.2e} × diagonal, normals {da:.2e}°, open edges {}", r.open_edges);
+            println!("{scheme} {name} level {level}: max |gpu - cpu| = {dp:.2e} × diagonal, normals {da:.2e}°, open edges {}", r.open_edges);
             assert!(
                 dp <= 1e-5,
-                "{name} level {level}: positions differ by {dp} × diagonal"
+                "{scheme} {name} level {level}: positions differ by {dp} × diagonal"
             );
-            assert!(da <= 0.05, "{name} level {level}: normals differ by {da}°");
+            assert!(
+                da <= 0.05,
+                "{scheme} {name} level {level}: normals differ by {da}°"
+            );
             assert!(
                 r.is_closed_manifold(),
-                "{name} level {level}: GPU output has {} open edges",
+                "{scheme} {name} level {level}: GPU output has {} open edges",
                 r.open_edges
             );
-            assert_eq!(r.euler, euler, "{name} level {level}: Euler characteristic");
+            assert_eq!(
+                r.euler, euler,
+                "{scheme} {name} level {level}: Euler characteristic"
+            );
         }
     }
 }

@@ -38,6 +38,24 @@ const FILES: &[&str] = &[
     "glsl/pccm_vertex_stage.comp",
     "glsl/pccm_patch.comp",
     "glsl/pccm_eval.comp",
+    "glsl/acc.vert",
+    "glsl/acc.tesc",
+    "glsl/acc.tese",
+    "glsl/acc_vertex_stage.comp",
+    "glsl/acc_patch.comp",
+    "glsl/acc_eval.comp",
+    "glsl/gregory.vert",
+    "glsl/gregory.tesc",
+    "glsl/gregory.tese",
+    "glsl/gregory_vertex_stage.comp",
+    "glsl/gregory_patch.comp",
+    "glsl/gregory_eval.comp",
+    "glsl/gregory_osd.vert",
+    "glsl/gregory_osd.tesc",
+    "glsl/gregory_osd.tese",
+    "glsl/gregory_osd_vertex_stage.comp",
+    "glsl/gregory_osd_patch.comp",
+    "glsl/gregory_osd_eval.comp",
 ];
 
 #[test]
@@ -68,5 +86,45 @@ fn glsl_pccm() {
     let out = build();
     for path in FILES.iter().filter(|p| p.starts_with("glsl/pccm")) {
         insta::assert_snapshot!(name(path), text(&out, path));
+    }
+}
+
+/// The six files of one scheme (the prefix alone would let `gregory` catch
+/// `gregory_osd`).
+fn files_of(scheme: &str) -> Vec<String> {
+    [
+        ".vert",
+        ".tesc",
+        ".tese",
+        "_vertex_stage.comp",
+        "_patch.comp",
+        "_eval.comp",
+    ]
+    .iter()
+    .map(|suffix| format!("glsl/{scheme}{suffix}"))
+    .collect()
+}
+
+#[test]
+fn glsl_acc() {
+    let out = build();
+    for path in files_of("acc") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_gregory() {
+    let out = build();
+    for path in files_of("gregory") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_gregory_osd() {
+    let out = build();
+    for path in files_of("gregory_osd") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
     }
 }

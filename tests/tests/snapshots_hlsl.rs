@@ -29,7 +29,16 @@ fn hlsl_files_are_one_per_scheme() {
         .map(|f| f.path.as_str())
         .filter(|p| p.starts_with("hlsl/"))
         .collect();
-    assert_eq!(hlsl, ["hlsl/regular.hlsl", "hlsl/pccm.hlsl"]);
+    assert_eq!(
+        hlsl,
+        [
+            "hlsl/regular.hlsl",
+            "hlsl/pccm.hlsl",
+            "hlsl/acc.hlsl",
+            "hlsl/gregory.hlsl",
+            "hlsl/gregory_osd.hlsl"
+        ]
+    );
 }
 
 #[test]
@@ -42,4 +51,22 @@ fn hlsl_regular() {
 fn hlsl_pccm() {
     let out = build();
     insta::assert_snapshot!("hlsl_pccm_hlsl", text(&out, "hlsl/pccm.hlsl"));
+}
+
+#[test]
+fn hlsl_acc() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_acc_hlsl", text(&out, "hlsl/acc.hlsl"));
+}
+
+#[test]
+fn hlsl_gregory() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_gregory_hlsl", text(&out, "hlsl/gregory.hlsl"));
+}
+
+#[test]
+fn hlsl_gregory_osd() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_gregory_osd_hlsl", text(&out, "hlsl/gregory_osd.hlsl"));
 }

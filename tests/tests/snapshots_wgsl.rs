@@ -31,7 +31,16 @@ fn wgsl_files() {
         .filter(|p| p.starts_with("wgsl/"))
         .collect();
     paths.sort();
-    assert_eq!(paths, ["wgsl/pccm.wgsl", "wgsl/regular.wgsl"]);
+    assert_eq!(
+        paths,
+        [
+            "wgsl/acc.wgsl",
+            "wgsl/gregory.wgsl",
+            "wgsl/gregory_osd.wgsl",
+            "wgsl/pccm.wgsl",
+            "wgsl/regular.wgsl"
+        ]
+    );
 }
 
 #[test]
@@ -42,4 +51,22 @@ fn wgsl_regular() {
 #[test]
 fn wgsl_pccm() {
     insta::assert_snapshot!("wgsl_pccm_wgsl", text(&build(), "wgsl/pccm.wgsl"));
+}
+
+#[test]
+fn wgsl_acc() {
+    insta::assert_snapshot!("wgsl_acc_wgsl", text(&build(), "wgsl/acc.wgsl"));
+}
+
+#[test]
+fn wgsl_gregory() {
+    insta::assert_snapshot!("wgsl_gregory_wgsl", text(&build(), "wgsl/gregory.wgsl"));
+}
+
+#[test]
+fn wgsl_gregory_osd() {
+    insta::assert_snapshot!(
+        "wgsl_gregory_osd_wgsl",
+        text(&build(), "wgsl/gregory_osd.wgsl")
+    );
 }

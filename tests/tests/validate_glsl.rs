@@ -127,7 +127,10 @@ fn builtin_schemes_validate() {
     let files = glsl_files(Builder::new().builtin_schemes());
     let mut paths: Vec<String> = files.iter().map(|f| f.path.clone()).collect();
     paths.sort();
-    assert_eq!(paths, expected_paths(&["pccm", "regular"]));
+    assert_eq!(
+        paths,
+        expected_paths(&["acc", "gregory", "gregory_osd", "pccm", "regular"])
+    );
     validate_all(&files);
 }
 

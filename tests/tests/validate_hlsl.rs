@@ -262,7 +262,8 @@ fn printer_lists_the_expected_entry_points() {
 fn builtin_schemes_compile_and_validate() {
     let out = build(Builder::new().builtin_schemes());
     let modules = validate(&out);
-    assert_eq!(modules.len(), 2 * EXPECTED.len());
+    // regular, pccm, acc, gregory, gregory_osd: every entry point of each.
+    assert_eq!(modules.len(), 5 * EXPECTED.len());
     cleanup(&modules);
 }
 
@@ -277,7 +278,8 @@ fn user_schemes_compile_and_validate() {
         assert!(text.contains(renamed), "`{renamed}` not in:\n{text}");
     }
     let modules = validate(&out);
-    assert_eq!(modules.len(), 2 * EXPECTED.len());
+    // regular, pccm, acc, gregory, gregory_osd: every entry point of each.
+    assert_eq!(modules.len(), 5 * EXPECTED.len());
     cleanup(&modules);
 }
 

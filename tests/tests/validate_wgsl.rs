@@ -326,7 +326,16 @@ fn paths(files: &[GeneratedFile]) -> Vec<String> {
 #[test]
 fn builtin_schemes_validate() {
     let files = wgsl_files(Builder::new().builtin_schemes());
-    assert_eq!(paths(&files), ["wgsl/pccm.wgsl", "wgsl/regular.wgsl"]);
+    assert_eq!(
+        paths(&files),
+        [
+            "wgsl/acc.wgsl",
+            "wgsl/gregory.wgsl",
+            "wgsl/gregory_osd.wgsl",
+            "wgsl/pccm.wgsl",
+            "wgsl/regular.wgsl"
+        ]
+    );
     validate_all(&files);
 }
 

@@ -47,6 +47,16 @@ fn pccm_big_mesh_welds_closed() {
     check_levels(common::BIG_MESH, "pccm", &[1, 2, 3, 7, 8]);
 }
 
+/// ACC, Gregory and its OpenSubdiv variant on every closed shared mesh.
+#[test]
+fn acc_and_gregory_closed_meshes_weld_closed() {
+    for scheme in ["acc", "gregory", "gregory_osd"] {
+        for name in common::CLOSED_MESHES {
+            check(name, scheme);
+        }
+    }
+}
+
 #[test]
 fn regular_torus_welds_closed() {
     check("catmark_torus", "regular");
