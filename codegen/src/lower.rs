@@ -670,14 +670,10 @@ fn tensor_cubic(
             id,
             call(
                 FnRef::Common(common_fn::CUBIC),
-                vec![
-                    grid[0][row].clone(),
-                    grid[1][row].clone(),
-                    grid[2][row].clone(),
-                    grid[3][row].clone(),
-                    l(lu),
-                    l(ru),
-                ],
+                grid.iter()
+                    .map(|column| column[row].clone())
+                    .chain([l(lu), l(ru)])
+                    .collect(),
             ),
         ));
         rows.push(id);
