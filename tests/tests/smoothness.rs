@@ -24,10 +24,10 @@ fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
 
 /// Worst normal angle between the two patches of every shared edge, split by
 /// the kinds of patches meeting there.
-fn boundary_normal_angles(name: &str) -> [f64; 3] {
+fn boundary_normal_angles(name: &str, scheme: &str) -> [f64; 3] {
     let mesh = common::mesh(name);
     let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
-    let t = cpu::tessellate_mesh(&mesh, "pccm", LEVEL).expect("tessellate");
+    let t = cpu::tessellate_mesh(&mesh, scheme, LEVEL).expect("tessellate");
     let per = t.grid_len() as u32;
     // [bicubic|bicubic, c-patch|bicubic, c-patch|c-patch]
     let mut worst = [0.0f64; 3];
@@ -60,7 +60,7 @@ fn boundary_normal_angles(name: &str) -> [f64; 3] {
 #[test]
 fn normals_agree_across_patch_boundaries() {
     for name in common::CLOSED_MESHES {
-        let w = boundary_normal_angles(name);
+        let w = boundary_normal_angles(name, "pccm");
         println!("{name}: worst normal angle bicubic|bicubic {:.2e}°, c-patch|bicubic {:.2e}°, c-patch|c-patch {:.2e}°", w[0], w[1], w[2]);
         for (kind, a) in ["bicubic|bicubic", "c-patch|bicubic", "c-patch|c-patch"]
             .iter()
@@ -69,6 +69,102 @@ fn normals_agree_across_patch_boundaries() {
             assert!(a < 0.01, "{name}: {kind} normals differ by {a}°");
         }
     }
+}
+
+/// ACC's tangent-patch normals and Gregory's (both variants) true normals
+/// are continuous across every patch edge (acc.md §4, gregory.md §3): the
+/// two sides agree up to f32 rounding (< 0.05°) at every shared sample.
+#[test]
+fn acc_and_gregory_normals_agree_across_patch_boundaries() {
+    for scheme in ["acc", "gregory", "gregory_osd"] {
+        for name in common::CLOSED_MESHES {
+            let w = boundary_normal_angles(name, scheme);
+            println!("{scheme} {name}: worst normal angle ordinary|ordinary {:.2e}°, extraordinary|ordinary {:.2e}°, extraordinary|extraordinary {:.2e}°", w[0], w[1], w[2]);
+            for a in w {
+                assert!(a < 0.05, "{scheme} {name}: normals differ by {a}°");
+            }
+        }
+    }
+}
+
+/// Normal of the bicubic net `cp[4k + l]` at (u, v), in f64.
+fn bicubic_normal(cp: &[Vec3], u: f64, v: f64) -> DVec3 {
+    let b = |t: f64| {
+        let s = 1.0 - t;
+        [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
+    };
+    let db = |t: f64| {
+        let s = 1.0 - t;
+        [
+            -3.0 * s * s,
+            3.0 * s * s - 6.0 * t * s,
+            6.0 * t * s - 3.0 * t * t,
+            3.0 * t * t,
+        ]
+    };
+    let (bu, bv, dbu, dbv) = (b(u), b(v), db(u), db(v));
+    let (mut pu, mut pv) = (DVec3::ZERO, DVec3::ZERO);
+    for k in 0..4 {
+        for l in 0..4 {
+            let p = cp[4 * k + l].as_dvec3();
+            pu += p * dbu[k] * bv[l];
+            pv += p * bu[k] * dbv[l];
+        }
+    }
+    pu.cross(pv).normalize()
+}
+
+/// The ACC *geometry* patch alone is only C⁰ where an extraordinary vertex
+/// is involved (acc.md §3, §6): its true normals jump across such edges,
+/// which is why ACC shades with the tangent patches. Measured in f64 from
+/// the generated geometry points (the first 16 of both ACC classes).
+#[test]
+fn acc_geometry_patch_alone_is_not_smooth() {
+    let mut overall = 0.0f64;
+    for name in common::CLOSED_MESHES {
+        let mesh = common::mesh(name);
+        let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::from_array(*p))
+            .collect();
+        let kernels = cpu::scheme("acc").expect("acc");
+        let patches = cpu::construct(&topo, &positions, kernels).expect("construct");
+        let cp = |f: u32| &patches.control_points[patches.cp_offsets[f as usize] as usize..];
+        let uv = |k: u32, t: f64| match k {
+            0 => (t, 0.0),
+            1 => (1.0, t),
+            2 => (1.0 - t, 1.0),
+            _ => (0.0, 1.0 - t),
+        };
+        let mut worst = 0.0f64;
+        for h in 0..topo.twin.len() as u32 {
+            let g = topo.twin[h as usize];
+            if g < h {
+                continue;
+            }
+            let (fa, fb) = (topo.face[h as usize], topo.face[g as usize]);
+            let (ka, kb) = (
+                h - topo.face_offsets[fa as usize],
+                g - topo.face_offsets[fb as usize],
+            );
+            for s in 1..LEVEL {
+                let t = s as f64 / LEVEL as f64;
+                let (ua, va) = uv(ka, t);
+                let (ub, vb) = uv(kb, 1.0 - t);
+                let a = bicubic_normal(cp(fa), ua, va);
+                let b = bicubic_normal(cp(fb), ub, vb);
+                worst = worst.max(a.cross(b).length().atan2(a.dot(b)).to_degrees());
+            }
+        }
+        println!("acc geometry patch {name}: worst true-normal jump across edges {worst:.2}°");
+        overall = overall.max(worst);
+    }
+    assert!(
+        overall > 1.0,
+        "the ACC geometry patch should show a normal jump near extraordinary vertices, worst {overall}°"
+    );
 }
 
 /// Quartic triangle piece `i` of a c-patch, rebuilt in f64 from the 24
@@ -178,7 +274,7 @@ fn regular_torus_is_the_catmull_clark_limit() {
     let mesh = common::mesh("catmark_torus");
     let diag = common::bbox_diagonal(&mesh) as f64;
     let (n, limit) = common::cc_limit("catmark_torus");
-    for scheme in ["regular", "pccm"] {
+    for scheme in ["regular", "pccm", "acc", "gregory", "gregory_osd"] {
         let t = cpu::tessellate_mesh(&mesh, scheme, (n - 1) as u32).expect("tessellate");
         assert_eq!(t.positions.len(), limit.len());
         let (mut dp, mut da) = (0.0f64, 0.0f64);
