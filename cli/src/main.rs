@@ -5,7 +5,6 @@
 
 mod gpu_cmds;
 
-use clap::builder::PossibleValuesParser;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -45,8 +44,8 @@ enum Command {
 struct CompareArgs {
     /// Input OBJ mesh (closed, all quads).
     mesh: PathBuf,
-    /// Comma-separated schemes.
-    #[arg(long, default_value = "pccm", value_delimiter = ',')]
+    /// Comma-separated schemes (regular, pccm, acc, gregory, gregory-osd).
+    #[arg(long, default_value = "pccm", value_delimiter = ',', value_parser = parse_scheme)]
     schemes: Vec<String>,
     /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
@@ -64,8 +63,8 @@ struct CompareArgs {
 struct RenderArgs {
     /// Input OBJ mesh (closed, all quads).
     mesh: PathBuf,
-    /// Patch scheme.
-    #[arg(long, default_value = "pccm")]
+    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
+    #[arg(long, default_value = "pccm", value_parser = parse_scheme)]
     scheme: String,
     /// Tessellation level N of every patch.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
@@ -94,8 +93,8 @@ struct RenderArgs {
 struct BenchArgs {
     /// Input OBJ mesh (closed, all quads).
     mesh: PathBuf,
-    /// Patch scheme.
-    #[arg(long, default_value = "pccm")]
+    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
+    #[arg(long, default_value = "pccm", value_parser = parse_scheme)]
     scheme: String,
     /// Comma-separated tessellation levels.
     #[arg(long, default_value = "5,9,17,33", value_delimiter = ',')]
@@ -193,8 +192,8 @@ struct TessellateArgs {
     /// Wavefront OBJ file (closed, manifold, all quads).
     #[arg(value_name = "MESH")]
     mesh: PathBuf,
-    /// Patch scheme (`regular` only handles faces whose corners all have valence 4).
-    #[arg(long, value_parser = PossibleValuesParser::new(kernels::scheme_names()))]
+    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (`regular` only handles faces whose corners all have valence 4).
+    #[arg(long, value_parser = parse_scheme)]
     scheme: String,
     /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid.
     #[arg(long, value_name = "N",
@@ -214,6 +213,21 @@ struct TessellateArgs {
 /// A command's outcome: `Ok(code)` once it has reported (code 1 for a failed
 /// check), `Err(message)` for an error to print.
 type CmdResult = Result<ExitCode, String>;
+
+/// A built-in scheme name; `gregory-osd` and `gregory_osd` are the same.
+fn parse_scheme(name: &str) -> Result<String, String> {
+    match kernels::scheme(name) {
+        Some(k) => Ok(k.name.to_string()),
+        None => Err(format!(
+            "unknown scheme `{name}` (available: {})",
+            kernels::scheme_names()
+                .iter()
+                .map(|n| n.replace('_', "-"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+    }
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();

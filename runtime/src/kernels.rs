@@ -15,8 +15,15 @@ pub fn table() -> &'static [f32] {
     })
 }
 
-/// Look a built-in scheme up by name.
+/// Scheme names are DSL identifiers (`gregory_osd`); the CLI spelling
+/// `gregory-osd` names the same scheme.
+fn canonical(name: &str) -> String {
+    name.replace('-', "_")
+}
+
+/// Look a built-in scheme up by name (`-` and `_` are interchangeable).
 pub fn scheme(name: &str) -> Option<&'static common::SchemeKernels> {
+    let name = canonical(name);
     SCHEMES.iter().copied().find(|s| s.name == name)
 }
 
@@ -31,6 +38,7 @@ mod wgsl_index {
 
 /// The generated WGSL module of a scheme.
 pub fn wgsl(name: &str) -> Option<&'static str> {
+    let name = canonical(name);
     wgsl_index::WGSL
         .iter()
         .find(|(n, _)| *n == name)
