@@ -1,7 +1,9 @@
 //! Plain polygon meshes read from Wavefront OBJ files.
 //!
-//! A [`Mesh`] is the input of everything else in tessgen: positions, faces and the OpenSubdiv
-//! `t` tag lines, nothing more. Layout is flat (one position array, face vertex lists packed
+//! A [`Mesh`] is the input of everything else in tessgen: positions, faces, the OBJ's vertex
+//! normals (`vn`, with each face corner's normal index) and the OpenSubdiv `t` tag lines,
+//! nothing more. The quad schemes ignore the normals (they derive normals from the limit
+//! surface); the triangle schemes (PN, Phong; see [`crate::trimesh`]) interpolate them. Layout is flat (one position array, face vertex lists packed
 //! behind an offset array) because the topology layer and the GPU upload both want flat arrays.
 //!
 //! # Indexing contract
@@ -19,12 +21,15 @@
 //! unused vertices are dropped. It also silently drops 1- and 2-vertex faces (`ignore_points`,
 //! `ignore_lines`), treats `l` lines with 3+ vertices as faces, and reports errors without a line
 //! number. So [`Mesh::from_obj_str`] also runs a small scanner over the `v`/`vt`/`vn`/`f`/`t`
-//! lines. The scanner supplies the file-order indices, the tags and line numbers for errors.
+//! lines. The scanner supplies the file-order indices, the normals and each corner's normal
+//! index, the tags and line numbers for errors.
 //! Only text that the scanner and the mesh checks accept is handed to `tobj` (its bounds checks
 //! compute `index * 3 + 2` and can overflow on an OBJ index of 0), and its result is then
 //! cross-checked against `tobj`'s per-model index arrays: replaying the first-use renumbering on
 //! the file-order faces must reproduce `tobj`'s indices exactly, and the positions must agree.
-//! So both parsers have to agree before a mesh is accepted.
+//! So both parsers have to agree before a mesh is accepted. Normals are read by the scanner
+//! alone (with the same `f32` parsing as `tobj`); `tobj`'s normal arrays are renumbered in the
+//! same first-use way and would only repeat what the scanner's range checks already prove.
 
 use std::collections::HashMap;
 use std::io::Cursor;
@@ -38,7 +43,8 @@ use thiserror::Error;
 /// one face, all coordinates finite, `face_offsets[0] == 0`, offsets non-decreasing with
 /// `face_offsets[num_faces] == face_vertices.len()`, every face has at least 3 vertices, all
 /// indices `< num_vertices`, no vertex twice in one face, and all counts fit the `u32` indices
-/// used by [`crate::topology`].
+/// used by [`crate::topology`]. Normals: all finite, `face_normals` as long as `face_vertices`
+/// (or empty in a hand-built mesh), every entry [`NO_NORMAL`] or `< normals.len()`.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Mesh {
     /// Vertex positions; index `i` is the `(i+1)`-th `v` line of the OBJ file.
@@ -50,7 +56,19 @@ pub struct Mesh {
     pub face_vertices: Vec<u32>,
     /// OpenSubdiv `t` tag lines, in file order. Kept, not interpreted here.
     pub tags: Vec<Tag>,
+    /// Vertex normals as written in the OBJ (not normalised); index `k` is the `(k+1)`-th `vn`
+    /// line. Kept raw so that a consumer can tell a zero or non-unit normal from a good one.
+    pub normals: Vec<[f32; 3]>,
+    /// Parallel to [`Mesh::face_vertices`]: the 0-based index into [`Mesh::normals`] of each face
+    /// corner (`f v//vn`), or [`NO_NORMAL`] for a corner written without one. Every constructor
+    /// fills it (all [`NO_NORMAL`] from [`Mesh::from_raw`]); [`Mesh::validate`] also accepts it
+    /// empty, meaning "no normals", so that meshes assembled by hand with
+    /// `..Default::default()` stay valid. [`Mesh::corner_normal`] reads it either way.
+    pub face_normals: Vec<u32>,
 }
+
+/// Marker in [`Mesh::face_normals`] for a face corner without a normal index.
+pub const NO_NORMAL: u32 = u32::MAX;
 
 /// One OpenSubdiv tag line: `t <name> <nint>/<nfloat>/<nstring> <ints> <floats> <strings>`.
 ///
@@ -103,6 +121,26 @@ pub enum MeshError {
         vertex: usize,
         /// 1-based line of its `v` line, when read from OBJ.
         line: Option<usize>,
+    },
+    /// A `vn` normal has a NaN or infinite component (unused normals included, for the same
+    /// reason as positions: it is a sign of a broken file).
+    #[error("normal {normal}{} has a non-finite component", at_line(*.line))]
+    NonFiniteNormal {
+        /// 0-based normal index.
+        normal: usize,
+        /// 1-based line of its `vn` line, when read from OBJ.
+        line: Option<usize>,
+    },
+    /// A face corner refers to a normal that does not exist (hand-built meshes only: the OBJ
+    /// reader reports such a file as [`MeshError::Obj`] with its line).
+    #[error("face {face} corner {corner} refers to normal {index}, which does not exist")]
+    NormalIndexOutOfRange {
+        /// 0-based face index.
+        face: usize,
+        /// 0-based corner within the face.
+        corner: usize,
+        /// The 0-based normal index asked for.
+        index: u32,
     },
     /// A face refers to a vertex that does not exist.
     #[error("face {face} refers to vertex {index} (0-based), which does not exist")]
@@ -165,6 +203,22 @@ impl Mesh {
         &self.face_vertices[self.face_offsets[f] as usize..self.face_offsets[f + 1] as usize]
     }
 
+    /// The 0-based [`Mesh::normals`] index of half-edge / face corner `corner` (an index into
+    /// [`Mesh::face_vertices`]), or `None` when it has none (also when `face_normals` is empty
+    /// or shorter, so hand-built meshes without normals need not fill it).
+    pub fn corner_normal(&self, corner: usize) -> Option<u32> {
+        self.face_normals
+            .get(corner)
+            .copied()
+            .filter(|&n| n != NO_NORMAL)
+    }
+
+    /// Whether any face corner has a normal index. `vn` lines that no face uses do not count:
+    /// they carry no per-vertex information.
+    pub fn has_normals(&self) -> bool {
+        self.face_normals.iter().any(|&n| n != NO_NORMAL)
+    }
+
     /// Reads an OBJ file. See [`Mesh::from_obj_str`].
     pub fn from_obj_path(path: impl AsRef<Path>) -> Result<Mesh, MeshError> {
         let path = path.as_ref();
@@ -175,8 +229,8 @@ impl Mesh {
         Mesh::from_obj_str(&text)
     }
 
-    /// Parses OBJ text: `v`, `f` (only the position index of `v/vt/vn` is used) and `t` lines;
-    /// `vt`/`vn` are checked but dropped; `o`, `g`, `s`, `usemtl`, `mtllib`, comments and
+    /// Parses OBJ text: `v`, `vn`, `f` (the position and normal indices of `v/vt/vn` are kept)
+    /// and `t` lines; `vt` is checked but dropped; `o`, `g`, `s`, `usemtl`, `mtllib`, comments and
     /// unknown lines are ignored (material files are never opened); `l` lines are rejected.
     /// Vertex and face order is the file's (see the module docs for why `tobj` alone is not
     /// enough).
@@ -191,6 +245,21 @@ impl Mesh {
             &scanned.faces,
             scanned.tags,
         )?;
+        check_finite_normals(&scanned.normals, Some(&scanned.normal_lines))?;
+        // The scanner range-checked every normal index (1-based, 0 = none) against the `vn`
+        // count, which `check_normal_count` bounds below u32::MAX.
+        check_normal_count(scanned.normals.len())?;
+        let face_normals = scanned
+            .face_normals
+            .iter()
+            .flatten()
+            .map(|&n| if n == 0 { NO_NORMAL } else { (n - 1) as u32 })
+            .collect();
+        let mesh = Mesh {
+            normals: scanned.normals,
+            face_normals,
+            ..mesh
+        };
         match load_with_tobj(text) {
             Err(e) => Err(MeshError::Obj {
                 line: None,
@@ -204,7 +273,7 @@ impl Mesh {
     }
 
     /// Builds a mesh from positions and per-face 0-based vertex lists (kept in the given order,
-    /// no tags). Checks indices, arities, repeated vertices and finiteness.
+    /// no tags, no normals). Checks indices, arities, repeated vertices and finiteness.
     pub fn from_raw(positions: Vec<[f32; 3]>, faces: &[Vec<u32>]) -> Result<Mesh, MeshError> {
         let faces: Vec<Vec<i64>> = faces
             .iter()
@@ -240,6 +309,39 @@ impl Mesh {
         for f in 0..self.num_faces() {
             check_face(f, self.face(f), self.positions.len(), &mut scratch)?;
         }
+        self.validate_normals()
+    }
+
+    /// The normal part of [`Mesh::validate`].
+    fn validate_normals(&self) -> Result<(), MeshError> {
+        check_normal_count(self.normals.len())?;
+        check_finite_normals(&self.normals, None)?;
+        if self.face_normals.is_empty() {
+            return Ok(());
+        }
+        if self.face_normals.len() != self.face_vertices.len() {
+            return Err(MeshError::Layout {
+                message: format!(
+                    "face_normals has {} entries but face_vertices has {} (it must be empty or \
+                     parallel)",
+                    self.face_normals.len(),
+                    self.face_vertices.len()
+                ),
+            });
+        }
+        for f in 0..self.num_faces() {
+            let start = self.face_offsets[f] as usize;
+            let end = self.face_offsets[f + 1] as usize;
+            for (corner, &n) in self.face_normals[start..end].iter().enumerate() {
+                if n != NO_NORMAL && n as usize >= self.normals.len() {
+                    return Err(MeshError::NormalIndexOutOfRange {
+                        face: f,
+                        corner,
+                        index: n,
+                    });
+                }
+            }
+        }
         Ok(())
     }
 
@@ -272,6 +374,8 @@ impl Mesh {
             face_offsets,
             face_vertices,
             tags,
+            normals: Vec::new(),
+            face_normals: vec![NO_NORMAL; total],
         })
     }
 }
@@ -300,6 +404,30 @@ fn check_finite(positions: &[[f32; 3]], lines: Option<&[usize]>) -> Result<(), M
         Some(vertex) => Err(MeshError::NonFinite {
             vertex,
             line: lines.and_then(|l| l.get(vertex).copied()),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Normal indices are stored as `u32` with [`NO_NORMAL`] (`u32::MAX`) as the "none" marker.
+fn check_normal_count(num_normals: usize) -> Result<(), MeshError> {
+    if num_normals as u128 >= u128::from(NO_NORMAL) {
+        return Err(MeshError::Layout {
+            message: format!("{num_normals} normals are too many for u32 indices"),
+        });
+    }
+    Ok(())
+}
+
+/// Rejects NaN/inf in any normal, used or not (same reasoning as [`check_finite`]).
+fn check_finite_normals(normals: &[[f32; 3]], lines: Option<&[usize]>) -> Result<(), MeshError> {
+    match normals
+        .iter()
+        .position(|n| n.iter().any(|c| !c.is_finite()))
+    {
+        Some(normal) => Err(MeshError::NonFiniteNormal {
+            normal,
+            line: lines.and_then(|l| l.get(normal).copied()),
         }),
         None => Ok(()),
     }
@@ -430,6 +558,11 @@ struct Scanned {
     position_lines: Vec<usize>,
     /// 0-based resolved position indices, not yet range-checked.
     faces: Vec<Vec<i64>>,
+    /// Parallel to `faces`: 1-based resolved normal index per corner, 0 = none. Range-checked
+    /// by `scan_obj` before it returns.
+    face_normals: Vec<Vec<i64>>,
+    normals: Vec<[f32; 3]>,
+    normal_lines: Vec<usize>,
     face_lines: Vec<usize>,
     tags: Vec<Tag>,
 }
@@ -442,10 +575,13 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
         positions: Vec::new(),
         position_lines: Vec::new(),
         faces: Vec::new(),
+        face_normals: Vec::new(),
+        normals: Vec::new(),
+        normal_lines: Vec::new(),
         face_lines: Vec::new(),
         tags: Vec::new(),
     };
-    let (mut num_vt, mut num_vn) = (0usize, 0usize);
+    let mut num_vt = 0usize;
     // (line, vt index, vn index) of every face corner that names them; checked at the end
     // because, like tobj, we allow references to elements defined later in the file.
     let mut attr_refs: Vec<(usize, i64, i64)> = Vec::new();
@@ -464,19 +600,24 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
                 num_vt += 1;
             }
             Some("vn") => {
-                scan_floats(line, words, 3, "normal")?;
-                num_vn += 1;
+                let n = scan_floats(line, words, 3, "normal")?;
+                s.normals.push([n[0], n[1], n[2]]);
+                s.normal_lines.push(line);
             }
             Some("f") => {
                 let mut face = Vec::new();
+                let mut normals = Vec::new();
                 for word in words {
-                    let (v, vt, vn) = scan_corner(line, word, s.positions.len(), num_vt, num_vn)?;
+                    let (v, vt, vn) =
+                        scan_corner(line, word, s.positions.len(), num_vt, s.normals.len())?;
                     face.push(v);
+                    normals.push(vn.unwrap_or(0));
                     if vt.is_some() || vn.is_some() {
                         attr_refs.push((line, vt.unwrap_or(0), vn.unwrap_or(0)));
                     }
                 }
                 s.faces.push(face);
+                s.face_normals.push(normals);
                 s.face_lines.push(line);
             }
             Some("l") => {
@@ -492,6 +633,7 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
             Some(_) => {}
         }
     }
+    let num_vn = s.normals.len();
     for (line, vt, vn) in attr_refs {
         if vt < 0 || vt as usize > num_vt {
             return Err(obj_err(line, "texture coordinate index out of range"));
@@ -542,21 +684,21 @@ fn scan_vertex<'a>(
     Ok(p)
 }
 
+/// Parses the first `n` values of a `vt`/`vn` line (like tobj, further values are ignored).
 fn scan_floats<'a>(
     line: usize,
     words: impl Iterator<Item = &'a str>,
     n: usize,
     what: &str,
-) -> Result<(), MeshError> {
-    let mut count = 0;
-    for w in words.take(n) {
-        parse_f32(line, w, what)?;
-        count += 1;
-    }
-    if count < n {
+) -> Result<Vec<f32>, MeshError> {
+    let values = words
+        .take(n)
+        .map(|w| parse_f32(line, w, what))
+        .collect::<Result<Vec<f32>, MeshError>>()?;
+    if values.len() < n {
         return Err(obj_err(line, format!("a {what} needs {n} values")));
     }
-    Ok(())
+    Ok(values)
 }
 
 /// One `f` token `v`, `v/vt`, `v//vn` or `v/vt/vn`. Returns the 0-based position index
@@ -950,6 +1092,104 @@ vn 0 0 1
         let e = Mesh::from_obj_path("/nonexistent/dir/x.obj").unwrap_err();
         assert!(matches!(&e, MeshError::Io { path, .. } if path.ends_with("x.obj")));
         assert!(e.to_string().contains("/nonexistent/dir/x.obj"));
+    }
+
+    #[test]
+    fn normals_are_kept_per_corner() {
+        // Corners with and without normals, a relative normal index, a `v/vt/vn` corner and a
+        // normal defined after the face that uses it (allowed, like tobj).
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvn 0 0 2\nvn 0 0 1\n\
+                    f 1//1 2//-1 3\nf 2/1/3 4//2 3//1\nvn 0.5 0 1 7\n";
+        let mesh = Mesh::from_obj_str(text).unwrap();
+        assert_eq!(
+            mesh.normals,
+            vec![[0.0, 0.0, 2.0], [0.0, 0.0, 1.0], [0.5, 0.0, 1.0]]
+        );
+        assert_eq!(mesh.face_normals, vec![0, 1, NO_NORMAL, 2, 1, 0]);
+        assert_eq!(mesh.corner_normal(2), None);
+        assert_eq!(mesh.corner_normal(3), Some(2));
+        assert!(mesh.has_normals());
+        mesh.validate().unwrap();
+    }
+
+    #[test]
+    fn unreferenced_normals_are_kept_but_no_corner_has_one() {
+        let mesh = Mesh::from_obj_str(&format!("{TRI}vn 0 0 1\nf 1 2 3\n")).unwrap();
+        assert_eq!(mesh.normals, vec![[0.0, 0.0, 1.0]]);
+        assert_eq!(mesh.face_normals, vec![NO_NORMAL; 3]);
+        assert!(!mesh.has_normals());
+        assert_eq!(mesh.corner_normal(0), None);
+        let raw = Mesh::from_raw(mesh.positions.clone(), &[vec![0, 1, 2]]).unwrap();
+        assert!(raw.normals.is_empty());
+        assert_eq!(raw.face_normals, vec![NO_NORMAL; 3]);
+        let mut hand = raw.clone();
+        hand.face_normals.clear();
+        hand.validate().unwrap();
+        assert_eq!(hand.corner_normal(1), None);
+    }
+
+    #[test]
+    fn normal_errors_are_located() {
+        assert!(matches!(
+            err(&format!("{TRI}vn 0 0 1\nvn nan 0 1\nf 1//1 2//2 3//1\n")),
+            MeshError::NonFiniteNormal {
+                normal: 1,
+                line: Some(5)
+            }
+        ));
+        // Unused normals are checked too; 1e50 overflows f32 to inf.
+        assert!(matches!(
+            err(&format!("{TRI}vn 0 1e50 1\nf 1 2 3\n")),
+            MeshError::NonFiniteNormal {
+                normal: 0,
+                line: Some(4)
+            }
+        ));
+        assert!(matches!(
+            err(&format!("{TRI}vn 0 inf 1\nf 1 2 3\n")),
+            MeshError::NonFiniteNormal { normal: 0, .. }
+        ));
+        assert_eq!(obj_line(err(&format!("{TRI}vn 0 1\nf 1 2 3\n"))), Some(4));
+        assert_eq!(
+            obj_line(err(&format!("{TRI}vn 0 0 1\nf 1//1 2//2 3//1\n"))),
+            Some(5)
+        );
+        assert_eq!(
+            obj_line(err(&format!("{TRI}vn 0 0 1\nf 1//1 2//-2 3//1\n"))),
+            Some(5)
+        );
+    }
+
+    #[test]
+    fn validate_checks_hand_built_normals() {
+        let mut m = Mesh::from_raw(
+            vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            &[vec![0, 1, 2]],
+        )
+        .unwrap();
+        m.normals = vec![[0.0, 0.0, 1.0]];
+        m.face_normals = vec![0, NO_NORMAL, 0];
+        m.validate().unwrap();
+        m.face_normals = vec![0, 0];
+        assert!(matches!(m.validate(), Err(MeshError::Layout { .. })));
+        m.face_normals = vec![0, 0, 1];
+        assert!(matches!(
+            m.validate(),
+            Err(MeshError::NormalIndexOutOfRange {
+                face: 0,
+                corner: 2,
+                index: 1
+            })
+        ));
+        m.face_normals = vec![0, 0, 0];
+        m.normals = vec![[0.0, f32::NAN, 1.0]];
+        assert!(matches!(
+            m.validate(),
+            Err(MeshError::NonFiniteNormal {
+                normal: 0,
+                line: None
+            })
+        ));
     }
 
     #[test]
