@@ -192,10 +192,13 @@ struct TessellateArgs {
     /// Wavefront OBJ file (closed, manifold, all quads).
     #[arg(value_name = "MESH")]
     mesh: PathBuf,
-    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (`regular` only handles faces whose corners all have valence 4).
+    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (quads; `regular` only handles faces whose corners all have valence 4), pn, phong (triangles).
     #[arg(long, value_parser = parse_scheme)]
     scheme: String,
-    /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid.
+    /// Triangle schemes (pn, phong): split each quad along its v0–v2 diagonal first.
+    #[arg(long)]
+    split_quads: bool,
+    /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid (triangles: (N+1)(N+2)/2 samples).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
     level: u32,
@@ -427,16 +430,23 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     }
     let start = Instant::now();
     let tessellation = match args.backend {
-        Backend::Cpu => {
-            cpu::tessellate_mesh(&mesh, &args.scheme, args.level).map_err(|e| e.to_string())
-        }
+        Backend::Cpu => cpu::tessellate_any(&mesh, &args.scheme, args.level, args.split_quads)
+            .map_err(|e| e.to_string()),
         Backend::Wgpu => tessgen_runtime::gpu::tessellate_mesh(&mesh, &args.scheme, args.level)
             .map_err(|e| e.to_string()),
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
-    std::fs::write(&args.out, obj::to_obj(&tessellation))
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let text = if tessellation.sides == 3 {
+        obj::tri_to_obj(
+            &tessellation.positions,
+            &tessellation.normals,
+            tessellation.level,
+        )
+    } else {
+        obj::to_obj(&tessellation)
+    };
+    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
         "tessgen: {} faces × {} samples = {} samples ({} level {}, {} backend) in {:.2} ms → {}",
         tessellation.faces,
@@ -451,7 +461,15 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     if !args.check_watertight {
         return Ok(ExitCode::SUCCESS);
     }
-    let r = weld::weld(&tessellation);
+    let r = if tessellation.sides == 3 {
+        weld::weld_triangles(
+            &tessellation.positions,
+            tessellation.grid_len(),
+            &tessgen_runtime::trimesh::tri_grid_triangles(tessellation.level),
+        )
+    } else {
+        weld::weld(&tessellation)
+    };
     let input_euler = MeshStats::of(&mesh).euler_characteristic;
     println!(
         "weld: {} vertices, {} edges, {} triangles, euler {} (input mesh {})",

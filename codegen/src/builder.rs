@@ -72,6 +72,14 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
             "codegen/schemes/gregory_osd.tess",
             include_str!("../schemes/gregory_osd.tess"),
         ),
+        SchemeSource::new(
+            "codegen/schemes/pn.tess",
+            include_str!("../schemes/pn.tess"),
+        ),
+        SchemeSource::new(
+            "codegen/schemes/phong.tess",
+            include_str!("../schemes/phong.tess"),
+        ),
     ]
 }
 

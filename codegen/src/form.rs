@@ -27,6 +27,13 @@ pub enum Form {
     /// Gregory patch (`spec/gregory.md`): 20 points stored `5i + {p, ep, em,
     /// fp, fm}` (OpenSubdiv order), interior points blended rationally.
     Gregory,
+    /// Cubic Bézier triangle with a quadratic normal field (`spec/pn.md`):
+    /// per corner i the vertex point `b`, the edge points next to it toward
+    /// corner i+1 (`bn`) and i−1 (`bp`), the normal coefficient `n` and the
+    /// mid-edge normal coefficient `nm` of edge i → i+1, stored `5i + slot`;
+    /// the centre `center` at 15. The normal field is the factor-free
+    /// quadratic `Σ n_i w_i² + Σ nm_i w_i w_{i+1}` (pn.md §2), normalised.
+    TriCubic,
 }
 
 /// What a control-point slot holds: its stencil weights sum to 1 (a point)
@@ -55,6 +62,7 @@ impl Form {
             "cpatch" => Some(Form::CPatch),
             "acc" => Some(Form::Acc),
             "gregory" => Some(Form::Gregory),
+            "tri_cubic" => Some(Form::TriCubic),
             _ => None,
         }
     }
@@ -65,11 +73,34 @@ impl Form {
             Form::CPatch => "cpatch",
             Form::Acc => "acc",
             Form::Gregory => "gregory",
+            Form::TriCubic => "tri_cubic",
         }
     }
 
     /// Every form name, for error messages.
-    pub const NAMES: &'static str = "`bicubic`, `cpatch`, `acc` or `gregory`";
+    pub const NAMES: &'static str = "`bicubic`, `cpatch`, `acc`, `gregory` or `tri_cubic`";
+
+    /// Corners of the facet the form covers (4 for quads, 3 for triangles).
+    pub fn sides(self) -> usize {
+        match self {
+            Form::TriCubic => 3,
+            _ => 4,
+        }
+    }
+
+    /// Slots that exist once per patch (`out NAME = …;`), stored after the
+    /// per-corner ones.
+    pub fn single_slots(self) -> &'static [&'static str] {
+        match self {
+            Form::TriCubic => &["center"],
+            _ => &[],
+        }
+    }
+
+    /// Storage index of single slot `k`.
+    pub fn single_index(self, k: usize) -> usize {
+        self.sides() * self.slots().len() + k
+    }
 
     /// Per-corner slots a scheme must define with `out SLOT[i] = …`.
     pub fn slots(self) -> &'static [&'static str] {
@@ -85,6 +116,7 @@ impl Form {
                 "b00", "b10", "b01", "b11", "da00", "da01", "da10", "da11", "db00", "db10",
             ],
             Form::Gregory => &["p", "ep", "em", "fp", "fm"],
+            Form::TriCubic => &["b", "bn", "bp", "n", "nm"],
         }
     }
 
@@ -92,6 +124,7 @@ impl Form {
     pub fn slot_kind(self, slot: usize) -> SlotKind {
         match self {
             Form::Acc if slot >= 4 => SlotKind::Vector,
+            Form::TriCubic if slot >= 3 => SlotKind::Vector,
             _ => SlotKind::Point,
         }
     }
@@ -139,7 +172,7 @@ impl Form {
 
     /// Number of stored control points.
     pub fn num_points(self) -> usize {
-        4 * self.slots().len()
+        self.sides() * self.slots().len() + self.single_slots().len()
     }
 
     /// Storage index of slot `slot` of corner `corner`.
@@ -166,14 +199,14 @@ impl Form {
             Form::CPatch => 6 * corner + slot,
             Form::Acc if slot < 4 => Form::Bicubic.storage_index(corner, slot),
             Form::Acc => 16 + 6 * corner + (slot - 4),
-            Form::Gregory => 5 * corner + slot,
+            Form::Gregory | Form::TriCubic => 5 * corner + slot,
         }
     }
 
     /// Stored indices of the cubic boundary curve of local edge `edge`
     /// (`v_edge → v_{edge+1}`), in that direction.
     pub fn edge_curve(self, edge: usize) -> [usize; 4] {
-        let next = (edge + 1) % 4;
+        let next = (edge + 1) % self.sides();
         match self {
             // b00 of corner k, b10 of corner k, b01 of corner k+1, b00 of corner k+1.
             Form::Bicubic | Form::Acc => [
@@ -185,7 +218,9 @@ impl Form {
             // (v^i, t^i_0, t^{i+1}_1, v^{i+1}) — pccm.md §4.1.
             Form::CPatch => [6 * edge, 6 * edge + 1, 6 * next + 2, 6 * next],
             // (P_k, E_k⁺, E_{k+1}⁻, P_{k+1}) — gregory.md §2.
-            Form::Gregory => [5 * edge, 5 * edge + 1, 5 * next + 2, 5 * next],
+            // (P_k, E_k⁺, E_{k+1}⁻, P_{k+1}) — gregory.md §2; the triangle's
+            // (b_k, bn_k, bp_{k+1}, b_{k+1}) has the same layout.
+            Form::Gregory | Form::TriCubic => [5 * edge, 5 * edge + 1, 5 * next + 2, 5 * next],
         }
     }
 }
@@ -219,11 +254,17 @@ mod tests {
 
     #[test]
     fn edge_curves_run_corner_to_corner() {
-        for f in [Form::Bicubic, Form::CPatch, Form::Acc, Form::Gregory] {
-            for e in 0..4 {
+        for f in [
+            Form::Bicubic,
+            Form::CPatch,
+            Form::Acc,
+            Form::Gregory,
+            Form::TriCubic,
+        ] {
+            for e in 0..f.sides() {
                 let c = f.edge_curve(e);
                 assert_eq!(c[0], f.storage_index(e, 0));
-                assert_eq!(c[3], f.storage_index((e + 1) % 4, 0));
+                assert_eq!(c[3], f.storage_index((e + 1) % f.sides(), 0));
             }
         }
         // Bicubic edge 0 is the row v = 0: G[0][0], G[1][0], G[2][0], G[3][0].

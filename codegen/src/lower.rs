@@ -197,7 +197,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     // Boundary curves of every class, flattened: [class][edge][4].
     let mut curves = Vec::new();
     for pe in &patches {
-        for e in 0..4 {
+        for e in 0..pe.form.sides() {
             curves.extend(pe.form.edge_curve(e).iter().map(|&x| x as u32));
         }
     }
@@ -214,19 +214,188 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             Form::CPatch => cpatch_surface(pe.class),
             Form::Acc => acc_surface(pe.class),
             Form::Gregory => gregory_surface(pe.class),
+            Form::TriCubic => tri_cubic_surface(pe.class),
         });
         surfaces.push(idx);
     }
+    let sides = s.facet.sides() as u32;
     let eval = m.functions.len();
-    m.functions.push(eval_fn(&patches, &surfaces, curve_const));
+    m.functions
+        .push(eval_fn(&patches, &surfaces, curve_const, sides));
+    let grid = [
+        m.functions.len(),
+        m.functions.len() + 1,
+        m.functions.len() + 2,
+    ];
+    m.functions.extend(grid_fns(sides));
     (
         m,
         Entries {
             vertex_stage,
             patches,
             eval,
+            sides,
+            grid,
         },
     )
+}
+
+/// `grid_len`, `grid_iu`, `grid_iv` of the facet's domain (see
+/// [`Entries::grid`]): entry points of every backend map a flat sample index
+/// through these instead of spelling the domain themselves.
+fn grid_fns(sides: u32) -> Vec<Function> {
+    let mut len = Function::new(
+        "grid_len",
+        if sides == 4 {
+            "Samples of one quad patch at `level`: (level+1)²."
+        } else {
+            "Samples of one triangle patch at `level`: (level+1)(level+2)/2."
+        },
+    );
+    let level = len.param("level", Ty::U32);
+    len.ret = Some(Ty::U32);
+    let side = add(l(level), u(1));
+    len.body = vec![Stmt::Return(if sides == 4 {
+        mul(side.clone(), side)
+    } else {
+        div(mul(side, add(l(level), u(2))), u(2))
+    })];
+    let mut out = vec![len];
+    for (name, want_iv) in [("grid_iu", false), ("grid_iv", true)] {
+        let mut f = Function::new(
+            name,
+            if sides == 4 {
+                "Integer domain coordinate of sample `s` = iv·(level+1) + iu."
+            } else {
+                "Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows."
+            },
+        );
+        let smp = f.param("s", Ty::U32);
+        let level = f.param("level", Ty::U32);
+        f.ret = Some(Ty::U32);
+        if sides == 4 {
+            let side = add(l(level), u(1));
+            f.body = vec![Stmt::Return(bin(
+                if want_iv { BinOp::Div } else { BinOp::Rem },
+                l(smp),
+                side,
+            ))];
+        } else {
+            let row = f.local("row", Ty::U32);
+            let rest = f.local("rest", Ty::U32);
+            let r = f.local("r", Ty::U32);
+            let row_len = sub(add(l(level), u(1)), l(row));
+            f.body = vec![
+                Stmt::Var(row, u(0)),
+                Stmt::Var(rest, l(smp)),
+                // Once `rest` fits in the current row it stays put: the
+                // row length only changes when a row is skipped.
+                Stmt::For(
+                    r,
+                    u(0),
+                    l(level),
+                    vec![Stmt::If(
+                        bin(BinOp::Ge, l(rest), row_len.clone()),
+                        vec![
+                            Stmt::Assign(rest, sub(l(rest), row_len)),
+                            Stmt::Assign(row, add(l(row), u(1))),
+                        ],
+                        vec![],
+                    )],
+                ),
+                Stmt::Return(l(if want_iv { row } else { rest })),
+            ];
+        }
+        out.push(f);
+    }
+    out
+}
+
+/// Cubic Bézier triangle + quadratic normal field (pn.md §2) at integer
+/// barycentric coordinates `(level − iu − iv, iu, iv)` of corners 0, 1, 2.
+fn tri_cubic_surface(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface", class.name()),
+        "Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 \
+         (weights formed from integers): three de Casteljau steps over the 10-point net; normal = \
+         normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.",
+    );
+    let (cp, iu, iv, level) = surface_params(&mut f);
+    let nf = let_f32(&mut f, "nf", to_f32(l(level)));
+    let w = [
+        let_f32(
+            &mut f,
+            "w0",
+            div(to_f32(sub(sub(l(level), l(iu)), l(iv))), l(nf)),
+        ),
+        let_f32(&mut f, "w1", div(to_f32(l(iu)), l(nf))),
+        let_f32(&mut f, "w2", div(to_f32(l(iv)), l(nf))),
+    ];
+    let g = Form::TriCubic;
+    // Net b[(e0, e1, e2)] with exponents of (w0, w1, w2) summing to 3.
+    let mut net: BTreeMap<[u32; 3], LocalId> = BTreeMap::new();
+    for c in 0..3usize {
+        let (next, prev) = ((c + 1) % 3, (c + 2) % 3);
+        let mut corner = [0u32; 3];
+        corner[c] = 3;
+        let mut toward_next = [0u32; 3];
+        toward_next[c] = 2;
+        toward_next[next] = 1;
+        let mut toward_prev = [0u32; 3];
+        toward_prev[c] = 2;
+        toward_prev[prev] = 1;
+        for (key, slot, name) in [
+            (corner, 0, "b"),
+            (toward_next, 1, "bn"),
+            (toward_prev, 2, "bp"),
+        ] {
+            let id = let_vec(
+                &mut f,
+                &format!("{name}{c}"),
+                cp_at(cp, g.storage_index(c, slot)),
+            );
+            net.insert(key, id);
+        }
+    }
+    let centre = let_vec(&mut f, "center", cp_at(cp, g.single_index(0)));
+    net.insert([1, 1, 1], centre);
+    let mut cur = net;
+    for deg in [2u32, 1, 0] {
+        let mut next = BTreeMap::new();
+        for a in (0..=deg).rev() {
+            for b in (0..=deg - a).rev() {
+                let c = deg - a - b;
+                let e = add(
+                    add(
+                        mul(l(cur[&[a + 1, b, c]]), l(w[0])),
+                        mul(l(cur[&[a, b + 1, c]]), l(w[1])),
+                    ),
+                    mul(l(cur[&[a, b, c + 1]]), l(w[2])),
+                );
+                let id = let_vec(&mut f, &format!("s{deg}_{a}{b}{c}"), e);
+                next.insert([a, b, c], id);
+            }
+        }
+        cur = next;
+    }
+    let pos = l(cur[&[0, 0, 0]]);
+    // Normal field: n_i w_i² + nm_i w_i w_{i+1}.
+    let mut terms = Vec::new();
+    for c in 0..3usize {
+        let next = (c + 1) % 3;
+        terms.push(mul(cp_at(cp, g.storage_index(c, 3)), mul(l(w[c]), l(w[c]))));
+        terms.push(mul(
+            cp_at(cp, g.storage_index(c, 4)),
+            mul(l(w[c]), l(w[next])),
+        ));
+    }
+    let nsum = terms.into_iter().reduce(add).expect("six terms");
+    let normal = call(FnRef::Common(common_fn::NORMALIZE), vec![nsum]);
+    f.body.push(Stmt::Return(Expr::Make(
+        plan::common::SAMPLE,
+        vec![pos, normal],
+    )));
+    f
 }
 
 fn vertex_stage_fn(s: &Scheme, row_base: usize, ra: u32, rb: u32) -> Function {
@@ -303,9 +472,12 @@ fn vertex_stage_fn(s: &Scheme, row_base: usize, ra: u32, rb: u32) -> Function {
 
 /// Per-corner values loaded once at the top of a patch function.
 struct CornerLocals {
-    n: [LocalId; 4],
-    sector: [LocalId; 4],
-    out_base: [LocalId; 4],
+    /// Corner vertex (every facet).
+    vertex: Vec<LocalId>,
+    /// Valence, sector and vertex-stage output base (quad schemes only).
+    n: Vec<LocalId>,
+    sector: Vec<LocalId>,
+    out_base: Vec<LocalId>,
 }
 
 /// Lowering state of one patch function.
@@ -313,6 +485,10 @@ struct PatchLower<'a> {
     s: &'a Scheme,
     f: Function,
     corners: CornerLocals,
+    /// Corners of the facet.
+    sides: usize,
+    /// `(input, corner)` → local (triangle schemes: `P(i)`, `N(i)`).
+    inputs: BTreeMap<(sym::Input, usize), LocalId>,
     const_row: usize,
     /// `(const, corner)` → local.
     consts: BTreeMap<(usize, usize), LocalId>,
@@ -341,9 +517,9 @@ impl Val {
     }
 }
 
-fn corner_of(s: &Sym) -> usize {
+fn corner_of(s: &Sym, sides: usize) -> usize {
     match s {
-        Sym::Num(x) => (*x as i64).rem_euclid(4) as usize,
+        Sym::Num(x) => (*x as i64).rem_euclid(sides as i64) as usize,
         other => panic!("corner index did not fold to a number: {other:?}"),
     }
 }
@@ -413,6 +589,22 @@ impl PatchLower<'_> {
         id
     }
 
+    /// Corner `c`'s position or normal, loaded once.
+    fn input(&mut self, input: sym::Input, c: usize) -> LocalId {
+        if let Some(id) = self.inputs.get(&(input, c)) {
+            return *id;
+        }
+        let (name, res) = match input {
+            sym::Input::Position => ("pos", Resource::Positions),
+            sym::Input::Normal => ("nrm", Resource::Normals),
+        };
+        let id = self.f.local(format!("{name}_{c}"), Ty::Vec3);
+        self.loads
+            .push(Stmt::Let(id, fetch(res, l(self.corners.vertex[c]))));
+        self.inputs.insert((input, c), id);
+        id
+    }
+
     fn def_local(&mut self, def: usize, corner: Option<usize>) -> LocalId {
         match self.defs.get(&(def, corner)) {
             Some(id) => *id,
@@ -460,15 +652,15 @@ impl PatchLower<'_> {
                 }
             },
             Sym::CornerConst { konst, corner } => {
-                let id = self.corner_const(*konst, corner_of(corner));
+                let id = self.corner_const(*konst, corner_of(corner, self.sides));
                 Val::Ex(l(id), false)
             }
             Sym::CornerValence(c) => {
-                let id = self.valence(corner_of(c));
+                let id = self.valence(corner_of(c, self.sides));
                 Val::Ex(l(id), false)
             }
             Sym::Def { def, index } => {
-                let corner = index.as_ref().map(|i| corner_of(i));
+                let corner = index.as_ref().map(|i| corner_of(i, self.sides));
                 let id = self.def_local(*def, corner);
                 let point = self.f.locals[id.0].ty == Ty::Vec3;
                 Val::Ex(l(id), point)
@@ -480,15 +672,15 @@ impl PatchLower<'_> {
             } => {
                 let id = self.datum(
                     *output,
-                    corner_of(corner),
+                    corner_of(corner, self.sides),
                     offset.as_ref().map(|o| int_of(o)),
                 );
                 Val::Ex(l(id), true)
             }
             Sym::Sum { var, body } => {
-                // Unrolled over the four corners, left to right: ((a + b) + c) + d.
+                // Unrolled over the corners, left to right: ((a + b) + c) + d.
                 let mut acc: Option<Val> = None;
-                for k in 0..4 {
+                for k in 0..self.sides as i64 {
                     let term = self.lower(&sym::substitute(body, *var, k));
                     acc = Some(match acc {
                         None => term,
@@ -504,6 +696,18 @@ impl PatchLower<'_> {
                 }
                 acc.unwrap_or(Val::Num(0.0))
             }
+            Sym::CornerInput { input, corner } => {
+                let id = self.input(*input, corner_of(corner, self.sides));
+                Val::Ex(l(id), true)
+            }
+            Sym::Dot(a, b) => {
+                let (a, b) = (self.lower(a).expr(), self.lower(b).expr());
+                Val::Ex(Expr::Call(Builtin::Dot, vec![a, b]), false)
+            }
+            Sym::Normalize(a) => {
+                let a = self.lower(a).expr();
+                Val::Ex(call(FnRef::Common(common_fn::NORMALIZE), vec![a]), true)
+            }
             Sym::Var(_)
             | Sym::Valence
             | Sym::Const(_)
@@ -518,42 +722,65 @@ fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) -> Function {
     let mut f = Function::new(
         format!("{}_patch", pc.class.name()),
         format!(
-            "Patch stage of `{}` for {} quads: the {} control points of a {} patch from the \
-             four corners' vertex-stage outputs, written from `cp_base`.",
+            "Patch stage of `{}` for {} {}: the {} control points of a {} patch from the \
+             corners' {}, written from `cp_base`.",
             s.name,
             pc.class.name(),
+            if s.facet == scheme::Facet::Tri {
+                "triangles"
+            } else {
+                "quads"
+            },
             pc.form.num_points(),
-            pc.form.name()
+            pc.form.name(),
+            if s.facet == scheme::Facet::Tri {
+                "positions and normals"
+            } else {
+                "vertex-stage outputs"
+            }
         ),
     );
     let face = f.param("face", Ty::U32);
     let cp_base = f.param("cp_base", Ty::U32);
+    let sides = pc.form.sides();
+    let tri = s.facet == scheme::Facet::Tri;
     let mut head = Vec::new();
-    let mut n = [LocalId(0); 4];
-    let mut sector = [LocalId(0); 4];
-    let mut out_base = [LocalId(0); 4];
-    for c in 0..4 {
+    let mut corners = CornerLocals {
+        vertex: Vec::new(),
+        n: Vec::new(),
+        sector: Vec::new(),
+        out_base: Vec::new(),
+    };
+    for c in 0..sides {
         let vtx = f.local(format!("vertex_{c}"), Ty::U32);
-        n[c] = f.local(format!("n_{c}"), Ty::U32);
-        sector[c] = f.local(format!("sector_{c}"), Ty::U32);
-        out_base[c] = f.local(format!("out_base_{c}"), Ty::U32);
-        let slot = add(mul(l(face), u(4)), u(c as u32));
+        let slot = add(mul(l(face), u(sides as u32)), u(c as u32));
+        corners.vertex.push(vtx);
+        if tri {
+            // Triangle schemes read positions and normals at the corner
+            // vertices, loaded on first use.
+            head.push(Stmt::Let(vtx, fetch(Resource::CornerVertex, slot)));
+            continue;
+        }
+        let n = f.local(format!("n_{c}"), Ty::U32);
+        let sector = f.local(format!("sector_{c}"), Ty::U32);
+        let out_base = f.local(format!("out_base_{c}"), Ty::U32);
         head.push(Stmt::Let(vtx, fetch(Resource::CornerVertex, slot.clone())));
-        head.push(Stmt::Let(sector[c], fetch(Resource::CornerSector, slot)));
-        head.push(Stmt::Let(n[c], fetch(Resource::Valence, l(vtx))));
+        head.push(Stmt::Let(sector, fetch(Resource::CornerSector, slot)));
+        head.push(Stmt::Let(n, fetch(Resource::Valence, l(vtx))));
         head.push(Stmt::Let(
-            out_base[c],
+            out_base,
             fetch(Resource::VertexOutOffsets, l(vtx)),
         ));
+        corners.n.push(n);
+        corners.sector.push(sector);
+        corners.out_base.push(out_base);
     }
     let mut pl = PatchLower {
         s,
         f,
-        corners: CornerLocals {
-            n,
-            sector,
-            out_base,
-        },
+        corners,
+        sides,
+        inputs: BTreeMap::new(),
         const_row,
         consts: BTreeMap::new(),
         valences: BTreeMap::new(),
@@ -564,7 +791,7 @@ fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) -> Function {
     };
     for (di, d) in pc.defs.iter().enumerate() {
         let corners: Vec<Option<usize>> = if d.indexed {
-            (0..4).map(Some).collect()
+            (0..sides).map(Some).collect()
         } else {
             vec![None]
         };
@@ -575,9 +802,13 @@ fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) -> Function {
             };
             let value = pl.lower(&expr).expr();
             if d.out {
-                let slot = pc.slots.iter().position(|&k| k == di).unwrap_or(0);
-                let corner = c.unwrap_or(0);
-                let idx = pc.form.storage_index(corner, slot) as u32;
+                let idx = match pc.singles.iter().position(|&k| k == di) {
+                    Some(k) => pc.form.single_index(k),
+                    None => {
+                        let slot = pc.slots.iter().position(|&k| k == di).unwrap_or(0);
+                        pc.form.storage_index(c.unwrap_or(0), slot)
+                    }
+                } as u32;
                 pl.body.push(Stmt::Store(
                     Resource::ControlPoints,
                     add(l(cp_base), u(idx)),
@@ -1185,7 +1416,7 @@ fn cpatch_surface(class: Class) -> Function {
     f
 }
 
-fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize) -> Function {
+fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize, sides: u32) -> Function {
     let mut f = Function::new(
         "eval",
         "Position and normal at (iu, iv)/level of a patch of facet class `class` (index into \
@@ -1229,44 +1460,80 @@ fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize) -> Fu
     f.body.extend(chain);
     let edge = f.local("edge", Ty::U32);
     let t = f.local("t", Ty::U32);
-    let on_boundary = bin(
-        BinOp::Or,
-        bin(
-            BinOp::Or,
-            bin(BinOp::Eq, l(iu), u(0)),
-            bin(BinOp::Eq, l(iu), l(level)),
-        ),
-        bin(
-            BinOp::Or,
-            bin(BinOp::Eq, l(iv), u(0)),
-            bin(BinOp::Eq, l(iv), l(level)),
-        ),
-    );
+    let (on_boundary, select) = if sides == 4 {
+        (
+            bin(
+                BinOp::Or,
+                bin(
+                    BinOp::Or,
+                    bin(BinOp::Eq, l(iu), u(0)),
+                    bin(BinOp::Eq, l(iu), l(level)),
+                ),
+                bin(
+                    BinOp::Or,
+                    bin(BinOp::Eq, l(iv), u(0)),
+                    bin(BinOp::Eq, l(iv), l(level)),
+                ),
+            ),
+            vec![
+                // Edge 0 (v = 0, t = u), edge 1 (u = 1, t = v), edge 2 (v = 1, t = 1 - u),
+                // edge 3 (u = 0, t = 1 - v), all from integers.
+                Stmt::Var(edge, u(3)),
+                Stmt::Var(t, sub(l(level), l(iv))),
+                Stmt::If(
+                    bin(BinOp::Eq, l(iv), u(0)),
+                    vec![Stmt::Assign(edge, u(0)), Stmt::Assign(t, l(iu))],
+                    vec![Stmt::If(
+                        bin(BinOp::Eq, l(iu), l(level)),
+                        vec![Stmt::Assign(edge, u(1)), Stmt::Assign(t, l(iv))],
+                        vec![Stmt::If(
+                            bin(BinOp::Eq, l(iv), l(level)),
+                            vec![
+                                Stmt::Assign(edge, u(2)),
+                                Stmt::Assign(t, sub(l(level), l(iu))),
+                            ],
+                            vec![],
+                        )],
+                    )],
+                ),
+            ],
+        )
+    } else {
+        // Barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2: edge 0
+        // (corner 0 → 1, iv = 0, t = iu), edge 1 (1 → 2, iu + iv = level,
+        // t = iv), edge 2 (2 → 0, iu = 0, t = level − iv).
+        (
+            bin(
+                BinOp::Or,
+                bin(
+                    BinOp::Or,
+                    bin(BinOp::Eq, l(iv), u(0)),
+                    bin(BinOp::Eq, l(iu), u(0)),
+                ),
+                bin(BinOp::Eq, add(l(iu), l(iv)), l(level)),
+            ),
+            vec![
+                Stmt::Var(edge, u(2)),
+                Stmt::Var(t, sub(l(level), l(iv))),
+                Stmt::If(
+                    bin(BinOp::Eq, l(iv), u(0)),
+                    vec![Stmt::Assign(edge, u(0)), Stmt::Assign(t, l(iu))],
+                    vec![Stmt::If(
+                        bin(BinOp::Eq, add(l(iu), l(iv)), l(level)),
+                        vec![Stmt::Assign(edge, u(1)), Stmt::Assign(t, l(iv))],
+                        vec![],
+                    )],
+                ),
+            ],
+        )
+    };
     let base = f.local("curve", Ty::U32);
     let b: Vec<LocalId> = (0..4).map(|i| f.local(format!("b{i}"), Ty::Vec3)).collect();
-    let mut boundary = vec![
-        // Edge 0 (v = 0, t = u), edge 1 (u = 1, t = v), edge 2 (v = 1, t = 1 - u),
-        // edge 3 (u = 0, t = 1 - v), all from integers.
-        Stmt::Var(edge, u(3)),
-        Stmt::Var(t, sub(l(level), l(iv))),
-        Stmt::If(
-            bin(BinOp::Eq, l(iv), u(0)),
-            vec![Stmt::Assign(edge, u(0)), Stmt::Assign(t, l(iu))],
-            vec![Stmt::If(
-                bin(BinOp::Eq, l(iu), l(level)),
-                vec![Stmt::Assign(edge, u(1)), Stmt::Assign(t, l(iv))],
-                vec![Stmt::If(
-                    bin(BinOp::Eq, l(iv), l(level)),
-                    vec![
-                        Stmt::Assign(edge, u(2)),
-                        Stmt::Assign(t, sub(l(level), l(iu))),
-                    ],
-                    vec![],
-                )],
-            )],
-        ),
-        Stmt::Let(base, add(mul(l(class), u(16)), mul(l(edge), u(4)))),
-    ];
+    let mut boundary = select;
+    boundary.push(Stmt::Let(
+        base,
+        add(mul(l(class), u(4 * sides)), mul(l(edge), u(4))),
+    ));
     for (k, bk) in b.iter().enumerate() {
         boundary.push(Stmt::Let(
             *bk,

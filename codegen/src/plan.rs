@@ -41,12 +41,17 @@ pub enum Resource {
     CornerSector,
     /// `vec3` patch control points (written by the patch stage).
     ControlPoints,
+    /// `vec3` unit normal, by vertex (triangle schemes).
+    Normals,
 }
 
 impl Resource {
     pub fn ty(self) -> Ty {
         match self {
-            Resource::Positions | Resource::VertexOut | Resource::ControlPoints => Ty::Vec3,
+            Resource::Positions
+            | Resource::VertexOut
+            | Resource::ControlPoints
+            | Resource::Normals => Ty::Vec3,
             _ => Ty::U32,
         }
     }
@@ -61,9 +66,10 @@ impl Resource {
             Resource::CornerVertex => "corner_vertex",
             Resource::CornerSector => "corner_sector",
             Resource::ControlPoints => "control_points",
+            Resource::Normals => "normals",
         }
     }
-    pub const ALL: [Resource; 9] = [
+    pub const ALL: [Resource; 10] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -73,6 +79,7 @@ impl Resource {
         Resource::CornerVertex,
         Resource::CornerSector,
         Resource::ControlPoints,
+        Resource::Normals,
     ];
 }
 
@@ -338,6 +345,13 @@ pub struct Entries {
     pub patches: Vec<PatchEntry>,
     /// `eval(class, cp_base, iu, iv, level) -> Sample`.
     pub eval: usize,
+    /// Corners per facet: 4 (quad domain) or 3 (triangle domain).
+    pub sides: u32,
+    /// `grid_len(level)`, `grid_iu(s, level)`, `grid_iv(s, level)`: the
+    /// samples of one patch at `level` and the integer domain coordinates of
+    /// sample `s` (quads: `(level+1)²`, `s = iv·(level+1) + iu`; triangles:
+    /// `(level+1)(level+2)/2`, row `iv` holding `iu = 0 ..= level − iv`).
+    pub grid: [usize; 3],
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -80,6 +80,18 @@ impl Ty {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Facet {
     Quad,
+    /// Triangles: per-facet formulas over the corners' positions `P(i)` and
+    /// normals `N(i)` (pn.md); no vertex stage and no stencil table.
+    Tri,
+}
+
+impl Facet {
+    pub fn sides(self) -> usize {
+        match self {
+            Facet::Quad => 4,
+            Facet::Tri => 3,
+        }
+    }
 }
 
 /// Which faces a patch block applies to.
@@ -89,6 +101,8 @@ pub enum Class {
     Ordinary,
     /// Some corner of valence ≠ 4.
     Extraordinary,
+    /// Every face of a triangle scheme.
+    Triangle,
 }
 
 impl Class {
@@ -96,6 +110,7 @@ impl Class {
         match self {
             Class::Ordinary => "ordinary",
             Class::Extraordinary => "extraordinary",
+            Class::Triangle => "triangle",
         }
     }
 }
@@ -144,6 +159,8 @@ pub struct PatchClass {
     pub defs: Vec<PatchDef>,
     /// For each form slot, the index into `defs` of its `out` definition.
     pub slots: Vec<usize>,
+    /// For each single (once per patch) slot, the index of its definition.
+    pub singles: Vec<usize>,
 }
 
 /// A checked scheme.
@@ -245,6 +262,11 @@ impl Scheme {
     }
 
     fn check(&self, ast: &SchemeAst, max_valence: u32) -> Result<(), SchemeError> {
+        if self.facet == Facet::Tri {
+            // Triangle schemes are per-facet formulas over positions and
+            // normals, not stencils: there are no weights to sum.
+            return Ok(());
+        }
         if max_valence < 4 {
             return Err(SchemeError::new(
                 ast.name.span(),
@@ -568,6 +590,8 @@ enum Stage {
 
 #[derive(Default)]
 struct Resolver {
+    /// Corners of the facet (4 until `facet` is read).
+    tri: bool,
     consts: Vec<String>,
     vertex: Vec<VertexDef>,
     /// Patch definitions of the block being resolved.
@@ -591,13 +615,15 @@ impl Resolver {
     fn scheme(mut self, ast: &SchemeAst) -> Result<Scheme, SchemeError> {
         let facet = match ast.facet.to_string().as_str() {
             "quad" => Facet::Quad,
+            "tri" => Facet::Tri,
             other => {
                 return err(
                     ast.facet.span(),
-                    format!("unknown facet `{other}` (this version supports `quad`)"),
+                    format!("unknown facet `{other}` (expected `quad` or `tri`)"),
                 )
             }
         };
+        self.tri = facet == Facet::Tri;
         let mut consts = Vec::new();
         for c in &ast.consts {
             self.check_new_name(&c.name)?;
@@ -618,7 +644,7 @@ impl Resolver {
             let def = self.vertex_def(d)?;
             self.vertex.push(def);
         }
-        if !self.vertex.iter().any(|d| d.exported()) {
+        if !self.tri && !self.vertex.iter().any(|d| d.exported()) {
             return err(ast.name.span(), "the vertex stage exports no output");
         }
         let mut patches = Vec::new();
@@ -697,15 +723,24 @@ impl Resolver {
     }
 
     fn patch_block(&mut self, p: &dsl::PatchAst) -> Result<PatchClass, SchemeError> {
-        let class = match p.class.to_string().as_str() {
-            "ordinary" => Class::Ordinary,
-            "extraordinary" => Class::Extraordinary,
-            other => {
+        let class = match (p.class.to_string().as_str(), self.tri) {
+            ("ordinary", false) => Class::Ordinary,
+            ("extraordinary", false) => Class::Extraordinary,
+            ("triangle", true) => Class::Triangle,
+            (other, false) => {
                 return err(
                     p.class.span(),
                     format!(
                         "unknown patch class `{other}`; expected `ordinary` or `extraordinary`"
                     ),
+                )
+            }
+            (other, true) => {
+                return err(
+                    p.class.span(),
+                    format!(
+                    "unknown patch class `{other}`; a `facet tri` scheme has one class, `triangle`"
+                ),
                 )
             }
         };
@@ -715,32 +750,63 @@ impl Resolver {
                 format!("unknown patch form `{}`; expected {}", p.form, Form::NAMES),
             )
         })?;
+        if (form.sides() == 3) != self.tri {
+            return err(
+                p.form.span(),
+                format!(
+                    "form `{}` is for {} facets",
+                    form.name(),
+                    if form.sides() == 3 { "`tri`" } else { "`quad`" }
+                ),
+            );
+        }
         self.patch.clear();
         let mut slots: Vec<Option<usize>> = vec![None; form.slots().len()];
+        let mut singles: Vec<Option<usize>> = vec![None; form.single_slots().len()];
         for d in &p.defs {
             let out = d.kind == DefKind::Out;
             if out {
                 let name = d.name.to_string();
-                let Some(slot) = form.slots().iter().position(|s| *s == name) else {
-                    return err(
-                        d.name.span(),
-                        format!(
-                            "`{name}` is not a control point of form `{}` (its slots: {})",
-                            form.name(),
-                            form.slots().join(", ")
-                        ),
-                    );
-                };
-                if slots[slot].is_some() {
-                    return err(d.name.span(), format!("`out {name}` given twice"));
+                if let Some(k) = form.single_slots().iter().position(|s| *s == name) {
+                    if singles[k].is_some() {
+                        return err(d.name.span(), format!("`out {name}` given twice"));
+                    }
+                    if d.index.is_some() {
+                        return err(
+                            d.name.span(),
+                            format!("control point `{name}` exists once per patch: write `out {name} = …`"),
+                        );
+                    }
+                    singles[k] = Some(self.patch.len());
+                } else {
+                    let Some(slot) = form.slots().iter().position(|s| *s == name) else {
+                        return err(
+                            d.name.span(),
+                            format!(
+                                "`{name}` is not a control point of form `{}` (its slots: {})",
+                                form.name(),
+                                form.slots()
+                                    .iter()
+                                    .chain(form.single_slots())
+                                    .copied()
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        );
+                    };
+                    if slots[slot].is_some() {
+                        return err(d.name.span(), format!("`out {name}` given twice"));
+                    }
+                    if d.index.is_none() {
+                        return err(
+                            d.name.span(),
+                            format!(
+                                "control point `{name}` is per corner: write `out {name}[i] = …`"
+                            ),
+                        );
+                    }
+                    slots[slot] = Some(self.patch.len());
                 }
-                if d.index.is_none() {
-                    return err(
-                        d.name.span(),
-                        format!("control point `{name}` is per corner: write `out {name}[i] = …`"),
-                    );
-                }
-                slots[slot] = Some(self.patch.len());
             } else {
                 self.check_new_name(&d.name)?;
             }
@@ -766,6 +832,22 @@ impl Resolver {
                 span: d.span,
             });
         }
+        let mut single_defs = Vec::new();
+        for (i, s) in singles.iter().enumerate() {
+            match s {
+                Some(k) => single_defs.push(*k),
+                None => {
+                    return err(
+                        p.form.span(),
+                        format!(
+                            "form `{}` needs `out {} = …`",
+                            form.name(),
+                            form.single_slots()[i]
+                        ),
+                    )
+                }
+            }
+        }
         let mut filled = Vec::new();
         for (i, s) in slots.iter().enumerate() {
             match s {
@@ -787,6 +869,7 @@ impl Resolver {
             form,
             defs: std::mem::take(&mut self.patch),
             slots: filled,
+            singles: single_defs,
         })
     }
 
@@ -1100,6 +1183,55 @@ impl Resolver {
                 },
                 ty,
             ));
+        }
+        if stage == Stage::Patch && (s == "dot" || s == "normalize") {
+            if !self.tri {
+                return err(
+                    id.span(),
+                    format!("`{s}` is only available in `facet tri` schemes (quad schemes are linear stencils)"),
+                );
+            }
+            let want = if s == "dot" { 2 } else { 1 };
+            if args.len() != want {
+                return err(id.span(), format!("`{s}` takes {want} argument(s)"));
+            }
+            let mut xs = Vec::new();
+            for a in &args {
+                let (x, ty) = self.expr(a, stage)?;
+                if ty != Ty::Point {
+                    return err(
+                        span_of(a),
+                        format!("`{s}` takes vectors, found {}", ty.describe()),
+                    );
+                }
+                xs.push(x);
+            }
+            let mut xs = xs.into_iter();
+            let a = Box::new(xs.next().expect("argument count checked"));
+            return Ok(match xs.next() {
+                Some(b) => (Sym::Dot(a, Box::new(b)), Ty::Scalar),
+                None => (Sym::Normalize(a), Ty::Point),
+            });
+        }
+        if stage == Stage::Patch && self.tri {
+            let input = match s.as_str() {
+                "P" => Some(sym::Input::Position),
+                "N" => Some(sym::Input::Normal),
+                _ => None,
+            };
+            if let Some(input) = input {
+                if args.len() != 1 {
+                    return err(id.span(), format!("`{s}(corner)` takes one argument"));
+                }
+                let c = self.index(args[0], stage)?;
+                return Ok((
+                    Sym::CornerInput {
+                        input,
+                        corner: Box::new(c),
+                    },
+                    Ty::Point,
+                ));
+            }
         }
         if stage == Stage::Patch {
             if s == "n" {

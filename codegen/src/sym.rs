@@ -92,6 +92,16 @@ impl CmpOp {
 #[derive(Clone, Debug, PartialEq)]
 pub enum Sym {
     Num(f64),
+    /// Triangle schemes: corner `corner`'s position `P(i)` or unit normal
+    /// `N(i)`. Not linear stencils (pn.md): never evaluated symbolically.
+    CornerInput {
+        input: Input,
+        corner: Box<Sym>,
+    },
+    /// `dot(a, b)` of two vectors (triangle schemes).
+    Dot(Box<Sym>, Box<Sym>),
+    /// `normalize(a)` (triangle schemes).
+    Normalize(Box<Sym>),
     /// The vertex's own valence `n` (vertex stage and constants).
     Valence,
     /// An index variable.
@@ -192,10 +202,19 @@ pub trait Env {
 }
 
 /// Evaluate `s` with index variables `vars` (slot `k` = value of `Var(k)`).
+/// A per-corner input of a triangle scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Input {
+    Position,
+    Normal,
+}
+
 pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {
     use Value::*;
     match s {
         Sym::Num(x) => Scalar(*x),
+        // Non-linear triangle-scheme terms have no weight-vector value.
+        Sym::CornerInput { .. } | Sym::Dot(..) | Sym::Normalize(_) => Scalar(f64::NAN),
         Sym::Valence => Scalar(env.valence()),
         Sym::Var(k) => Scalar(vars.get(*k).copied().unwrap_or(f64::NAN)),
         Sym::Const(k) => Scalar(env.konst(*k)),
@@ -301,6 +320,12 @@ pub fn substitute(s: &Sym, var: usize, value: i64) -> Sym {
             corner: sub(corner),
         },
         Sym::CornerValence(c) => Sym::CornerValence(sub(c)),
+        Sym::CornerInput { input, corner } => Sym::CornerInput {
+            input: *input,
+            corner: sub(corner),
+        },
+        Sym::Dot(a, b) => Sym::Dot(sub(a), sub(b)),
+        Sym::Normalize(a) => Sym::Normalize(sub(a)),
         Sym::Neg(a) => Sym::Neg(sub(a)),
         Sym::Bin(op, a, b) => Sym::Bin(*op, sub(a), sub(b)),
         Sym::Func(f, a) => Sym::Func(*f, sub(a)),

@@ -47,7 +47,7 @@ layout(std430, set = 0, binding = 4) readonly buffer VertexOutOffsets { uint ver
 // binding 5: vertex-stage outputs, 3 f32 per point (written by the vertex stage)
 layout(std430, set = 0, binding = 5) readonly buffer VertexOut { float vertex_out[]; };
 
-// binding 6: vertex of corner i of face f at 4f + i
+// binding 6: vertex of corner i of face f at 4f + i (3f + i for triangle schemes)
 layout(std430, set = 0, binding = 6) readonly buffer CornerVertex { uint corner_vertex[]; };
 
 // binding 7: sector index j_i of corner i of face f at 4f + i
@@ -85,7 +85,7 @@ void store_control_points(uint i, vec3 v) {
     control_points[((3u * i) + 2u)] = v.z;
 }
 
-// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
 void ordinary_patch(uint face, uint cp_base) {
     uint vertex_0 = corner_vertex[((face * 4u) + 0u)];
     uint sector_0 = corner_sector[((face * 4u) + 0u)];
@@ -137,7 +137,7 @@ void ordinary_patch(uint face, uint cp_base) {
     store_control_points((cp_base + 6u), f_3_0);
 }
 
-// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the corners' vertex-stage outputs, written from `cp_base`.
 void extraordinary_patch(uint face, uint cp_base) {
     uint vertex_0 = corner_vertex[((face * 4u) + 0u)];
     uint sector_0 = corner_sector[((face * 4u) + 0u)];

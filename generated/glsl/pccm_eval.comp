@@ -234,17 +234,31 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     return sample_;
 }
 
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iu(uint s, uint level) {
+    return (s % (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iv(uint s, uint level) {
+    return (s / (level + 1u));
+}
+
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint side = (params.level + 1u);
-    uint spp = (side * side);
+    uint spp = grid_len(params.level);
     if (k >= (params.count * spp)) {
         return;
     }
     uint patch_index = (k / spp);
     uint s = (k % spp);
-    uint iu = (s % side);
-    uint iv = (s / side);
+    uint iu = grid_iu(s, params.level);
+    uint iv = grid_iv(s, params.level);
     uint points = 0u;
     if (params.class_ == 0u) {
         points = 16u;

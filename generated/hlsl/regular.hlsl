@@ -49,7 +49,7 @@ struct Params {
 [[vk::binding(5, 0)]] StructuredBuffer<float> vertex_out : register(t5);
 [[vk::binding(5, 0)]] RWStructuredBuffer<float> vertex_out_rw : register(u5);
 
-// binding 6: vertex of corner i of face f at 4f + i
+// binding 6: vertex of corner i of face f at 4f + i (3f + i for triangle schemes)
 [[vk::binding(6, 0)]] StructuredBuffer<uint> corner_vertex : register(t6);
 
 // binding 7: sector index j_i of corner i of face f at 4f + i
@@ -70,6 +70,9 @@ struct Params {
 
 // binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
 [[vk::binding(12, 0)]] RWStructuredBuffer<float> samples : register(u12);
+
+// binding 13: unit normal per vertex, 3 f32 (triangle schemes)
+[[vk::binding(13, 0)]] StructuredBuffer<float> normals : register(t13);
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
@@ -100,6 +103,10 @@ void store_control_points(uint i, float3 v) {
     control_points_rw[(3u * i)] = v.x;
     control_points_rw[((3u * i) + 1u)] = v.y;
     control_points_rw[((3u * i) + 2u)] = v.z;
+}
+
+float3 fetch_normals(uint i) {
+    return float3(normals[(3u * i)], normals[((3u * i) + 1u)], normals[((3u * i) + 2u)]);
 }
 
 // ---- module `common` ----
@@ -210,7 +217,7 @@ void vertex_stage(uint vertex, uint out_base) {
     }
 }
 
-// Patch stage of `regular` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+// Patch stage of `regular` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
 void ordinary_patch(inout float3 cp_out[KMAX], uint face, uint cp_base) {
     uint vertex_0 = corner_vertex[((face * 4u) + 0u)];
     uint sector_0 = corner_sector[((face * 4u) + 0u)];
@@ -308,6 +315,21 @@ Sample eval(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uin
     return sample_;
 }
 
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iu(uint s, uint level) {
+    return (s % (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iv(uint s, uint level) {
+    return (s / (level + 1u));
+}
+
 // ---- compute entry points ----
 
 // Vertex stage of vertices params.first .. params.first + params.count
@@ -347,22 +369,21 @@ void patch_main(uint3 global_id : SV_DispatchThreadID) {
     }
 }
 
-// Evaluation: (level+1)² samples per patch of params.first .. + params.count,
-// sample k of the dispatch at (iu, iv) = (s % (level+1), s / (level+1)),
+// Evaluation: grid_len(level) samples per patch of params.first .. + params.count,
+// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)),
 // written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].
 [numthreads(64, 1, 1)]
 void eval_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
     uint level = params.level;
-    uint side = (level + 1u);
-    uint spp = (side * side);
+    uint spp = grid_len(level);
     if (k >= (params.count * spp)) {
         return;
     }
     uint patch_index = (k / spp);
     uint s = (k % spp);
-    uint iu = (s % side);
-    uint iv = (s / side);
+    uint iu = grid_iu(s, level);
+    uint iv = grid_iv(s, level);
     uint points = CONTROL_POINTS[params.class_];
     uint cp_base = (params.cp_base + (patch_index * points));
     float3 cp[KMAX];

@@ -38,6 +38,8 @@ pub mod common {
         pub vertex_out: &'a [Vec3],
         pub corner_vertex: &'a [u32],
         pub corner_sector: &'a [u32],
+        /// Unit normal per vertex (triangle schemes; empty for quad schemes).
+        pub normals: &'a [Vec3],
         /// The stencil table, row-major, TABLE_WIDTH columns.
         pub table: &'a [f32],
     }
@@ -64,6 +66,13 @@ pub mod common {
         pub classes: &'static [ClassKernels],
         /// `(cp, class, cp_base, iu, iv, level)`
         pub eval: fn(&[Vec3], u32, u32, u32, u32, u32) -> Sample,
+        /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
+        /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
+        pub sides: u32,
+        /// Samples per patch at a level, and the (iu, iv) of sample s.
+        pub grid_len: fn(u32) -> u32,
+        pub grid_iu: fn(u32, u32) -> u32,
+        pub grid_iv: fn(u32, u32) -> u32,
     }
     
     /// Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
@@ -145,7 +154,7 @@ pub mod regular {
         }
     }
     
-    /// Patch stage of `regular` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `regular` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -243,6 +252,21 @@ pub mod regular {
         return sample;
     }
     
+    /// Samples of one quad patch at `level`: (level+1)².
+    pub fn grid_len(level: u32) -> u32 {
+        return ((level + 1u32) * (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        return (s % (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        return (s / (level + 1u32));
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "regular",
@@ -253,6 +277,10 @@ pub mod regular {
             ClassKernels { class: "ordinary", form: "bicubic", control_points: 16, patch: ordinary_patch },
         ],
         eval: eval,
+        sides: 4,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
     };
 }
 
@@ -298,7 +326,7 @@ pub mod pccm {
         }
     }
     
-    /// Patch stage of `pccm` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `pccm` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -350,7 +378,7 @@ pub mod pccm {
         out[((cp_base + 6u32)) as usize] = f_3_0;
     }
     
-    /// Patch stage of `pccm` for extraordinary quads: the 24 control points of a cpatch patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `pccm` for extraordinary quads: the 24 control points of a cpatch patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -583,6 +611,21 @@ pub mod pccm {
         return sample;
     }
     
+    /// Samples of one quad patch at `level`: (level+1)².
+    pub fn grid_len(level: u32) -> u32 {
+        return ((level + 1u32) * (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        return (s % (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        return (s / (level + 1u32));
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pccm",
@@ -594,6 +637,10 @@ pub mod pccm {
             ClassKernels { class: "extraordinary", form: "cpatch", control_points: 24, patch: extraordinary_patch },
         ],
         eval: eval,
+        sides: 4,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
     };
 }
 
@@ -641,7 +688,7 @@ pub mod acc {
         }
     }
     
-    /// Patch stage of `acc` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `acc` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -693,7 +740,7 @@ pub mod acc {
         out[((cp_base + 6u32)) as usize] = f_3_0;
     }
     
-    /// Patch stage of `acc` for extraordinary quads: the 40 control points of a acc patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `acc` for extraordinary quads: the 40 control points of a acc patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -876,6 +923,21 @@ pub mod acc {
         return sample;
     }
     
+    /// Samples of one quad patch at `level`: (level+1)².
+    pub fn grid_len(level: u32) -> u32 {
+        return ((level + 1u32) * (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        return (s % (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        return (s / (level + 1u32));
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "acc",
@@ -887,6 +949,10 @@ pub mod acc {
             ClassKernels { class: "extraordinary", form: "acc", control_points: 40, patch: extraordinary_patch },
         ],
         eval: eval,
+        sides: 4,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
     };
 }
 
@@ -934,7 +1000,7 @@ pub mod gregory {
         }
     }
     
-    /// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -986,7 +1052,7 @@ pub mod gregory {
         out[((cp_base + 6u32)) as usize] = f_3_0;
     }
     
-    /// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -1194,6 +1260,21 @@ pub mod gregory {
         return sample;
     }
     
+    /// Samples of one quad patch at `level`: (level+1)².
+    pub fn grid_len(level: u32) -> u32 {
+        return ((level + 1u32) * (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        return (s % (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        return (s / (level + 1u32));
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory",
@@ -1205,6 +1286,10 @@ pub mod gregory {
             ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
         ],
         eval: eval,
+        sides: 4,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
     };
 }
 
@@ -1252,7 +1337,7 @@ pub mod gregory_osd {
         }
     }
     
-    /// Patch stage of `gregory_osd` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `gregory_osd` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn ordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -1304,7 +1389,7 @@ pub mod gregory_osd {
         out[((cp_base + 6u32)) as usize] = f_3_0;
     }
     
-    /// Patch stage of `gregory_osd` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+    /// Patch stage of `gregory_osd` for extraordinary quads: the 20 control points of a gregory patch from the corners' vertex-stage outputs, written from `cp_base`.
     pub fn extraordinary_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
         let vertex_0: u32 = inputs.corner_vertex[(((face * 4u32) + 0u32)) as usize];
         let sector_0: u32 = inputs.corner_sector[(((face * 4u32) + 0u32)) as usize];
@@ -1512,6 +1597,21 @@ pub mod gregory_osd {
         return sample;
     }
     
+    /// Samples of one quad patch at `level`: (level+1)².
+    pub fn grid_len(level: u32) -> u32 {
+        return ((level + 1u32) * (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        return (s % (level + 1u32));
+    }
+    
+    /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        return (s / (level + 1u32));
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory_osd",
@@ -1523,9 +1623,377 @@ pub mod gregory_osd {
             ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
         ],
         eval: eval,
+        sides: 4,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
+    };
+}
+
+/// Curved PN triangles (Vlachos, Peters, Boyd, Mitchell 2001): a cubic
+/// Bézier triangle from each triangle's corner positions and normals, shaded
+/// with a quadratic normal field whose mid-edge coefficient is the corrected
+/// (reflected) one of spec/pn.md §2. Positions are C⁰ across edges, the
+/// normal field is continuous.
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod pn {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 7650;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 0;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 0;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
+    
+    /// Vertex stage of `pn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((0u32 * n) + 0u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `pn` for triangle triangles: the 16 control points of a tri_cubic patch from the corners' positions and normals, written from `cp_base`.
+    pub fn triangle_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 3u32) + 0u32)) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 3u32) + 1u32)) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 3u32) + 2u32)) as usize];
+        let pos_0: Vec3 = inputs.positions[(vertex_0) as usize];
+        let pos_1: Vec3 = inputs.positions[(vertex_1) as usize];
+        let nrm_0: Vec3 = inputs.normals[(vertex_0) as usize];
+        let pos_2: Vec3 = inputs.positions[(vertex_2) as usize];
+        let nrm_1: Vec3 = inputs.normals[(vertex_1) as usize];
+        let nrm_2: Vec3 = inputs.normals[(vertex_2) as usize];
+        let next_0: Vec3 = ((((2.0f32 * pos_0) + pos_1) - ((pos_1 - pos_0).dot(nrm_0) * nrm_0)) / 3.0f32);
+        let next_1: Vec3 = ((((2.0f32 * pos_1) + pos_2) - ((pos_2 - pos_1).dot(nrm_1) * nrm_1)) / 3.0f32);
+        let next_2: Vec3 = ((((2.0f32 * pos_2) + pos_0) - ((pos_0 - pos_2).dot(nrm_2) * nrm_2)) / 3.0f32);
+        let prev_0: Vec3 = ((((2.0f32 * pos_0) + pos_2) - ((pos_2 - pos_0).dot(nrm_0) * nrm_0)) / 3.0f32);
+        let prev_1: Vec3 = ((((2.0f32 * pos_1) + pos_0) - ((pos_0 - pos_1).dot(nrm_1) * nrm_1)) / 3.0f32);
+        let prev_2: Vec3 = ((((2.0f32 * pos_2) + pos_1) - ((pos_1 - pos_2).dot(nrm_2) * nrm_2)) / 3.0f32);
+        out[((cp_base + 0u32)) as usize] = pos_0;
+        out[((cp_base + 5u32)) as usize] = pos_1;
+        out[((cp_base + 10u32)) as usize] = pos_2;
+        out[((cp_base + 1u32)) as usize] = next_0;
+        out[((cp_base + 6u32)) as usize] = next_1;
+        out[((cp_base + 11u32)) as usize] = next_2;
+        out[((cp_base + 2u32)) as usize] = prev_0;
+        out[((cp_base + 7u32)) as usize] = prev_1;
+        out[((cp_base + 12u32)) as usize] = prev_2;
+        out[((cp_base + 15u32)) as usize] = (((((next_0 + prev_0) + (next_1 + prev_1)) + (next_2 + prev_2)) / 4.0f32) - (((pos_0 + pos_1) + pos_2) / 6.0f32));
+        let d_0: Vec3 = (pos_1 - pos_0);
+        let d_1: Vec3 = (pos_2 - pos_1);
+        let d_2: Vec3 = (pos_0 - pos_2);
+        out[((cp_base + 3u32)) as usize] = nrm_0;
+        out[((cp_base + 8u32)) as usize] = nrm_1;
+        out[((cp_base + 13u32)) as usize] = nrm_2;
+        out[((cp_base + 4u32)) as usize] = ((nrm_0 + nrm_1) - (((4.0f32 * d_0.dot((nrm_0 + nrm_1))) / d_0.dot(d_0)) * d_0));
+        out[((cp_base + 9u32)) as usize] = ((nrm_1 + nrm_2) - (((4.0f32 * d_1.dot((nrm_1 + nrm_2))) / d_1.dot(d_1)) * d_1));
+        out[((cp_base + 14u32)) as usize] = ((nrm_2 + nrm_0) - (((4.0f32 * d_2.dot((nrm_2 + nrm_0))) / d_2.dot(d_2)) * d_2));
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
+        let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
+        let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
+        let b1: Vec3 = cp[((cp_base + 5u32)) as usize];
+        let bn1: Vec3 = cp[((cp_base + 6u32)) as usize];
+        let bp1: Vec3 = cp[((cp_base + 7u32)) as usize];
+        let b2: Vec3 = cp[((cp_base + 10u32)) as usize];
+        let bn2: Vec3 = cp[((cp_base + 11u32)) as usize];
+        let bp2: Vec3 = cp[((cp_base + 12u32)) as usize];
+        let center: Vec3 = cp[((cp_base + 15u32)) as usize];
+        let s2_200: Vec3 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+        let s2_110: Vec3 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+        let s2_101: Vec3 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+        let s2_020: Vec3 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+        let s2_011: Vec3 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+        let s2_002: Vec3 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+        let s1_100: Vec3 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+        let s1_010: Vec3 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+        let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+        let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+        return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface(cp, cp_base, iu, iv, level);
+        if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+            let mut edge: u32 = 2u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    edge = 1u32;
+                    t = iv;
+                }
+            }
+            let curve: u32 = ((class * 12u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Samples of one triangle patch at `level`: (level+1)(level+2)/2.
+    pub fn grid_len(level: u32) -> u32 {
+        return (((level + 1u32) * (level + 2u32)) / 2u32);
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return rest;
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return row;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "pn",
+        rows_per_n: 0,
+        rows_fixed: 0,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
+        ],
+        eval: eval,
+        sides: 3,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
+    };
+}
+
+/// Phong tessellation (Boubekeur & Alexa 2008) with shape factor α = 3/4:
+/// the linear triangle blended with its projections onto the corners'
+/// tangent planes, a quadratic triangle (spec/pn.md §4), stored degree-raised
+/// to the cubic triangle form. Shading normal: Phong-interpolated corner
+/// normals, normalize(Σ w_i N_i).
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod phong {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 7680;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 0;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 0;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
+    
+    /// Vertex stage of `phong`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((0u32 * n) + 0u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `phong` for triangle triangles: the 16 control points of a tri_cubic patch from the corners' positions and normals, written from `cp_base`.
+    pub fn triangle_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 3u32) + 0u32)) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 3u32) + 1u32)) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 3u32) + 2u32)) as usize];
+        let pos_0: Vec3 = inputs.positions[(vertex_0) as usize];
+        let pos_1: Vec3 = inputs.positions[(vertex_1) as usize];
+        let nrm_0: Vec3 = inputs.normals[(vertex_0) as usize];
+        let nrm_1: Vec3 = inputs.normals[(vertex_1) as usize];
+        let pos_2: Vec3 = inputs.positions[(vertex_2) as usize];
+        let nrm_2: Vec3 = inputs.normals[(vertex_2) as usize];
+        let mid_0: Vec3 = (((pos_0 + pos_1) / 8.0f32) + (0.375f32 * ((pos_1 - ((pos_1 - pos_0).dot(nrm_0) * nrm_0)) + (pos_0 - ((pos_0 - pos_1).dot(nrm_1) * nrm_1)))));
+        let mid_1: Vec3 = (((pos_1 + pos_2) / 8.0f32) + (0.375f32 * ((pos_2 - ((pos_2 - pos_1).dot(nrm_1) * nrm_1)) + (pos_1 - ((pos_1 - pos_2).dot(nrm_2) * nrm_2)))));
+        let mid_2: Vec3 = (((pos_2 + pos_0) / 8.0f32) + (0.375f32 * ((pos_0 - ((pos_0 - pos_2).dot(nrm_2) * nrm_2)) + (pos_2 - ((pos_2 - pos_0).dot(nrm_0) * nrm_0)))));
+        out[((cp_base + 0u32)) as usize] = pos_0;
+        out[((cp_base + 5u32)) as usize] = pos_1;
+        out[((cp_base + 10u32)) as usize] = pos_2;
+        out[((cp_base + 1u32)) as usize] = ((pos_0 + (2.0f32 * mid_0)) / 3.0f32);
+        out[((cp_base + 6u32)) as usize] = ((pos_1 + (2.0f32 * mid_1)) / 3.0f32);
+        out[((cp_base + 11u32)) as usize] = ((pos_2 + (2.0f32 * mid_2)) / 3.0f32);
+        out[((cp_base + 2u32)) as usize] = ((pos_0 + (2.0f32 * mid_2)) / 3.0f32);
+        out[((cp_base + 7u32)) as usize] = ((pos_1 + (2.0f32 * mid_0)) / 3.0f32);
+        out[((cp_base + 12u32)) as usize] = ((pos_2 + (2.0f32 * mid_1)) / 3.0f32);
+        out[((cp_base + 15u32)) as usize] = (((mid_0 + mid_1) + mid_2) / 3.0f32);
+        out[((cp_base + 3u32)) as usize] = nrm_0;
+        out[((cp_base + 8u32)) as usize] = nrm_1;
+        out[((cp_base + 13u32)) as usize] = nrm_2;
+        out[((cp_base + 4u32)) as usize] = (nrm_0 + nrm_1);
+        out[((cp_base + 9u32)) as usize] = (nrm_1 + nrm_2);
+        out[((cp_base + 14u32)) as usize] = (nrm_2 + nrm_0);
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
+        let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
+        let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
+        let b1: Vec3 = cp[((cp_base + 5u32)) as usize];
+        let bn1: Vec3 = cp[((cp_base + 6u32)) as usize];
+        let bp1: Vec3 = cp[((cp_base + 7u32)) as usize];
+        let b2: Vec3 = cp[((cp_base + 10u32)) as usize];
+        let bn2: Vec3 = cp[((cp_base + 11u32)) as usize];
+        let bp2: Vec3 = cp[((cp_base + 12u32)) as usize];
+        let center: Vec3 = cp[((cp_base + 15u32)) as usize];
+        let s2_200: Vec3 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+        let s2_110: Vec3 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+        let s2_101: Vec3 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+        let s2_020: Vec3 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+        let s2_011: Vec3 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+        let s2_002: Vec3 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+        let s1_100: Vec3 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+        let s1_010: Vec3 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+        let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+        let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+        return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface(cp, cp_base, iu, iv, level);
+        if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+            let mut edge: u32 = 2u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    edge = 1u32;
+                    t = iv;
+                }
+            }
+            let curve: u32 = ((class * 12u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Samples of one triangle patch at `level`: (level+1)(level+2)/2.
+    pub fn grid_len(level: u32) -> u32 {
+        return (((level + 1u32) * (level + 2u32)) / 2u32);
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return rest;
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return row;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "phong",
+        rows_per_n: 0,
+        rows_fixed: 0,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
+        ],
+        eval: eval,
+        sides: 3,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
     };
 }
 
 /// Every scheme in this file.
 #[allow(dead_code)]
-pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS, &acc::KERNELS, &gregory::KERNELS, &gregory_osd::KERNELS];
+pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS, &acc::KERNELS, &gregory::KERNELS, &gregory_osd::KERNELS, &pn::KERNELS, &phong::KERNELS];

@@ -49,7 +49,7 @@ struct Params {
 // point uses both declarations.
 @group(0) @binding(5) var<storage, read> vertex_out_ro: array<f32>;
 
-// vertex of corner i of face f at 4f + i
+// vertex of corner i of face f at 4f + i (3f + i for triangle schemes)
 @group(0) @binding(6) var<storage, read> corner_vertex: array<u32>;
 
 // sector index j_i of corner i of face f at 4f + i
@@ -72,6 +72,9 @@ struct Params {
 
 // evaluated samples, 6 f32 each (position xyz, normal xyz)
 @group(0) @binding(12) var<storage, read_write> samples: array<f32>;
+
+// unit normal per vertex, 3 f32 (triangle schemes)
+@group(0) @binding(13) var<storage, read> normals: array<f32>;
 
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
@@ -207,7 +210,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
     }
 }
 
-// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the four corners' vertex-stage outputs, written from `cp_base`.
+// Patch stage of `gregory` for ordinary quads: the 16 control points of a bicubic patch from the corners' vertex-stage outputs, written from `cp_base`.
 fn ordinary_patch(face: u32, cp_base: u32) {
     let vertex_0: u32 = corner_vertex[((face * 4u) + 0u)];
     let sector_0: u32 = corner_sector[((face * 4u) + 0u)];
@@ -259,7 +262,7 @@ fn ordinary_patch(face: u32, cp_base: u32) {
     store_control_points((cp_base + 6u), f_3_0);
 }
 
-// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the four corners' vertex-stage outputs, written from `cp_base`.
+// Patch stage of `gregory` for extraordinary quads: the 20 control points of a gregory patch from the corners' vertex-stage outputs, written from `cp_base`.
 fn extraordinary_patch(face: u32, cp_base: u32) {
     let vertex_0: u32 = corner_vertex[((face * 4u) + 0u)];
     let sector_0: u32 = corner_sector[((face * 4u) + 0u)];
@@ -467,6 +470,21 @@ fn eval(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     return sample;
 }
 
+// Samples of one quad patch at `level`: (level+1)².
+fn grid_len(level: u32) -> u32 {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+fn grid_iu(s: u32, level: u32) -> u32 {
+    return (s % (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+fn grid_iv(s: u32, level: u32) -> u32 {
+    return (s / (level + 1u));
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -500,20 +518,19 @@ fn patch_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// (level+1)² samples of each patch of the dispatch, grid point s = iv·(level+1) + iu,
-// into samples[(out_base + k)·6 ..]: position xyz, normal xyz.
+// grid_len(level) samples of each patch of the dispatch, sample s at the domain point
+// (grid_iu(s), grid_iv(s)), into samples[(out_base + k)·6 ..]: position xyz, normal xyz.
 @compute @workgroup_size(64)
 fn eval_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k: u32 = gid.x;
-    let side: u32 = (params.level + 1u);
-    let spp: u32 = (side * side);
+    let spp: u32 = grid_len(params.level);
     if (k >= (params.count * spp)) {
         return;
     }
     let patch_index: u32 = (k / spp);
     let s: u32 = (k % spp);
-    let iu: u32 = (s % side);
-    let iv: u32 = (s / side);
+    let iu: u32 = grid_iu(s, params.level);
+    let iv: u32 = grid_iv(s, params.level);
     var points: u32 = 0u;
     if (params.class_ == 0u) {
         points = 16u;
@@ -539,15 +556,14 @@ struct VsOut {
     @location(3) uv: vec2<f32>,
 }
 
-// Instanced tessellation: an index buffer over the (level+1)² grid vertices, shared by
-// all patches (vertex index vi = iv·(level+1) + iu), one instance per patch of the
+// Instanced tessellation: an index buffer over the grid_len(level) grid vertices, shared
+// by all patches (vertex index vi = sample vi of grid_iu/grid_iv), one instance per patch of the
 // draw's class: instance inst is patch inst of the draw, its control points from
 // cp_base + inst·(points per patch). Draw instances 0 .. count.
 @vertex
 fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
-    let side: u32 = (params.level + 1u);
-    let iu: u32 = (vi % side);
-    let iv: u32 = (vi / side);
+    let iu: u32 = grid_iu(vi, params.level);
+    let iv: u32 = grid_iv(vi, params.level);
     var points: u32 = 0u;
     if (params.class_ == 0u) {
         points = 16u;

@@ -23,6 +23,31 @@ pub enum TessError {
     ExtraordinaryFace { scheme: String, face: usize },
     #[error("tessellation level must be in 1..={max}, got {0}", max = MAX_LEVEL)]
     Level(u32),
+    #[error("scheme `{scheme}` works on {want}; {hint}")]
+    WrongFacet {
+        scheme: String,
+        want: &'static str,
+        hint: &'static str,
+    },
+    #[error(transparent)]
+    TriMesh(#[from] crate::trimesh::TriMeshError),
+}
+
+/// The error for a scheme given the wrong kind of facet.
+pub fn facet_error(scheme: &SchemeKernels) -> TessError {
+    if scheme.sides == 3 {
+        TessError::WrongFacet {
+            scheme: scheme.name.into(),
+            want: "triangles",
+            hint: "give it a triangle mesh (or split quads: `--split-quads`)",
+        }
+    } else {
+        TessError::WrongFacet {
+            scheme: scheme.name.into(),
+            want: "quads",
+            hint: "triangle meshes need a triangle scheme (pn, phong)",
+        }
+    }
 }
 
 /// Largest tessellation level accepted (a `(N+1)²` grid per face must stay
@@ -118,6 +143,9 @@ pub fn construct(
     positions: &[Vec3],
     scheme: &'static SchemeKernels,
 ) -> Result<Patches, TessError> {
+    if scheme.sides != 4 {
+        return Err(facet_error(scheme));
+    }
     let face_class = face_classes(topo, scheme)?;
     let table = kernels::table();
     // Vertex stage.
@@ -142,6 +170,7 @@ pub fn construct(
             vertex_out: &[],
             corner_vertex: &corner_vertex,
             corner_sector: &corner_sector,
+            normals: &[],
             table,
         };
         split_by_offsets(&mut vertex_out, &vertex_out_offsets)
@@ -169,6 +198,7 @@ pub fn construct(
             vertex_out: &vertex_out,
             corner_vertex: &corner_vertex,
             corner_sector: &corner_sector,
+            normals: &[],
             table,
         };
         split_by_offsets(&mut control_points, &cp_offsets)
@@ -188,12 +218,16 @@ pub fn construct(
     })
 }
 
-/// One `(level+1)²` grid of samples per face, in face order; sample
-/// `j·(level+1) + i` is at `(u, v) = (i, j)/level`.
+/// One grid of samples per face, in face order. Quads (`sides` 4): a
+/// `(level+1)²` grid, sample `j·(level+1) + i` at `(u, v) = (i, j)/level`.
+/// Triangles (`sides` 3): `(level+1)(level+2)/2` samples row by row, sample
+/// `(i, j)` at barycentrics `(level − i − j, i, j)/level` of corners 0, 1, 2
+/// ([`crate::trimesh::tri_grid_coords`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tessellation {
     pub level: u32,
     pub faces: usize,
+    pub sides: u32,
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
 }
@@ -201,7 +235,11 @@ pub struct Tessellation {
 impl Tessellation {
     /// Samples per face.
     pub fn grid_len(&self) -> usize {
-        ((self.level + 1) * (self.level + 1)) as usize
+        if self.sides == 3 {
+            crate::trimesh::tri_grid_len(self.level)
+        } else {
+            ((self.level + 1) * (self.level + 1)) as usize
+        }
     }
 }
 
@@ -210,7 +248,8 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
     if level == 0 || level > MAX_LEVEL {
         return Err(TessError::Level(level));
     }
-    let per = ((level + 1) * (level + 1)) as usize;
+    let kernels = patches.scheme;
+    let per = (kernels.grid_len)(level) as usize;
     let faces = patches.face_class.len();
     let mut samples = vec![
         Sample {
@@ -226,16 +265,16 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
             let cp = &patches.control_points
                 [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
             let class = patches.face_class[f];
-            for iv in 0..=level {
-                for iu in 0..=level {
-                    grid[(iv * (level + 1) + iu) as usize] =
-                        (patches.scheme.eval)(cp, class, 0, iu, iv, level);
-                }
+            for (s, out) in grid.iter_mut().enumerate() {
+                let s = s as u32;
+                let (iu, iv) = ((kernels.grid_iu)(s, level), (kernels.grid_iv)(s, level));
+                *out = (kernels.eval)(cp, class, 0, iu, iv, level);
             }
         });
     Ok(Tessellation {
         level,
         faces,
+        sides: kernels.sides,
         positions: samples.iter().map(|s| s.position).collect(),
         normals: samples.iter().map(|s| s.normal).collect(),
     })
@@ -258,5 +297,75 @@ pub fn tessellate_mesh(
         .map(|p| Vec3::from_array(*p))
         .collect();
     let patches = construct(&topo, &positions, kernels)?;
+    evaluate(&patches, level)
+}
+
+/// Patch stage of a triangle scheme (`pn`, `phong`): per triangle, from its
+/// corners' positions and unit normals. There is no vertex stage.
+pub fn construct_tri(
+    mesh: &crate::trimesh::TriMesh,
+    scheme: &'static SchemeKernels,
+) -> Result<Patches, TessError> {
+    if scheme.sides != 3 {
+        return Err(facet_error(scheme));
+    }
+    let class = &scheme.classes[0];
+    let faces = mesh.triangles.len();
+    let corner_vertex: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+    let cp_offsets: Vec<u32> = (0..=faces as u32)
+        .map(|f| f * class.control_points)
+        .collect();
+    let mut control_points = vec![Vec3::ZERO; faces * class.control_points as usize];
+    let inputs = Inputs {
+        positions: &mesh.positions,
+        valence: &[],
+        ring_offsets: &[],
+        ring: &[],
+        vertex_out_offsets: &[],
+        vertex_out: &[],
+        corner_vertex: &corner_vertex,
+        corner_sector: &[],
+        normals: &mesh.normals,
+        table: kernels::table(),
+    };
+    control_points
+        .par_chunks_mut(class.control_points as usize)
+        .enumerate()
+        .for_each(|(f, out)| (class.patch)(&inputs, out, f as u32, 0));
+    Ok(Patches {
+        scheme,
+        face_class: vec![0; faces],
+        cp_offsets,
+        control_points,
+        vertex_out_offsets: Vec::new(),
+        vertex_out: Vec::new(),
+    })
+}
+
+/// Tessellate a polygon mesh with any built-in scheme: quad schemes through
+/// [`Topology`], triangle schemes through [`crate::trimesh::TriMesh`]
+/// (quads split when `split_quads`; OBJ normals used when consistent,
+/// area-weighted otherwise).
+pub fn tessellate_any(
+    mesh: &Mesh,
+    scheme_name: &str,
+    level: u32,
+    split_quads: bool,
+) -> Result<Tessellation, TessError> {
+    let kernels = scheme(scheme_name)?;
+    if kernels.sides == 4 {
+        return tessellate_mesh(mesh, scheme_name, level);
+    }
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let tri = crate::trimesh::TriMesh::from_mesh(
+        mesh,
+        &crate::trimesh::TriOptions {
+            split_quads,
+            ..Default::default()
+        },
+    )?;
+    let patches = construct_tri(&tri, kernels)?;
     evaluate(&patches, level)
 }

@@ -277,6 +277,11 @@ impl<'g> GpuMesh<'g> {
         limits: Limits,
     ) -> Result<Self, GpuError> {
         let scheme = cpu::scheme(scheme_name)?;
+        if scheme.sides != 4 {
+            // The triangle schemes' WGSL is generated and validated, but
+            // this runtime only drives quad meshes on the GPU so far.
+            return Err(cpu::facet_error(scheme).into());
+        }
         let source =
             kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
         let bindings = entry_bindings(source)?;
@@ -757,6 +762,7 @@ impl<'g> GpuMesh<'g> {
         Ok(Tessellation {
             level,
             faces,
+            sides: 4,
             positions,
             normals,
         })

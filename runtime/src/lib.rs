@@ -28,6 +28,7 @@ pub mod pattern;
 pub mod render;
 pub mod stats;
 pub mod topology;
+pub mod trimesh;
 pub mod weld;
 
 pub use cpu::{TessError, Tessellation};

@@ -4,6 +4,11 @@
 //! (no tolerance). If shared patch boundaries are bit-identical the result is
 //! a closed 2-manifold whose Euler characteristic equals the input's; a single
 //! one-ulp difference opens edges.
+//!
+//! The same count works for any per-face sample pattern: [`weld`] for the quad
+//! grids of a [`Tessellation`], [`weld_triangles`] for triangle patches
+//! (with [`crate::trimesh::tri_grid_triangles`]) or anything else with a
+//! fixed number of samples per face and one local triangle list.
 
 use crate::cpu::Tessellation;
 use glam::Vec3;
@@ -49,25 +54,61 @@ pub fn grid_triangles(level: u32) -> Vec<[u32; 3]> {
     tris
 }
 
-/// Weld by exact position bits and count edge uses.
+/// Weld a quad-grid tessellation by exact position bits and count edge uses.
 pub fn weld(t: &Tessellation) -> WeldReport {
+    weld_faces(
+        &t.positions,
+        t.faces,
+        t.grid_len(),
+        &grid_triangles(t.level),
+    )
+}
+
+/// Weld per-face sample patches by exact position bits and count edge uses.
+///
+/// `positions` holds `per_face` samples per face, face after face; every face
+/// is triangulated by the same `local_tris` (indices `< per_face`). For
+/// triangle patches at level `N` that is
+/// `weld_triangles(&positions, tri_grid_len(N), &tri_grid_triangles(N))`
+/// (see [`crate::trimesh`]).
+///
+/// # Panics
+///
+/// If `per_face` is 0 or does not divide `positions.len()`, or a local index
+/// is `>= per_face`: these are caller bugs (the pattern does not match the
+/// buffer), and a report over misaligned faces would be meaningless.
+pub fn weld_triangles(positions: &[Vec3], per_face: usize, local_tris: &[[u32; 3]]) -> WeldReport {
+    assert!(
+        positions.len().checked_rem(per_face) == Some(0),
+        "{} positions are not whole faces of {per_face} samples",
+        positions.len()
+    );
+    assert!(
+        local_tris
+            .iter()
+            .flatten()
+            .all(|&k| (k as usize) < per_face),
+        "a local triangle index is outside the {per_face} samples of a face"
+    );
+    weld_faces(positions, positions.len() / per_face, per_face, local_tris)
+}
+
+/// The shared core: `faces` faces of `per` samples each, triangulated by `tris`.
+fn weld_faces(positions: &[Vec3], faces: usize, per: usize, tris: &[[u32; 3]]) -> WeldReport {
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let welded: Vec<u32> = t
-        .positions
+    let welded: Vec<u32> = positions
         .iter()
         .map(|p| {
             let n = ids.len() as u32;
             *ids.entry(key(*p)).or_insert(n)
         })
         .collect();
-    let tris = grid_triangles(t.level);
-    let per = t.grid_len() as u32;
     let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
     let mut triangles = 0;
     let mut degenerate = 0;
-    for f in 0..t.faces as u32 {
-        for tri in &tris {
-            let v = tri.map(|k| welded[(f * per + k) as usize]);
+    for f in 0..faces {
+        for tri in tris {
+            let v = tri.map(|k| welded[f * per + k as usize]);
             triangles += 1;
             if v[0] == v[1] || v[1] == v[2] || v[0] == v[2] {
                 degenerate += 1;
@@ -90,5 +131,47 @@ pub fn weld(t: &Tessellation) -> WeldReport {
         overused_edges,
         degenerate_triangles: degenerate,
         euler,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::trimesh::{tri_grid_coords, tri_grid_len, tri_grid_triangles};
+
+    /// Two triangles sharing the edge (1,0,0)-(0,1,0), sampled by integer
+    /// barycentrics with only the non-zero terms summed: the shared edge
+    /// welds, the square is a disc.
+    #[test]
+    fn two_triangles_weld_to_a_disc() {
+        let corners = [
+            [Vec3::ZERO, Vec3::X, Vec3::Y],
+            [Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+        ];
+        for n in 1..6 {
+            let mut positions = Vec::new();
+            for c in &corners {
+                for w in tri_grid_coords(n) {
+                    let mut p = Vec3::ZERO;
+                    for k in 0..3 {
+                        if w[k] != 0 {
+                            p += c[k] * (w[k] as f32 / n as f32);
+                        }
+                    }
+                    positions.push(p);
+                }
+            }
+            let r = weld_triangles(&positions, tri_grid_len(n), &tri_grid_triangles(n));
+            assert_eq!(r.open_edges as u32, 4 * n, "level {n}");
+            assert_eq!(r.overused_edges, 0);
+            assert_eq!(r.euler, 1);
+            assert_eq!(r.triangles as u32, 2 * n * n);
+        }
+    }
+
+    #[test]
+    #[should_panic(expected = "not whole faces")]
+    fn misaligned_buffer_panics() {
+        weld_triangles(&[Vec3::ZERO; 4], 3, &[[0, 1, 2]]);
     }
 }

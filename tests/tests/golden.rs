@@ -138,6 +138,7 @@ impl Quad {
             vertex_out: vout,
             corner_vertex: cv,
             corner_sector: cs,
+            normals: &[],
             table,
         }
     }
@@ -454,4 +455,117 @@ fn gregory_matches_schemes_reference() {
         }
         println!("{name} golden: worst {worst:?}");
     }
+}
+
+/// One triangle through a triangle scheme's patch stage and evaluator, at
+/// the golden barycentric samples (multiples of 1/60).
+fn check_triangle(name: &str, key: &str) -> Worst {
+    const TRI_LEVEL: u32 = 60;
+    let g = common::json("spec/schemes_reference.json");
+    let case = &g[key];
+    let scheme = kernels::scheme(name).expect("scheme");
+    assert_eq!(scheme.sides, 3);
+    let p: Vec<Vec3> = case["P"].as_array().expect("P").iter().map(v3).collect();
+    let n: Vec<Vec3> = case["N"].as_array().expect("N").iter().map(v3).collect();
+    let scale = scale_of(&p);
+    let class = &scheme.classes[0];
+    let mut cp = vec![Vec3::ZERO; class.control_points as usize];
+    let inputs = Inputs {
+        positions: &p,
+        valence: &[],
+        ring_offsets: &[],
+        ring: &[],
+        vertex_out_offsets: &[],
+        vertex_out: &[],
+        corner_vertex: &[0, 1, 2],
+        corner_sector: &[],
+        normals: &n,
+        table: kernels::table(),
+    };
+    (class.patch)(&inputs, &mut cp, 0, 0);
+    let mut worst = Worst::default();
+    for s in case["eval"].as_array().expect("eval") {
+        let w = f64s(&s["bary"]);
+        let iu = (w[1] * TRI_LEVEL as f64).round() as u32;
+        let iv = (w[2] * TRI_LEVEL as f64).round() as u32;
+        assert!((w[1] * TRI_LEVEL as f64 - iu as f64).abs() < 1e-9);
+        assert!((w[2] * TRI_LEVEL as f64 - iv as f64).abs() < 1e-9);
+        let out = (scheme.eval)(&cp, 0, 0, iu, iv, TRI_LEVEL);
+        let e = rel(out.position, v3(&s["position"]), scale);
+        let a = angle_deg(out.normal, v3(&s["normal"]));
+        assert!(e < 1e-5, "{name} at {w:?}: position off by {e}");
+        assert!(a < 1e-3, "{name} at {w:?}: normal off by {a}°");
+        worst.pos = worst.pos.max(e);
+        worst.angle = worst.angle.max(a);
+    }
+    worst
+}
+
+/// PN triangles (pn.md §5): the 10 geometry and 6 normal control points,
+/// and positions/normals at the golden barycentric samples.
+#[test]
+fn pn_matches_schemes_reference() {
+    use tessgen_codegen::form::Form;
+    let g = common::json("spec/schemes_reference.json");
+    let pn = &g["pn"];
+    let scheme = kernels::scheme("pn").expect("pn");
+    let p: Vec<Vec3> = pn["P"].as_array().expect("P").iter().map(v3).collect();
+    let n: Vec<Vec3> = pn["N"].as_array().expect("N").iter().map(v3).collect();
+    let scale = scale_of(&p);
+    let mut cp = vec![Vec3::ZERO; scheme.classes[0].control_points as usize];
+    let inputs = Inputs {
+        positions: &p,
+        valence: &[],
+        ring_offsets: &[],
+        ring: &[],
+        vertex_out_offsets: &[],
+        vertex_out: &[],
+        corner_vertex: &[0, 1, 2],
+        corner_sector: &[],
+        normals: &n,
+        table: kernels::table(),
+    };
+    (scheme.classes[0].patch)(&inputs, &mut cp, 0, 0);
+    let f = Form::TriCubic;
+    // b_ijk exponents of (w1, w2, w3) = corners (0, 1, 2).
+    let names = [
+        ("b300", f.storage_index(0, 0)),
+        ("b030", f.storage_index(1, 0)),
+        ("b003", f.storage_index(2, 0)),
+        ("b210", f.storage_index(0, 1)),
+        ("b201", f.storage_index(0, 2)),
+        ("b021", f.storage_index(1, 1)),
+        ("b120", f.storage_index(1, 2)),
+        ("b102", f.storage_index(2, 1)),
+        ("b012", f.storage_index(2, 2)),
+        ("b111", f.single_index(0)),
+    ];
+    for (key, idx) in names {
+        let e = rel(cp[idx], v3(&pn["control"][key]), scale);
+        assert!(e < 1e-5, "pn {key} off by {e}");
+    }
+    let normals = [
+        ("n200", f.storage_index(0, 3)),
+        ("n020", f.storage_index(1, 3)),
+        ("n002", f.storage_index(2, 3)),
+        ("n110", f.storage_index(0, 4)),
+        ("n011", f.storage_index(1, 4)),
+        ("n101", f.storage_index(2, 4)),
+    ];
+    for (key, idx) in normals {
+        let e = rel(cp[idx], v3(&pn["normal_control"][key]), 1.0);
+        assert!(e < 1e-5, "pn {key} off by {e}");
+    }
+    let w = check_triangle("pn", "pn");
+    println!("pn golden: worst {w:?}");
+}
+
+/// Phong tessellation with α = 3/4 (pn.md §4), degree-raised to the cubic
+/// triangle form: positions and Phong-interpolated normals.
+#[test]
+fn phong_matches_schemes_reference() {
+    let g = common::json("spec/schemes_reference.json");
+    assert_eq!(g["phong"]["alpha"].as_f64(), Some(0.75));
+    let w = check_triangle("phong", "phong");
+    println!("phong golden: worst {w:?}");
 }

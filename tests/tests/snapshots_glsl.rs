@@ -56,6 +56,18 @@ const FILES: &[&str] = &[
     "glsl/gregory_osd_vertex_stage.comp",
     "glsl/gregory_osd_patch.comp",
     "glsl/gregory_osd_eval.comp",
+    "glsl/pn.vert",
+    "glsl/pn.tesc",
+    "glsl/pn.tese",
+    "glsl/pn_vertex_stage.comp",
+    "glsl/pn_patch.comp",
+    "glsl/pn_eval.comp",
+    "glsl/phong.vert",
+    "glsl/phong.tesc",
+    "glsl/phong.tese",
+    "glsl/phong_vertex_stage.comp",
+    "glsl/phong_patch.comp",
+    "glsl/phong_eval.comp",
 ];
 
 #[test]
@@ -125,6 +137,22 @@ fn glsl_gregory() {
 fn glsl_gregory_osd() {
     let out = build();
     for path in files_of("gregory_osd") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_pn() {
+    let out = build();
+    for path in files_of("pn") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_phong() {
+    let out = build();
+    for path in files_of("phong") {
         insta::assert_snapshot!(name(&path), text(&out, &path));
     }
 }

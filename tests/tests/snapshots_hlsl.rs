@@ -36,7 +36,9 @@ fn hlsl_files_are_one_per_scheme() {
             "hlsl/pccm.hlsl",
             "hlsl/acc.hlsl",
             "hlsl/gregory.hlsl",
-            "hlsl/gregory_osd.hlsl"
+            "hlsl/gregory_osd.hlsl",
+            "hlsl/pn.hlsl",
+            "hlsl/phong.hlsl"
         ]
     );
 }
@@ -69,4 +71,16 @@ fn hlsl_gregory() {
 fn hlsl_gregory_osd() {
     let out = build();
     insta::assert_snapshot!("hlsl_gregory_osd_hlsl", text(&out, "hlsl/gregory_osd.hlsl"));
+}
+
+#[test]
+fn hlsl_pn() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_pn_hlsl", text(&out, "hlsl/pn.hlsl"));
+}
+
+#[test]
+fn hlsl_phong() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_phong_hlsl", text(&out, "hlsl/phong.hlsl"));
 }

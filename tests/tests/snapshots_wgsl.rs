@@ -38,6 +38,8 @@ fn wgsl_files() {
             "wgsl/gregory.wgsl",
             "wgsl/gregory_osd.wgsl",
             "wgsl/pccm.wgsl",
+            "wgsl/phong.wgsl",
+            "wgsl/pn.wgsl",
             "wgsl/regular.wgsl"
         ]
     );
@@ -69,4 +71,14 @@ fn wgsl_gregory_osd() {
         "wgsl_gregory_osd_wgsl",
         text(&build(), "wgsl/gregory_osd.wgsl")
     );
+}
+
+#[test]
+fn wgsl_pn() {
+    insta::assert_snapshot!("wgsl_pn_wgsl", text(&build(), "wgsl/pn.wgsl"));
+}
+
+#[test]
+fn wgsl_phong() {
+    insta::assert_snapshot!("wgsl_phong_wgsl", text(&build(), "wgsl/phong.wgsl"));
 }

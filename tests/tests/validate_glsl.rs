@@ -129,7 +129,15 @@ fn builtin_schemes_validate() {
     paths.sort();
     assert_eq!(
         paths,
-        expected_paths(&["acc", "gregory", "gregory_osd", "pccm", "regular"])
+        expected_paths(&[
+            "acc",
+            "gregory",
+            "gregory_osd",
+            "pccm",
+            "phong",
+            "pn",
+            "regular"
+        ])
     );
     validate_all(&files);
 }

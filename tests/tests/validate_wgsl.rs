@@ -333,6 +333,8 @@ fn builtin_schemes_validate() {
             "wgsl/gregory.wgsl",
             "wgsl/gregory_osd.wgsl",
             "wgsl/pccm.wgsl",
+            "wgsl/phong.wgsl",
+            "wgsl/pn.wgsl",
             "wgsl/regular.wgsl"
         ]
     );
@@ -370,6 +372,17 @@ fn entry_point_bindings() {
                     "9 stencil_table -",
                     "10 params -",
                 ],
+                // Triangle schemes: positions and normals at the corners.
+                "patch_main" if ["wgsl/pn.wgsl", "wgsl/phong.wgsl"].contains(&f.path.as_str()) => {
+                    &[
+                        "0 positions read",
+                        "6 corner_vertex read",
+                        "8 control_points read_write",
+                        "10 params -",
+                        "11 patch_faces read",
+                        "13 normals read",
+                    ]
+                }
                 "patch_main" if f.path == "wgsl/regular.wgsl" => &[
                     "1 valence read",
                     "4 vertex_out_offsets read",

@@ -79,3 +79,70 @@ fn one_ulp_opens_the_weld() {
         "the moved sample splits two edge segments on each side"
     );
 }
+
+/// Triangle schemes on the closed shared meshes split into triangles (each
+/// quad along its v0–v2 diagonal, area-weighted vertex normals): PN and
+/// Phong edges depend only on the edge's two vertices, so exact welding
+/// must close every edge, and the Euler characteristic is the quad mesh's.
+#[test]
+fn pn_and_phong_split_meshes_weld_closed() {
+    use tessgen_runtime::trimesh::{tri_grid_len, tri_grid_triangles};
+    for scheme in ["pn", "phong"] {
+        for name in common::CLOSED_MESHES {
+            let mesh = common::mesh(name);
+            let euler = Topology::build(&mesh, &cpu::topology_options())
+                .expect("topology")
+                .euler_characteristic();
+            for &level in &[1, 2, 7, 8, 16] {
+                let t = cpu::tessellate_any(&mesh, scheme, level, true).expect("tessellate");
+                assert_eq!(t.sides, 3);
+                let r = weld::weld_triangles(
+                    &t.positions,
+                    tri_grid_len(level),
+                    &tri_grid_triangles(level),
+                );
+                assert!(
+                    r.is_closed_manifold(),
+                    "{name} {scheme} level {level}: {} open edges, {} overused, {} degenerate",
+                    r.open_edges,
+                    r.overused_edges,
+                    r.degenerate_triangles
+                );
+                assert_eq!(
+                    r.euler, euler,
+                    "{name} {scheme} level {level}: Euler characteristic"
+                );
+            }
+        }
+    }
+}
+
+/// Scheme selection errors: a triangle scheme on a quad mesh without
+/// splitting, and a quad scheme handed triangles, are typed errors.
+#[test]
+fn scheme_facet_mismatch_is_a_typed_error() {
+    let mesh = common::mesh("catmark_cube");
+    match cpu::tessellate_any(&mesh, "pn", 4, false) {
+        Err(cpu::TessError::TriMesh(e)) => {
+            assert!(e.to_string().contains("face 0"), "{e}")
+        }
+        other => panic!("expected a TriMesh error, got {other:?}"),
+    }
+    let tri = tessellate_runtime_tri(&mesh);
+    let quad_scheme = cpu::scheme("pccm").expect("pccm");
+    assert!(matches!(
+        cpu::construct_tri(&tri, quad_scheme),
+        Err(cpu::TessError::WrongFacet { want: "quads", .. })
+    ));
+}
+
+fn tessellate_runtime_tri(mesh: &tessgen_runtime::Mesh) -> tessgen_runtime::trimesh::TriMesh {
+    tessgen_runtime::trimesh::TriMesh::from_mesh(
+        mesh,
+        &tessgen_runtime::trimesh::TriOptions {
+            split_quads: true,
+            ..Default::default()
+        },
+    )
+    .expect("split")
+}

@@ -46,13 +46,14 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 3, name: "ring", kind: Kind::U32Buffer, resource: Some(Resource::Ring), written: false, doc: "rings [p, p_0 .. p_{2n-1}] (vertex indices), canonical start, flat" },
     Binding { binding: 4, name: "vertex_out_offsets", kind: Kind::U32Buffer, resource: Some(Resource::VertexOutOffsets), written: false, doc: "start of each vertex's vertex-stage outputs in `vertex_out` (ROWS_PER_N·n + ROWS_FIXED points each)" },
     Binding { binding: 5, name: "vertex_out", kind: Kind::Vec3Buffer, resource: Some(Resource::VertexOut), written: true, doc: "vertex-stage outputs, 3 f32 per point (written by the vertex stage)" },
-    Binding { binding: 6, name: "corner_vertex", kind: Kind::U32Buffer, resource: Some(Resource::CornerVertex), written: false, doc: "vertex of corner i of face f at 4f + i" },
+    Binding { binding: 6, name: "corner_vertex", kind: Kind::U32Buffer, resource: Some(Resource::CornerVertex), written: false, doc: "vertex of corner i of face f at 4f + i (3f + i for triangle schemes)" },
     Binding { binding: 7, name: "corner_sector", kind: Kind::U32Buffer, resource: Some(Resource::CornerSector), written: false, doc: "sector index j_i of corner i of face f at 4f + i" },
     Binding { binding: 8, name: "control_points", kind: Kind::Vec3Buffer, resource: Some(Resource::ControlPoints), written: true, doc: "patch control points, 3 f32 per point (written by the patch stage)" },
     Binding { binding: 9, name: "stencil_table", kind: Kind::Table, resource: None, written: false, doc: "the stencil table, R32Float, width TABLE_WIDTH" },
     Binding { binding: 10, name: "params", kind: Kind::Uniform, resource: None, written: false, doc: "the Params uniform block" },
     Binding { binding: 11, name: "patch_faces", kind: Kind::U32Buffer, resource: None, written: false, doc: "face index of each patch, patches sorted by class" },
     Binding { binding: 12, name: "samples", kind: Kind::F32Buffer, resource: None, written: true, doc: "evaluated samples, 6 f32 each (position xyz, normal xyz)" },
+    Binding { binding: 13, name: "normals", kind: Kind::Vec3Buffer, resource: Some(Resource::Normals), written: false, doc: "unit normal per vertex, 3 f32 (triangle schemes)" },
 ];
 
 /// Binding of a Plan resource.

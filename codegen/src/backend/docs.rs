@@ -141,10 +141,14 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
                 crate::form::Form::Gregory => {
                     "`5i + {P, E⁺, E⁻, F⁺, F⁻}` per corner i (OpenSubdiv order)"
                 }
+                crate::form::Form::TriCubic => {
+                    "`5i + {b, bn, bp, n, nm}` per corner i, centre at 15 (cubic triangle + quadratic normal field)"
+                }
             };
             let faces = match p.class {
                 crate::Class::Ordinary => "all corners valence 4",
                 crate::Class::Extraordinary => "some corner valence ≠ 4",
+                crate::Class::Triangle => "every triangle",
             };
             let _ = writeln!(
                 s,

@@ -372,7 +372,11 @@ impl<'a> Writer<'a> {
                 .iter()
                 .map(|p| FnRef::Local(p.function))
                 .collect(),
-            Stage::Tese | Stage::CompEval => vec![FnRef::Local(self.entries.eval)],
+            Stage::Tese => vec![FnRef::Local(self.entries.eval)],
+            Stage::CompEval => std::iter::once(self.entries.eval)
+                .chain(self.entries.grid)
+                .map(FnRef::Local)
+                .collect(),
             Stage::CompVertex => vec![FnRef::Local(self.entries.vertex_stage)],
         }
     }
@@ -494,6 +498,13 @@ impl<'a> Writer<'a> {
         self.line("");
         match self.stage {
             Stage::Tesc => self.line("layout(vertices = 1) out;"),
+            Stage::Tese if self.entries.sides == 3 => {
+                self.line(
+                    "// Triangle schemes: gl_TessCoord is barycentric; (x, y, z) weigh corners",
+                );
+                self.line("// (0, 1, 2) and `ccw` follows the corner order.");
+                self.line("layout(triangles, equal_spacing, ccw) in;");
+            }
             Stage::Tese => {
                 self.line(
                     "// Vulkan's default domain origin is the upper left corner, so `ccw` winds",
@@ -679,28 +690,50 @@ impl<'a> Writer<'a> {
                 self.line(
                     "// so both patches of an edge get the same parameters (watertight.md Rule 3).",
                 );
-                self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
-                self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
-                for k in 0..4 {
-                    self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
-                }
-                for k in 0..2 {
-                    self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
+                if self.entries.sides == 3 {
+                    self.line("// Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0).");
+                    for k in 0..3 {
+                        self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
+                    }
+                    self.line(&format!("gl_TessLevelInner[0] = float({level});"));
+                } else {
+                    self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
+                    self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
+                    for k in 0..4 {
+                        self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
+                    }
+                    for k in 0..2 {
+                        self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
+                    }
                 }
             }
             Stage::Tese => {
                 self.line("// The grid point as integers: equal_spacing at an integer level puts vertex i");
                 self.line("// at i/level, so rounding recovers i exactly. eval and the shared edge evaluator");
                 self.line("// form every weight from these integers (watertight.md Rules 2 and 3), so the");
-                self.line(
-                    "// two patches of an edge compute the same bits. (u, v) = (y, x): see the",
-                );
-                self.line("// layout declaration above.");
+                if self.entries.sides == 3 {
+                    self.line(
+                        "// two patches of an edge compute the same bits. eval takes barycentric",
+                    );
+                    self.line(
+                        "// (level − iu − iv, iu, iv) of corners (0, 1, 2): iu from y, iv from z.",
+                    );
+                } else {
+                    self.line(
+                        "// two patches of an edge compute the same bits. (u, v) = (y, x): see the",
+                    );
+                    self.line("// layout declaration above.");
+                }
+                let (cu, cv) = if self.entries.sides == 3 {
+                    ("y", "z")
+                } else {
+                    ("y", "x")
+                };
                 self.line(&format!(
-                    "uint iu = uint(round((gl_TessCoord.y * float({level}))));"
+                    "uint iu = uint(round((gl_TessCoord.{cu} * float({level}))));"
                 ));
                 self.line(&format!(
-                    "uint iv = uint(round((gl_TessCoord.x * float({level}))));"
+                    "uint iv = uint(round((gl_TessCoord.{cv} * float({level}))));"
                 ));
                 self.line(&format!(
                     "{} result = {}({class}, 0u, iu, iv, {level});",
@@ -741,16 +774,17 @@ impl<'a> Writer<'a> {
                 });
             }
             Stage::CompEval => {
+                let [grid_len, grid_iu, grid_iv] =
+                    self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
                 self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("uint side = ({level} + 1u);"));
-                self.line("uint spp = (side * side);");
+                self.line(&format!("uint spp = {grid_len}({level});"));
                 self.line(&format!("if (k >= ({count} * spp)) {{"));
                 self.line("    return;");
                 self.line("}");
                 self.line("uint patch_index = (k / spp);");
                 self.line("uint s = (k % spp);");
-                self.line("uint iu = (s % side);");
-                self.line("uint iv = (s / side);");
+                self.line(&format!("uint iu = {grid_iu}(s, {level});"));
+                self.line(&format!("uint iv = {grid_iv}(s, {level});"));
                 // Control points per patch of the draw's class.
                 match self.entries.patches.as_slice() {
                     [only] => self.line(&format!("uint points = {}u;", only.control_points)),

@@ -807,8 +807,10 @@ impl<'a> Writer<'a> {
         self.line("}");
 
         self.line("");
-        self.line("// Evaluation: (level+1)² samples per patch of params.first .. + params.count,");
-        self.line("// sample k of the dispatch at (iu, iv) = (s % (level+1), s / (level+1)),");
+        self.line(
+            "// Evaluation: grid_len(level) samples per patch of params.first .. + params.count,",
+        );
+        self.line("// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)),");
         self.line("// written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].");
         self.line(&format!("[numthreads({wg}, 1, 1)]"));
         self.line(&format!(
@@ -817,16 +819,19 @@ impl<'a> Writer<'a> {
         ));
         self.indent += 1;
         self.line("uint k = global_id.x;");
+        let [grid_len, grid_iu, grid_iv] = self
+            .entries
+            .grid
+            .map(|g| ident(&self.module.functions[g].name));
         self.line("uint level = params.level;");
-        self.line("uint side = (level + 1u);");
-        self.line("uint spp = (side * side);");
+        self.line(&format!("uint spp = {grid_len}(level);"));
         self.line("if (k >= (params.count * spp)) {");
         self.line("    return;");
         self.line("}");
         self.line("uint patch_index = (k / spp);");
         self.line("uint s = (k % spp);");
-        self.line("uint iu = (s % side);");
-        self.line("uint iv = (s / side);");
+        self.line(&format!("uint iu = {grid_iu}(s, level);"));
+        self.line(&format!("uint iv = {grid_iv}(s, level);"));
         self.line(&format!("uint points = CONTROL_POINTS[params.{class}];"));
         self.line("uint cp_base = (params.cp_base + (patch_index * points));");
         self.line("float3 cp[KMAX];");
@@ -873,6 +878,50 @@ impl<'a> Writer<'a> {
             .map(|t| self.ty(t))
             .unwrap_or_else(|| "void".into());
         let (position, normal) = self.sample_fields();
+        let tri = self.entries.sides == 3;
+        let (domain, edges, inside, uv_ty, cu, cv) = if tri {
+            ("tri", 3, 1, "float3", "y", "z")
+        } else {
+            ("quad", 4, 2, "float2", "x", "y")
+        };
+        let factor_doc = if tri {
+            "// Per-patch outputs. Tess factors: edges[k] is the edge opposite corner k\n\
+             // (barycentric coordinate k = 0). A factor must depend only on its edge so\n\
+             // both patches of an edge get the same parameters (watertight.md Rule 3);\n\
+             // for now every factor is the uniform level."
+        } else {
+            "// Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,\n\
+             // [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on\n\
+             // its edge so both patches of an edge get the same parameters\n\
+             // (watertight.md Rule 3); for now every factor is the uniform level."
+        };
+        let inside_decl = if tri {
+            "float inside : SV_InsideTessFactor;"
+        } else {
+            "float inside[2] : SV_InsideTessFactor;"
+        };
+        let set_factors: String = (0..edges)
+            .map(|k| format!("    c.edges[{k}] = level;\n"))
+            .chain(if tri {
+                vec!["    c.inside = level;\n".to_string()]
+            } else {
+                (0..inside)
+                    .map(|k| format!("    c.inside[{k}] = level;\n"))
+                    .collect()
+            })
+            .collect();
+        let domain_doc = if tri {
+            "// Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing\n\
+             // corners (0, 1, 2); eval takes (level − iu − iv, iu, iv), so iu comes from y and\n\
+             // iv from z. The tessellator emits exact fixed-point i/level, and the Plan forms\n\
+             // every weight from integers, so rounding recovers them."
+        } else {
+            "// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,\n\
+             // v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator\n\
+             // emits exact fixed-point i/level, and the Plan forms every weight from\n\
+             // integers (the shared edge evaluator takes i and level: watertight.md\n\
+             // Rules 2 and 3), so the integer coordinates are recovered by rounding."
+        };
         let text = format!(
             r#"// ---- tessellation pipeline: {VS_MAIN} -> {HS_MAIN} -> {DS_MAIN} ----
 // Draw params.count patches of class params.class (patch list, 1 control
@@ -893,13 +942,10 @@ struct HsControlPoint {{
     float4 position : SV_Position;
 }};
 
-// Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,
-// [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on
-// its edge so both patches of an edge get the same parameters
-// (watertight.md Rule 3); for now every factor is the uniform level.
+{factor_doc}
 struct HsConstants {{
-    float edges[4] : SV_TessFactor;
-    float inside[2] : SV_InsideTessFactor;
+    float edges[{edges}] : SV_TessFactor;
+    {inside_decl}
     float3 cp[KMAX] : CONTROL_POINT;
 }};
 
@@ -924,16 +970,10 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
         c.cp[j] = cp_out[j];
     }}
     float level = float(params.level);
-    c.edges[0] = level;
-    c.edges[1] = level;
-    c.edges[2] = level;
-    c.edges[3] = level;
-    c.inside[0] = level;
-    c.inside[1] = level;
-    return c;
+{set_factors}    return c;
 }}
 
-[domain("quad")]
+[domain("{domain}")]
 [partitioning("integer")]
 [outputtopology("triangle_ccw")]
 [outputcontrolpoints(1)]
@@ -950,16 +990,12 @@ struct DsOut {{
     float3 world : WORLD_POSITION;
 }};
 
-// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,
-// v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator
-// emits exact fixed-point i/level, and the Plan forms every weight from
-// integers (the shared edge evaluator takes i and level: watertight.md
-// Rules 2 and 3), so the integer coordinates are recovered by rounding.
-[domain("quad")]
-DsOut {DS_MAIN}(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
+{domain_doc}
+[domain("{domain}")]
+DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
     uint level = params.level;
-    uint iu = (uint)round(uv.x * float(level));
-    uint iv = (uint)round(uv.y * float(level));
+    uint iu = (uint)round(uv.{cu} * float(level));
+    uint iv = (uint)round(uv.{cv} * float(level));
     {eval_ret} result = {eval_name}(c.cp, params.{class}, 0u, iu, iv, level);
     DsOut o;
     o.position = mul(params.view_proj, float4(result.{position}, 1.0f));

@@ -175,6 +175,8 @@ pub struct Inputs<'a> {
     pub vertex_out: &'a [Vec3],
     pub corner_vertex: &'a [u32],
     pub corner_sector: &'a [u32],
+    /// Unit normal per vertex (triangle schemes; empty for quad schemes).
+    pub normals: &'a [Vec3],
     /// The stencil table, row-major, TABLE_WIDTH columns.
     pub table: &'a [f32],
 }
@@ -201,6 +203,13 @@ pub struct SchemeKernels {
     pub classes: &'static [ClassKernels],
     /// `(cp, class, cp_base, iu, iv, level)`
     pub eval: fn(&[Vec3], u32, u32, u32, u32, u32) -> Sample,
+    /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
+    /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
+    pub sides: u32,
+    /// Samples per patch at a level, and the (iu, iv) of sample s.
+    pub grid_len: fn(u32) -> u32,
+    pub grid_iu: fn(u32, u32) -> u32,
+    pub grid_iv: fn(u32, u32) -> u32,
 }"#;
         for l in text.lines().skip(1) {
             if l.is_empty() {
@@ -248,6 +257,10 @@ pub struct SchemeKernels {
         }
         self.line("    ],");
         self.line(&format!("    eval: {},", m.functions[e.eval].name));
+        self.line(&format!("    sides: {},", e.sides));
+        for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {
+            self.line(&format!("    {field}: {},", m.functions[g].name));
+        }
         self.line("};");
     }
 

@@ -658,16 +658,16 @@ impl<'a> Writer<'a> {
         });
         self.end_fn();
 
-        self.line("// (level+1)² samples of each patch of the dispatch, grid point s = iv·(level+1) + iu,");
-        self.line("// into samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
+        let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
+        self.line("// grid_len(level) samples of each patch of the dispatch, sample s at the domain point");
+        self.line("// (grid_iu(s), grid_iv(s)), into samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
         self.compute_head(abi::entry::EVAL);
-        self.line(&format!("let side: u32 = ({level} + 1u);"));
-        self.line("let spp: u32 = (side * side);");
+        self.line(&format!("let spp: u32 = {grid_len}({level});"));
         self.early_return(&format!("(k >= ({count} * spp))"));
         self.line("let patch_index: u32 = (k / spp);");
         self.line("let s: u32 = (k % spp);");
-        self.line("let iu: u32 = (s % side);");
-        self.line("let iv: u32 = (s / side);");
+        self.line(&format!("let iu: u32 = {grid_iu}(s, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(s, {level});"));
         self.points_of_class();
         self.line(&format!(
             "let result: {sample_ty} = {eval}({class}, ({cp_base} + (patch_index * points)), iu, iv, {level});"
@@ -695,9 +695,9 @@ impl<'a> Writer<'a> {
         self.line("    @location(3) uv: vec2<f32>,");
         self.line("}");
         self.line("");
-        self.line("// Instanced tessellation: an index buffer over the (level+1)² grid vertices, shared by");
+        self.line("// Instanced tessellation: an index buffer over the grid_len(level) grid vertices, shared");
         self.line(
-            "// all patches (vertex index vi = iv·(level+1) + iu), one instance per patch of the",
+            "// by all patches (vertex index vi = sample vi of grid_iu/grid_iv), one instance per patch of the",
         );
         self.line(
             "// draw's class: instance inst is patch inst of the draw, its control points from",
@@ -708,9 +708,8 @@ impl<'a> Writer<'a> {
             "fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
         );
         self.indent += 1;
-        self.line(&format!("let side: u32 = ({level} + 1u);"));
-        self.line("let iu: u32 = (vi % side);");
-        self.line("let iv: u32 = (vi / side);");
+        self.line(&format!("let iu: u32 = {grid_iu}(vi, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(vi, {level});"));
         self.points_of_class();
         self.line(&format!(
             "let result: {sample_ty} = {eval}({class}, ({cp_base} + (inst * points)), iu, iv, {level});"

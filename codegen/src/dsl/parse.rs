@@ -102,8 +102,21 @@ impl Parse for SchemeAst {
             }
         }
         let facet = facet.ok_or_else(|| syn::Error::new(name.span(), "missing `facet quad;`"))?;
-        let vertex =
-            vertex.ok_or_else(|| syn::Error::new(name.span(), "missing `vertex { … }` block"))?;
+        // Triangle schemes (pn.md) read only their corners' positions and
+        // normals: they have no vertex stage.
+        let vertex = match (vertex, facet == "tri") {
+            (Some(v), false) => v,
+            (None, true) => Vec::new(),
+            (None, false) => {
+                return Err(syn::Error::new(name.span(), "missing `vertex { … }` block"))
+            }
+            (Some(_), true) => {
+                return Err(syn::Error::new(
+                    facet.span(),
+                    "a `facet tri` scheme has no `vertex` block: its patches read the corners' positions `P(i)` and normals `N(i)`",
+                ))
+            }
+        };
         if patches.is_empty() {
             return Err(syn::Error::new(
                 name.span(),

@@ -55,6 +55,7 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         vertex_out: &[],
         corner_vertex: &corner_vertex,
         corner_sector: &corner_sector,
+        normals: &[],
         table: &table,
     };
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
@@ -68,6 +69,7 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
     let mut t = Tessellation {
         level,
         faces: topo.corners.len(),
+        sides: 4,
         positions: Vec::new(),
         normals: Vec::new(),
     };
