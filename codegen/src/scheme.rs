@@ -262,16 +262,16 @@ impl Scheme {
     }
 
     fn check(&self, ast: &SchemeAst, max_valence: u32) -> Result<(), SchemeError> {
-        if self.facet == Facet::Tri {
-            // Triangle schemes are per-facet formulas over positions and
-            // normals, not stencils: there are no weights to sum.
-            return Ok(());
-        }
         if max_valence < 4 {
             return Err(SchemeError::new(
                 ast.name.span(),
                 "max valence must be at least 4",
             ));
+        }
+        if self.facet == Facet::Tri {
+            // Triangle schemes are per-facet formulas over positions and
+            // normals, not stencils: there are no weights to sum.
+            return Ok(());
         }
         for n in 3..=max_valence {
             let vals = self.const_values(n);
@@ -1184,7 +1184,7 @@ impl Resolver {
                 ty,
             ));
         }
-        if stage == Stage::Patch && (s == "dot" || s == "normalize") {
+        if s == "dot" || s == "normalize" {
             if !self.tri {
                 return err(
                     id.span(),

@@ -501,7 +501,7 @@ fn unknown_form() {
         "bspline",
         &[
             "unknown patch form `bspline`",
-            "`bicubic`, `cpatch`, `acc` or `gregory`",
+            "`bicubic`, `cpatch`, `acc`, `gregory` or `tri_cubic`",
         ],
     );
 }
@@ -545,8 +545,8 @@ fn if_in_patch_stage() {
 
 #[test]
 fn unknown_facet() {
-    let text = scheme("", BICUBIC_OK).replace("facet quad;", "facet tri;");
-    expect_err(&text, "tri;", &["unknown facet `tri`"]);
+    let text = scheme("", BICUBIC_OK).replace("facet quad;", "facet hex;");
+    expect_err(&text, "hex;", &["unknown facet `hex`", "`quad` or `tri`"]);
 }
 
 #[test]
@@ -728,7 +728,9 @@ fn builtin_schemes_compile_at_spot_valences() {
                 .compile(max)
                 .unwrap_or_else(|e| panic!("{} at max valence {max}: {e}", src.origin));
             assert!(!s.name.is_empty());
-            assert!(!s.vertex_rows(max).is_empty());
+            // Triangle schemes have no vertex stage (pn.md).
+            let tri = s.facet == tessgen_codegen::scheme::Facet::Tri;
+            assert_eq!(s.vertex_rows(max).is_empty(), tri, "{}", src.origin);
         }
     }
 }
@@ -830,4 +832,77 @@ fn patch_stage_spellings_in_vertex_stage() {
     let text = scheme("        g = c(0) * p;", BICUBIC_OK)
         .replace("    facet quad;\n", "    facet quad;\n    const c = 1;\n");
     expect_err(&text, "c(0)", &["`c`"]);
+}
+
+/// A small triangle scheme with `body` as its patch block contents.
+fn tri_scheme(body: &str) -> String {
+    format!(
+        "scheme broken {{\n    facet tri;\n    patch triangle: tri_cubic {{\n{body}\n    }}\n}}\n"
+    )
+}
+
+const TRI_OK: &str = concat!(
+    "        out b[i] = P(i);\n",
+    "        out bn[i] = (2 * P(i) + P(i + 1)) / 3;\n",
+    "        out bp[i] = (2 * P(i) + P(i - 1)) / 3;\n",
+    "        out center = sum(k, P(k)) / 3;\n",
+    "        out n[i] = N(i);\n",
+    "        out nm[i] = N(i) + N(i + 1);",
+);
+
+#[test]
+fn triangle_scheme_compiles() {
+    let s = Scheme::from_source(&tri_scheme(TRI_OK), MAX).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.facet.sides(), 3);
+}
+
+#[test]
+fn triangle_scheme_with_a_vertex_block() {
+    let text = "scheme broken {\n    facet tri;\n    vertex {\n        v = p;\n    }\n    patch triangle: tri_cubic {\n        out b[i] = P(i);\n    }\n}\n";
+    expect_err(text, "tri;", &["`facet tri` scheme has no `vertex` block"]);
+}
+
+#[test]
+fn quad_form_in_a_triangle_scheme() {
+    let text = tri_scheme(TRI_OK).replace("tri_cubic", "bicubic");
+    expect_err(&text, "bicubic", &["form `bicubic` is for `quad` facets"]);
+}
+
+#[test]
+fn quad_class_in_a_triangle_scheme() {
+    let text = tri_scheme(TRI_OK).replace("patch triangle", "patch ordinary");
+    expect_err(
+        &text,
+        "ordinary",
+        &["a `facet tri` scheme has one class, `triangle`"],
+    );
+}
+
+#[test]
+fn single_slot_written_per_corner() {
+    let text = tri_scheme(&TRI_OK.replace("out center = ", "out center[i] = "));
+    expect_err(&text, "center", &["exists once per patch"]);
+}
+
+#[test]
+fn missing_single_slot() {
+    let text = tri_scheme(&TRI_OK.replace("        out center = sum(k, P(k)) / 3;\n", ""));
+    expect_err(&text, "tri_cubic", &["needs `out center = …`"]);
+}
+
+#[test]
+fn dot_of_a_number() {
+    let text =
+        tri_scheme(&TRI_OK.replace("out n[i] = N(i);", "out n[i] = normalize(dot(N(i), N(i)));"));
+    expect_err(
+        &text,
+        "dot(N(i), N(i))",
+        &["`normalize` takes vectors, found a number"],
+    );
+}
+
+#[test]
+fn dot_in_a_quad_scheme() {
+    let text = scheme("        w = p * dot(p, p);", BICUBIC_OK);
+    expect_err(&text, "dot", &["only available in `facet tri` schemes"]);
 }
