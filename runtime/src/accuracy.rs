@@ -89,28 +89,14 @@ pub struct Accuracy {
     /// Normal deviation from the limit normal, degrees.
     pub max_normal_deg: Option<f64>,
     pub rms_normal_deg: Option<f64>,
-    /// Largest angle between the two patches' *shading* normals (what the
-    /// scheme evaluates) at shared boundary samples, degrees.
+    /// Largest angle between the two patches' normals at shared boundary samples.
     pub max_boundary_normal_spread_deg: f64,
-    /// Largest angle between the two patches' *geometric* surface normals at
-    /// shared boundary samples, degrees: a finite-difference estimate from the
-    /// tessellated positions alone (see [`boundary_geometric_normals`]), so
-    /// it shows a C⁰ geometry even where the shading normal is continuous
-    /// (ACC). Error O(h²), a few hundredths of a degree at
-    /// [`GEOMETRIC_JUMP_MIN_LEVEL`].
-    pub geometric_normal_jump_deg: f64,
-    /// Tessellation level the geometric normal jump was estimated at:
-    /// `max(level, GEOMETRIC_JUMP_MIN_LEVEL)`.
-    pub geometric_normal_jump_level: u32,
     /// Open edges after exact-bit welding (0 = watertight).
     pub open_edges: usize,
 }
 
 fn angle(a: Vec3, b: Vec3) -> f64 {
-    angle_f64(a.as_dvec3(), b.as_dvec3())
-}
-
-fn angle_f64(a: DVec3, b: DVec3) -> f64 {
+    let (a, b): (DVec3, DVec3) = (a.as_dvec3(), b.as_dvec3());
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
@@ -123,107 +109,6 @@ fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
         _ => (0, level - t),
     };
     j * (level + 1) + i
-}
-
-/// Grid index of the sample `depth` grid steps into the face from parameter
-/// `t` on local edge `k` (`depth` 0 is [`edge_sample`]).
-fn inner_sample(k: u32, t: u32, depth: u32, level: u32) -> u32 {
-    let (i, j) = match k {
-        0 => (t, depth),
-        1 => (level - depth, t),
-        2 => (level - t, level - depth),
-        _ => (depth, level - t),
-    };
-    j * (level + 1) + i
-}
-
-/// The smallest level [`compare`] estimates the geometric normal jump at.
-///
-/// The estimate's error is O(h²) in the grid step h = 1/level; at 16 it is
-/// a few hundredths of a degree on the shared meshes (the regular torus:
-/// ~0.02°, C¹ schemes on meshes with extraordinary vertices: ≤ ~0.1°).
-pub const GEOMETRIC_JUMP_MIN_LEVEL: u32 = 16;
-
-/// Geometric normals of the two patches at one shared boundary sample.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BoundaryNormals {
-    /// The two faces sharing the edge (`face[0]` owns the lower half-edge).
-    pub face: [u32; 2],
-    /// The sample's grid index in each face (`j·(level+1) + i`).
-    pub sample: [u32; 2],
-    /// Unit normal estimated from each face's positions, outward (same
-    /// orientation as the scheme's `p_u × p_v`), in f64.
-    pub normal: [DVec3; 2],
-}
-
-/// The geometric (true) surface normal of each patch at every interior
-/// sample of every shared edge, estimated from the tessellated positions
-/// alone, so it works for any scheme and measures the surface, not the
-/// shading normal the scheme evaluates.
-///
-/// For a sample at parameter `t` of a face's local edge `k` (running corner
-/// `k` → `k+1`), with `p_d` the sample `d` grid steps into the face:
-///
-/// * along the edge: central difference of the boundary samples,
-///   `p(t+1) − p(t−1)`;
-/// * across the edge, into the face: the second-order one-sided difference
-///   `−3·p_0 + 4·p_1 − p_2` (`/2h`; scale does not matter here);
-/// * normal = normalize(along × across). With `along` in the face's own
-///   edge direction and `across` pointing inwards this equals the direction
-///   of `p_u × p_v` on every edge (edge 1: `p_v × −p_u`, …), i.e. outward for
-///   a counter-clockwise face; the second face walks the edge the other way
-///   round in its own frame, so both normals come out outward with no
-///   explicit flip.
-///
-/// The two end samples of each edge (the corners, at mesh vertices) are
-/// skipped: there the central difference along the edge is unavailable and
-/// patches at extraordinary vertices may have degenerate cross derivatives,
-/// while every scheme here interpolates the limit tangent plane at the
-/// vertices anyway. Both tangent estimates have O(h²) error (h = 1/level),
-/// so the normals do too: evaluate at a fine level (≥ 16). Needs
-/// `level ≥ 2`; quads only.
-pub fn boundary_geometric_normals(topo: &Topology, t: &Tessellation) -> Vec<BoundaryNormals> {
-    let n = t.level;
-    let per = t.grid_len() as u32;
-    let mut out = Vec::new();
-    if n < 2 || t.sides != 4 {
-        return out;
-    }
-    let normal = |f: u32, k: u32, s: u32| -> DVec3 {
-        let p = |idx: u32| t.positions[(f * per + idx) as usize].as_dvec3();
-        let along = p(edge_sample(k, s + 1, n)) - p(edge_sample(k, s - 1, n));
-        let across = -3.0 * p(inner_sample(k, s, 0, n)) + 4.0 * p(inner_sample(k, s, 1, n))
-            - p(inner_sample(k, s, 2, n));
-        along.cross(across).normalize_or_zero()
-    };
-    for h in 0..topo.twin.len() as u32 {
-        let g = topo.twin[h as usize];
-        if g == crate::topology::NONE || g < h {
-            continue;
-        }
-        let (fa, fb) = (topo.face[h as usize], topo.face[g as usize]);
-        let (ka, kb) = (
-            h - topo.face_offsets[fa as usize],
-            g - topo.face_offsets[fb as usize],
-        );
-        for s in 1..n {
-            out.push(BoundaryNormals {
-                face: [fa, fb],
-                sample: [edge_sample(ka, s, n), edge_sample(kb, n - s, n)],
-                normal: [normal(fa, ka, s), normal(fb, kb, n - s)],
-            });
-        }
-    }
-    out
-}
-
-/// Largest angle (degrees) between the two patches' geometric normals over
-/// all shared-edge samples: see [`boundary_geometric_normals`].
-pub fn geometric_normal_jump(topo: &Topology, t: &Tessellation) -> f64 {
-    boundary_geometric_normals(topo, t)
-        .iter()
-        .map(|b| angle_f64(b.normal[0], b.normal[1]))
-        .fold(0.0, f64::max)
 }
 
 /// Worst normal spread across shared edges of a tessellation.
@@ -266,12 +151,6 @@ pub fn compare(
     let kernels = cpu::scheme(scheme)?;
     let patches = cpu::construct(&topo, &positions, kernels)?;
     let t = cpu::evaluate(&patches, level)?;
-    let jump_level = level.max(GEOMETRIC_JUMP_MIN_LEVEL);
-    let geometric_normal_jump_deg = if jump_level == level {
-        geometric_normal_jump(&topo, &t)
-    } else {
-        geometric_normal_jump(&topo, &cpu::evaluate(&patches, jump_level)?)
-    };
     let mut acc = Accuracy {
         scheme: scheme.into(),
         level,
@@ -280,8 +159,6 @@ pub fn compare(
         max_normal_deg: None,
         rms_normal_deg: None,
         max_boundary_normal_spread_deg: boundary_normal_spread(&topo, &t),
-        geometric_normal_jump_deg,
-        geometric_normal_jump_level: jump_level,
         open_edges: weld::weld(&t).open_edges,
     };
     if let Some(lim) = limit {
@@ -322,11 +199,11 @@ pub fn compare(
 pub fn markdown(mesh: &str, rows: &[Accuracy]) -> String {
     let opt = |x: Option<f64>| x.map(|v| format!("{v:.3e}")).unwrap_or_else(|| "–".into());
     let mut s = String::from(
-        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | max boundary normal spread ° | max geometric normal jump ° | open edges |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | max boundary normal spread ° | open edges |\n|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         s.push_str(&format!(
-            "| {mesh} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {} |\n",
+            "| {mesh} | {} | {} | {} | {} | {} | {} | {:.3e} | {} |\n",
             r.scheme,
             r.level,
             opt(r.max_distance_pct),
@@ -334,7 +211,6 @@ pub fn markdown(mesh: &str, rows: &[Accuracy]) -> String {
             opt(r.max_normal_deg),
             opt(r.rms_normal_deg),
             r.max_boundary_normal_spread_deg,
-            r.geometric_normal_jump_deg,
             r.open_edges
         ));
     }
