@@ -117,7 +117,19 @@ fn macro_scheme_sits_beside_the_builtins() {
         .compile()
         .unwrap_or_else(|e| panic!("{e}"));
     let names: Vec<&str> = out.schemes.iter().map(|s| s.name.as_str()).collect();
-    assert_eq!(names, ["regular", "pccm", "pccm_sigma"]);
+    assert_eq!(
+        names,
+        [
+            "regular",
+            "pccm",
+            "acc",
+            "gregory",
+            "gregory_osd",
+            "pn",
+            "phong",
+            "pccm_sigma"
+        ]
+    );
 }
 
 #[test]
