@@ -39,7 +39,7 @@ enum Command {
     Compare(CompareArgs),
 }
 
-/// Compare schemes with the exact Catmull-Clark limit: distance (% of local quad size), normal deviation, boundary smoothness, watertightness.
+/// Compare schemes with the exact Catmull-Clark limit: distance (% of local quad size), normal deviation, boundary smoothness (shading-normal spread, and the geometric normal jump: a finite-difference estimate from tessellated positions), watertightness.
 #[derive(Args, Debug)]
 struct CompareArgs {
     /// Input OBJ mesh (closed, all quads).
@@ -47,7 +47,7 @@ struct CompareArgs {
     /// Comma-separated schemes (regular, pccm, acc, gregory, gregory-osd).
     #[arg(long, default_value = "pccm", value_delimiter = ',', value_parser = parse_scheme)]
     schemes: Vec<String>,
-    /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid).
+    /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid; the geometric normal jump is always estimated at level 128).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     level: u32,
     /// Limit samples: a CCLIM001 .bin file, or a directory holding <mesh name>.bin.

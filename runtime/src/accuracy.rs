@@ -6,12 +6,21 @@
 //! in every base face (format: `tests/data/cc_limit/UPSTREAM_README.md`).
 //! Distances are in % of the local quad size (the mean edge length of the
 //! base face), as in the PCCM paper's Figure 11.
+//!
+//! Two smoothness measures look across every shared edge: the *shading*
+//! normal spread ([`boundary_normal_spread`], the normals the scheme
+//! evaluates) and the *geometric* normal jump ([`geometric_normal_jump`], a
+//! finite-difference estimate of the true surface normal from tessellated
+//! positions alone). They differ for schemes that shade with separate tangent
+//! patches (ACC): a continuous shading normal over geometry that is only C⁰
+//! across edges near extraordinary vertices.
 
-use crate::cpu::{self, TessError, Tessellation};
+use crate::cpu::{self, Patches, TessError, Tessellation};
 use crate::mesh::Mesh;
 use crate::topology::Topology;
 use crate::weld;
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 use std::path::Path;
 
 /// Errors reading limit samples.
@@ -89,26 +98,225 @@ pub struct Accuracy {
     /// Normal deviation from the limit normal, degrees.
     pub max_normal_deg: Option<f64>,
     pub rms_normal_deg: Option<f64>,
-    /// Largest angle between the two patches' normals at shared boundary samples.
+    /// Largest angle between the two patches' *shading* normals (the normals
+    /// the scheme evaluates) at shared boundary samples, degrees.
     pub max_boundary_normal_spread_deg: f64,
+    /// Largest angle between the two patches' *geometric* surface normals at
+    /// shared boundary samples, degrees: a finite-difference estimate from the
+    /// tessellated positions alone ([`boundary_geometric_normals`]), taken at
+    /// level [`GEOMETRIC_JUMP_LEVEL`] whatever `level` is. Shows geometry that
+    /// is only C⁰ even where the shading normal is continuous (ACC). For
+    /// G¹/C¹ schemes only the estimate's error remains (≤ 0.05° on the shared
+    /// meshes).
+    pub geometric_normal_jump_deg: f64,
+    /// Tessellation level the geometric normal jump was estimated at.
+    pub geometric_normal_jump_level: u32,
     /// Open edges after exact-bit welding (0 = watertight).
     pub open_edges: usize,
 }
 
 fn angle(a: Vec3, b: Vec3) -> f64 {
-    let (a, b): (DVec3, DVec3) = (a.as_dvec3(), b.as_dvec3());
+    angle_f64(a.as_dvec3(), b.as_dvec3())
+}
+
+fn angle_f64(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
 /// Grid index of parameter `t` along local edge `k` of a `level` grid.
 fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
+    inner_sample(k, t, 0, level)
+}
+
+/// Grid index of the sample `depth` grid steps into the face from parameter
+/// `t` on local edge `k` (edge 0: v=0, t=u; 1: u=1, t=v; 2: v=1, t=1−u;
+/// 3: u=0, t=1−v).
+fn inner_sample(k: u32, t: u32, depth: u32, level: u32) -> u32 {
     let (i, j) = match k {
-        0 => (t, 0),
-        1 => (level, t),
-        2 => (level - t, level),
-        _ => (0, level - t),
+        0 => (t, depth),
+        1 => (level - depth, t),
+        2 => (level - t, level - depth),
+        _ => (depth, level - t),
     };
     j * (level + 1) + i
+}
+
+/// The tessellation level [`compare`] estimates the geometric normal jump at,
+/// whatever its own `level` (the jump is a property of the surface).
+///
+/// Coarser grids leave more finite-difference error: on
+/// `catmark_toroidal_tet`, where G¹ Gregory patches should show 0°, the
+/// estimate is 4.2° at 16, 1.2° at 32, 0.26° at 64 and 0.04° at 128. With
+/// the face-local frame of [`patches_geometric_normal_jump`] f32 rounding
+/// stays below ~0.05° at this level (regular torus 0.004°, the 27,776-quad
+/// `catmark_righthanded_L3` 0.04°). Only the strips along the edges are
+/// evaluated, not whole grids, so the cost is O(edges · level).
+pub const GEOMETRIC_JUMP_LEVEL: u32 = 128;
+
+/// One-sided first-derivative weights (times 6h) into the face: exact for
+/// cubics, error O(h³).
+const ACROSS: [f64; 4] = [-11.0, 18.0, -9.0, 2.0];
+
+/// Edge parameters `t` (grid steps) where the geometric normal is estimated
+/// at `level`: all but the first and last eighth of the edge; `None` below
+/// level 4.
+fn jump_range(level: u32) -> Option<std::ops::RangeInclusive<u32>> {
+    if level < ACROSS.len() as u32 {
+        return None;
+    }
+    let skip = level.div_ceil(8).max(1);
+    Some(skip..=level - skip)
+}
+
+/// Geometric normals of the two patches at one shared boundary sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundaryNormals {
+    /// The two faces sharing the edge (`face[0]` owns the lower half-edge).
+    pub face: [u32; 2],
+    /// The sample's grid index in each face (`j·(level+1) + i`).
+    pub sample: [u32; 2],
+    /// Unit normal estimated from each face's positions, oriented like the
+    /// scheme's `∂u × ∂v` (outward for counter-clockwise faces).
+    pub normal: [DVec3; 2],
+}
+
+/// The geometric (true) surface normal of each patch at the shared-edge
+/// samples of a tessellation, estimated from its positions alone — scheme
+/// agnostic, and the surface's normal rather than the shading normal.
+///
+/// At parameter `t` of a face's local edge `k` (running corner `k` → `k+1`),
+/// with `p_d` the sample `d` grid steps into the face:
+///
+/// * along the edge: central difference of the boundary samples,
+///   `p(t+1) − p(t−1)`;
+/// * across the edge, into the face: the cubic-exact one-sided difference
+///   `(−11·p_0 + 18·p_1 − 9·p_2 + 2·p_3)/(6h)` — the second-order
+///   `(−3·p_0 + 4·p_1 − p_2)/(2h)` left 0.3° on the regular torus and 8° on
+///   Gregory patches of `catmark_toroidal_tet` at level 16, 1.8° still at 64;
+/// * normal = normalize(along × across). With `along` in the face's own edge
+///   direction and `across` pointing inwards this is the direction of
+///   `∂u × ∂v` on every edge (edge 1: `∂v × −∂u`, …); the second face walks
+///   the edge the other way round in its own frame, so both normals come
+///   out outward with no explicit flip.
+///
+/// The first and last eighth of every edge are skipped (at least the
+/// corners): the corners are mesh vertices, where every scheme here
+/// interpolates the limit tangent plane (no jump) but where rational
+/// (Gregory) patches have cross derivatives whose higher derivatives grow
+/// like 1/u, so the estimate there converges only as O(h); ACC's geometric
+/// jump vanishes at the corners and peaks inside the edge. Elsewhere the
+/// error is O(h³) across plus O(h²) along the edge (the latter shared by
+/// both faces, so it mostly cancels in the jump). Needs `level ≥ 4` (empty
+/// below) and quads.
+pub fn boundary_geometric_normals(topo: &Topology, t: &Tessellation) -> Vec<BoundaryNormals> {
+    if t.sides != 4 {
+        return Vec::new();
+    }
+    let per = t.grid_len() as u32;
+    boundary_normals_by(topo, t.level, |f, s| {
+        t.positions[(f * per + s) as usize].as_dvec3()
+    })
+}
+
+/// Largest angle (degrees) between the two patches' geometric normals over
+/// the shared-edge samples of a tessellation: see
+/// [`boundary_geometric_normals`].
+pub fn geometric_normal_jump(topo: &Topology, t: &Tessellation) -> f64 {
+    max_jump(&boundary_geometric_normals(topo, t))
+}
+
+/// [`geometric_normal_jump`] of `patches` at `level`, evaluating only the
+/// strips of samples next to the edges, so fine levels stay cheap on large
+/// meshes.
+///
+/// Each face is evaluated in a local frame: its control points less the
+/// patch's corner-0 position (the patches are affine in their control
+/// points, so this moves the surface and nothing else; vector slots such as
+/// ACC's tangent coefficients shift too, which only alters the shading
+/// normal, unused here). Differences of f32
+/// positions then lose no precision to the absolute coordinates, which on
+/// small faces far from the origin (`catmark_righthanded` refined three
+/// times) would otherwise swamp the finite differences at fine levels. The
+/// normals therefore match those of [`cpu::evaluate`]'s grid at `level` up
+/// to its rounding, not bit for bit.
+pub fn patches_geometric_normal_jump(
+    topo: &Topology,
+    patches: &Patches,
+    level: u32,
+) -> Result<f64, TessError> {
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let k = patches.scheme;
+    if k.sides != 4 {
+        return Err(cpu::facet_error(k));
+    }
+    let faces = patches.face_class.len();
+    let cps = |f: usize| {
+        &patches.control_points[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize]
+    };
+    let local: Vec<Vec3> = (0..faces)
+        .into_par_iter()
+        .flat_map_iter(|f| {
+            let origin = (k.eval)(cps(f), patches.face_class[f], 0, 0, 0, level).position;
+            cps(f).iter().map(move |c| *c - origin)
+        })
+        .collect();
+    let normals = boundary_normals_by(topo, level, |f, s| {
+        let f = f as usize;
+        let cp = &local[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+        let (iu, iv) = ((k.grid_iu)(s, level), (k.grid_iv)(s, level));
+        (k.eval)(cp, patches.face_class[f], 0, iu, iv, level)
+            .position
+            .as_dvec3()
+    });
+    Ok(max_jump(&normals))
+}
+
+fn max_jump(normals: &[BoundaryNormals]) -> f64 {
+    normals
+        .iter()
+        .map(|b| angle_f64(b.normal[0], b.normal[1]))
+        .fold(0.0, f64::max)
+}
+
+/// [`boundary_geometric_normals`] over positions `pos(face, grid index)` of a
+/// `level` grid.
+fn boundary_normals_by(
+    topo: &Topology,
+    level: u32,
+    pos: impl Fn(u32, u32) -> DVec3 + Sync,
+) -> Vec<BoundaryNormals> {
+    let Some(range) = jump_range(level) else {
+        return Vec::new();
+    };
+    let normal = |f: u32, k: u32, t: u32| -> DVec3 {
+        let along = pos(f, edge_sample(k, t + 1, level)) - pos(f, edge_sample(k, t - 1, level));
+        let across = ACROSS.iter().enumerate().fold(DVec3::ZERO, |a, (d, w)| {
+            a + *w * pos(f, inner_sample(k, t, d as u32, level))
+        });
+        along.cross(across).normalize_or_zero()
+    };
+    (0..topo.twin.len() as u32)
+        .into_par_iter()
+        .filter(|&h| {
+            let g = topo.twin[h as usize];
+            g != crate::topology::NONE && g > h
+        })
+        .flat_map_iter(|h| {
+            let g = topo.twin[h as usize];
+            let (fa, fb) = (topo.face[h as usize], topo.face[g as usize]);
+            let (ka, kb) = (
+                h - topo.face_offsets[fa as usize],
+                g - topo.face_offsets[fb as usize],
+            );
+            range.clone().map(move |t| BoundaryNormals {
+                face: [fa, fb],
+                sample: [edge_sample(ka, t, level), edge_sample(kb, level - t, level)],
+                normal: [normal(fa, ka, t), normal(fb, kb, level - t)],
+            })
+        })
+        .collect()
 }
 
 /// Worst normal spread across shared edges of a tessellation.
@@ -151,6 +359,8 @@ pub fn compare(
     let kernels = cpu::scheme(scheme)?;
     let patches = cpu::construct(&topo, &positions, kernels)?;
     let t = cpu::evaluate(&patches, level)?;
+    let geometric_normal_jump_deg =
+        patches_geometric_normal_jump(&topo, &patches, GEOMETRIC_JUMP_LEVEL)?;
     let mut acc = Accuracy {
         scheme: scheme.into(),
         level,
@@ -159,6 +369,8 @@ pub fn compare(
         max_normal_deg: None,
         rms_normal_deg: None,
         max_boundary_normal_spread_deg: boundary_normal_spread(&topo, &t),
+        geometric_normal_jump_deg,
+        geometric_normal_jump_level: GEOMETRIC_JUMP_LEVEL,
         open_edges: weld::weld(&t).open_edges,
     };
     if let Some(lim) = limit {
@@ -195,15 +407,17 @@ pub fn compare(
     Ok(acc)
 }
 
-/// Markdown table of results.
+/// Markdown table of results. "max geometric normal jump °" is the
+/// finite-difference estimate of [`Accuracy::geometric_normal_jump_deg`]
+/// (level [`GEOMETRIC_JUMP_LEVEL`], not N).
 pub fn markdown(mesh: &str, rows: &[Accuracy]) -> String {
     let opt = |x: Option<f64>| x.map(|v| format!("{v:.3e}")).unwrap_or_else(|| "–".into());
     let mut s = String::from(
-        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | max boundary normal spread ° | open edges |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | max boundary normal spread ° | max geometric normal jump ° | open edges |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         s.push_str(&format!(
-            "| {mesh} | {} | {} | {} | {} | {} | {} | {:.3e} | {} |\n",
+            "| {mesh} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {} |\n",
             r.scheme,
             r.level,
             opt(r.max_distance_pct),
@@ -211,6 +425,7 @@ pub fn markdown(mesh: &str, rows: &[Accuracy]) -> String {
             opt(r.max_normal_deg),
             opt(r.rms_normal_deg),
             r.max_boundary_normal_spread_deg,
+            r.geometric_normal_jump_deg,
             r.open_edges
         ));
     }
