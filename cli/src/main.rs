@@ -432,8 +432,10 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     let tessellation = match args.backend {
         Backend::Cpu => cpu::tessellate_any(&mesh, &args.scheme, args.level, args.split_quads)
             .map_err(|e| e.to_string()),
-        Backend::Wgpu => tessgen_runtime::gpu::tessellate_mesh(&mesh, &args.scheme, args.level)
-            .map_err(|e| e.to_string()),
+        Backend::Wgpu => {
+            tessgen_runtime::gpu::tessellate_any(&mesh, &args.scheme, args.level, args.split_quads)
+                .map_err(|e| e.to_string())
+        }
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();

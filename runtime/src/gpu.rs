@@ -230,7 +230,10 @@ pub struct GpuMesh<'g> {
     pub classes: Vec<ClassRange>,
     /// Face of each patch (patches sorted by class).
     pub patch_faces: Vec<u32>,
+    /// Vertices the vertex stage runs over (0 for triangle schemes).
     num_vertices: u32,
+    /// Control-mesh positions uploaded.
+    num_positions: u32,
     buffers: HashMap<u32, wgpu::Buffer>,
     table_view: wgpu::TextureView,
     module: wgpu::ShaderModule,
@@ -255,6 +258,60 @@ mod binding {
     pub const PARAMS: u32 = 10;
     pub const PATCH_FACES: u32 = 11;
     pub const SAMPLES: u32 = 12;
+    pub const NORMALS: u32 = 13;
+}
+
+/// What a constructor uploads besides the shared parts (table, pipelines):
+/// the facet data of a quad mesh (topology, rings) or a triangle mesh
+/// (corner vertices, normals).
+struct Upload {
+    patch_faces: Vec<u32>,
+    classes: Vec<ClassRange>,
+    num_vertices: u32,
+    num_positions: u32,
+    /// `(binding, label, contents, extra usages)`.
+    buffers: Vec<(u32, &'static str, Vec<u8>, wgpu::BufferUsages)>,
+}
+
+/// A buffer larger than one storage binding is a typed error, never a
+/// truncation.
+fn check(limits: &Limits, what: &'static str, bytes: u64) -> Result<(), GpuError> {
+    if bytes > limits.max_storage_buffer_binding_size {
+        Err(GpuError::BufferTooLarge {
+            what,
+            needed: bytes,
+            max: limits.max_storage_buffer_binding_size,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+/// Patches sorted by class; control points laid out class by class.
+fn class_layout(scheme: &SchemeKernels, face_class: &[u32]) -> (Vec<u32>, Vec<ClassRange>, u32) {
+    let mut patch_faces = Vec::with_capacity(face_class.len());
+    let mut classes = Vec::new();
+    let mut cp_base = 0u32;
+    for (c, ck) in scheme.classes.iter().enumerate() {
+        let first = patch_faces.len() as u32;
+        patch_faces.extend(
+            face_class
+                .iter()
+                .enumerate()
+                .filter(|(_, k)| **k == c as u32)
+                .map(|(f, _)| f as u32),
+        );
+        let count = patch_faces.len() as u32 - first;
+        classes.push(ClassRange {
+            class: c as u32,
+            first,
+            count,
+            cp_base,
+            points: ck.control_points,
+        });
+        cp_base += count * ck.control_points;
+    }
+    (patch_faces, classes, cp_base)
 }
 
 impl<'g> GpuMesh<'g> {
@@ -278,13 +335,8 @@ impl<'g> GpuMesh<'g> {
     ) -> Result<Self, GpuError> {
         let scheme = cpu::scheme(scheme_name)?;
         if scheme.sides != 4 {
-            // The triangle schemes' WGSL is generated and validated, but
-            // this runtime only drives quad meshes on the GPU so far.
             return Err(cpu::facet_error(scheme).into());
         }
-        let source =
-            kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
-        let bindings = entry_bindings(source)?;
         let face_class = cpu::face_classes(topo, scheme)?;
         if positions.len() != topo.valence.len() {
             return Err(GpuError::PositionCount {
@@ -292,29 +344,7 @@ impl<'g> GpuMesh<'g> {
                 got: positions.len(),
             });
         }
-        // Patches sorted by class; control points laid out class by class.
-        let mut patch_faces = Vec::with_capacity(face_class.len());
-        let mut classes = Vec::new();
-        let mut cp_base = 0u32;
-        for (c, ck) in scheme.classes.iter().enumerate() {
-            let first = patch_faces.len() as u32;
-            patch_faces.extend(
-                face_class
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, k)| **k == c as u32)
-                    .map(|(f, _)| f as u32),
-            );
-            let count = patch_faces.len() as u32 - first;
-            classes.push(ClassRange {
-                class: c as u32,
-                first,
-                count,
-                cp_base,
-                points: ck.control_points,
-            });
-            cp_base += count * ck.control_points;
-        }
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
         let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
         let mut total = 0u32;
         for &n in &topo.valence {
@@ -325,109 +355,154 @@ impl<'g> GpuMesh<'g> {
         }
         vertex_out_offsets.push(total);
         let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
+        check(&limits, "vertex_out", total as u64 * 12)?;
+        check(&limits, "control_points", cp_total as u64 * 12)?;
+        check(&limits, "ring", topo.ring.len() as u64 * 4)?;
+        let none = wgpu::BufferUsages::empty();
+        let upload = Upload {
+            num_vertices: topo.valence.len() as u32,
+            num_positions: positions.len() as u32,
+            buffers: vec![
+                (binding::POSITIONS, "positions", vec3_bytes(positions), none),
+                (binding::VALENCE, "valence", u32_bytes(&topo.valence), none),
+                (
+                    binding::RING_OFFSETS,
+                    "ring_offsets",
+                    u32_bytes(&topo.ring_offsets),
+                    none,
+                ),
+                (binding::RING, "ring", u32_bytes(&topo.ring), none),
+                (
+                    binding::VERTEX_OUT_OFFSETS,
+                    "vertex_out_offsets",
+                    u32_bytes(&vertex_out_offsets),
+                    none,
+                ),
+                (
+                    binding::VERTEX_OUT,
+                    "vertex_out",
+                    vec3_bytes(&vec![Vec3::ZERO; total as usize]),
+                    none,
+                ),
+                (
+                    binding::CORNER_VERTEX,
+                    "corner_vertex",
+                    u32_bytes(&corner_vertex),
+                    none,
+                ),
+                (
+                    binding::CORNER_SECTOR,
+                    "corner_sector",
+                    u32_bytes(&corner_sector),
+                    none,
+                ),
+                (
+                    binding::CONTROL_POINTS,
+                    "control_points",
+                    vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
+                    wgpu::BufferUsages::COPY_SRC,
+                ),
+                (
+                    binding::PATCH_FACES,
+                    "patch_faces",
+                    u32_bytes(&patch_faces),
+                    none,
+                ),
+            ],
+            patch_faces,
+            classes,
+        };
+        Self::build(gpu, scheme, limits, upload)
+    }
 
+    /// Upload a triangle mesh for a triangle scheme (`pn`, `phong`): corner
+    /// vertices, positions and unit normals; no vertex stage runs.
+    pub fn new_tri(
+        gpu: &'g Gpu,
+        mesh: &crate::trimesh::TriMesh,
+        scheme_name: &str,
+    ) -> Result<Self, GpuError> {
+        Self::with_limits_tri(gpu, mesh, scheme_name, gpu.limits)
+    }
+
+    /// Like [`GpuMesh::new_tri`] with explicit (smaller) limits.
+    pub fn with_limits_tri(
+        gpu: &'g Gpu,
+        mesh: &crate::trimesh::TriMesh,
+        scheme_name: &str,
+        limits: Limits,
+    ) -> Result<Self, GpuError> {
+        let scheme = cpu::scheme(scheme_name)?;
+        if scheme.sides != 3 {
+            return Err(cpu::facet_error(scheme).into());
+        }
+        let face_class = vec![0u32; mesh.triangles.len()];
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
+        let corner_vertex: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        check(&limits, "control_points", cp_total as u64 * 12)?;
+        check(&limits, "positions", mesh.positions.len() as u64 * 12)?;
+        let none = wgpu::BufferUsages::empty();
+        let upload = Upload {
+            // Triangle schemes have no vertex stage.
+            num_vertices: 0,
+            num_positions: mesh.positions.len() as u32,
+            buffers: vec![
+                (
+                    binding::POSITIONS,
+                    "positions",
+                    vec3_bytes(&mesh.positions),
+                    none,
+                ),
+                (binding::NORMALS, "normals", vec3_bytes(&mesh.normals), none),
+                (
+                    binding::CORNER_VERTEX,
+                    "corner_vertex",
+                    u32_bytes(&corner_vertex),
+                    none,
+                ),
+                (
+                    binding::CONTROL_POINTS,
+                    "control_points",
+                    vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
+                    wgpu::BufferUsages::COPY_SRC,
+                ),
+                (
+                    binding::PATCH_FACES,
+                    "patch_faces",
+                    u32_bytes(&patch_faces),
+                    none,
+                ),
+            ],
+            patch_faces,
+            classes,
+        };
+        Self::build(gpu, scheme, limits, upload)
+    }
+
+    /// The parts every mesh shares: buffers, the stencil table, pipelines,
+    /// then the first construction.
+    fn build(
+        gpu: &'g Gpu,
+        scheme: &'static SchemeKernels,
+        limits: Limits,
+        upload: Upload,
+    ) -> Result<Self, GpuError> {
+        let source =
+            kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
+        let bindings = entry_bindings(source)?;
         let dev = &gpu.device;
-        let storage = |label: &str, contents: Vec<u8>, extra: wgpu::BufferUsages| {
+        let mut buffers = HashMap::new();
+        for (b, label, contents, extra) in upload.buffers {
             let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: contents.len() as u64,
+                // wgpu rejects zero-sized storage bindings.
+                size: (contents.len() as u64).max(16),
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
                 mapped_at_creation: false,
             });
             gpu.queue.write_buffer(&buf, 0, &contents);
-            buf
-        };
-        let check = |what: &'static str, bytes: u64| {
-            if bytes > limits.max_storage_buffer_binding_size {
-                Err(GpuError::BufferTooLarge {
-                    what,
-                    needed: bytes,
-                    max: limits.max_storage_buffer_binding_size,
-                })
-            } else {
-                Ok(())
-            }
-        };
-        check("vertex_out", total as u64 * 12)?;
-        check("control_points", cp_base as u64 * 12)?;
-        check("ring", topo.ring.len() as u64 * 4)?;
-        let mut buffers = HashMap::new();
-        buffers.insert(
-            binding::POSITIONS,
-            storage(
-                "positions",
-                vec3_bytes(positions),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::VALENCE,
-            storage(
-                "valence",
-                u32_bytes(&topo.valence),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::RING_OFFSETS,
-            storage(
-                "ring_offsets",
-                u32_bytes(&topo.ring_offsets),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::RING,
-            storage("ring", u32_bytes(&topo.ring), wgpu::BufferUsages::empty()),
-        );
-        buffers.insert(
-            binding::VERTEX_OUT_OFFSETS,
-            storage(
-                "vertex_out_offsets",
-                u32_bytes(&vertex_out_offsets),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::VERTEX_OUT,
-            storage(
-                "vertex_out",
-                vec3_bytes(&vec![Vec3::ZERO; total as usize]),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::CORNER_VERTEX,
-            storage(
-                "corner_vertex",
-                u32_bytes(&corner_vertex),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::CORNER_SECTOR,
-            storage(
-                "corner_sector",
-                u32_bytes(&corner_sector),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
-        buffers.insert(
-            binding::CONTROL_POINTS,
-            storage(
-                "control_points",
-                vec3_bytes(&vec![Vec3::ZERO; cp_base as usize]),
-                wgpu::BufferUsages::COPY_SRC,
-            ),
-        );
-        buffers.insert(
-            binding::PATCH_FACES,
-            storage(
-                "patch_faces",
-                u32_bytes(&patch_faces),
-                wgpu::BufferUsages::empty(),
-            ),
-        );
+            buffers.insert(b, buf);
+        }
 
         // The stencil table as an R32Float texture (x = ring slot, y = row).
         let table = kernels::table();
@@ -500,9 +575,10 @@ impl<'g> GpuMesh<'g> {
             gpu,
             scheme,
             limits,
-            classes,
-            patch_faces,
-            num_vertices: topo.valence.len() as u32,
+            classes: upload.classes,
+            patch_faces: upload.patch_faces,
+            num_vertices: upload.num_vertices,
+            num_positions: upload.num_positions,
             buffers,
             table_view,
             module,
@@ -670,9 +746,9 @@ impl<'g> GpuMesh<'g> {
     /// Upload moved control-mesh positions and rebuild the patches; the
     /// topology, rings and table stay on the GPU.
     pub fn update_positions(&self, positions: &[Vec3]) -> Result<(), GpuError> {
-        if positions.len() as u32 != self.num_vertices {
+        if positions.len() as u32 != self.num_positions {
             return Err(GpuError::PositionCount {
-                expected: self.num_vertices as usize,
+                expected: self.num_positions as usize,
                 got: positions.len(),
             });
         }
@@ -682,13 +758,14 @@ impl<'g> GpuMesh<'g> {
         self.construct()
     }
 
-    /// Evaluate every patch on a `level × level` grid with `eval_main` and
-    /// read it back, in face order (the same layout as the CPU path).
+    /// Evaluate every patch on its `level` grid (the scheme's `grid_len`
+    /// samples) with `eval_main` and read it back, in face order (the same
+    /// layout as the CPU path).
     pub fn evaluate(&self, level: u32) -> Result<Tessellation, GpuError> {
         if level == 0 || level > cpu::MAX_LEVEL {
             return Err(cpu::TessError::Level(level).into());
         }
-        let spp = ((level + 1) * (level + 1)) as u64;
+        let spp = (self.scheme.grid_len)(level) as u64;
         let faces = self.patch_faces.len();
         let mut positions = vec![Vec3::ZERO; faces * spp as usize];
         let mut normals = vec![Vec3::ZERO; faces * spp as usize];
@@ -762,7 +839,7 @@ impl<'g> GpuMesh<'g> {
         Ok(Tessellation {
             level,
             faces,
-            sides: 4,
+            sides: self.scheme.sides,
             positions,
             normals,
         })
@@ -851,4 +928,31 @@ pub fn tessellate_mesh(
         .collect();
     let gpu = Gpu::new()?;
     GpuMesh::new(&gpu, &topo, &positions, kernels.name)?.evaluate(level)
+}
+
+/// Like [`cpu::tessellate_any`] on the GPU: quad schemes through
+/// [`Topology`], triangle schemes through [`crate::trimesh::TriMesh`].
+pub fn tessellate_any(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+) -> Result<Tessellation, GpuError> {
+    let kernels = cpu::scheme(scheme)?;
+    if kernels.sides == 4 {
+        return tessellate_mesh(mesh, scheme, level);
+    }
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let tri = crate::trimesh::TriMesh::from_mesh(
+        mesh,
+        &crate::trimesh::TriOptions {
+            split_quads,
+            ..Default::default()
+        },
+    )
+    .map_err(cpu::TessError::from)?;
+    let gpu = Gpu::new()?;
+    GpuMesh::new_tri(&gpu, &tri, kernels.name)?.evaluate(level)
 }

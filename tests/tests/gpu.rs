@@ -162,3 +162,77 @@ fn forced_small_limits_split_without_changing_results() {
         Err(tessgen_runtime::gpu::GpuError::TableTooLarge { .. })
     ));
 }
+
+/// PN and Phong on the closed shared meshes split into triangles: the WGSL
+/// patch stage and triangle-domain evaluation equal the CPU and weld closed.
+#[test]
+fn gpu_triangle_schemes_match_cpu_and_are_watertight() {
+    use tessgen_runtime::trimesh::{tri_grid_len, tri_grid_triangles, TriMesh, TriOptions};
+    for scheme in ["pn", "phong"] {
+        let kernels = cpu::scheme(scheme).expect("scheme");
+        for name in common::CLOSED_MESHES {
+            let mesh = common::mesh(name);
+            let diag = common::bbox_diagonal(&mesh) as f64;
+            let tri = TriMesh::from_mesh(
+                &mesh,
+                &TriOptions {
+                    split_quads: true,
+                    ..Default::default()
+                },
+            )
+            .expect("split");
+            let euler = tri.euler_characteristic();
+            let patches = cpu::construct_tri(&tri, kernels).expect("construct");
+            let g = GpuMesh::new_tri(gpu(), &tri, scheme).unwrap_or_else(|e| panic!("{name}: {e}"));
+            for &level in LEVELS {
+                let c = cpu::evaluate(&patches, level).expect("cpu");
+                let t = g.evaluate(level).unwrap_or_else(|e| panic!("{name}: {e}"));
+                assert_eq!(t.positions.len(), c.positions.len());
+                let (mut dp, mut da) = (0.0f64, 0.0f64);
+                for k in 0..c.positions.len() {
+                    dp = dp.max((t.positions[k] - c.positions[k]).length() as f64 / diag);
+                    da = da.max(common::angle_deg(t.normals[k], c.normals[k]));
+                }
+                let r = weld::weld_triangles(
+                    &t.positions,
+                    tri_grid_len(level),
+                    &tri_grid_triangles(level),
+                );
+                println!("{scheme} {name} level {level}: max |gpu - cpu| = {dp:.2e} × diagonal, normals {da:.2e}°, open edges {}", r.open_edges);
+                assert!(
+                    dp <= 1e-5,
+                    "{scheme} {name} level {level}: positions differ by {dp}"
+                );
+                assert!(
+                    da <= 0.05,
+                    "{scheme} {name} level {level}: normals differ by {da}°"
+                );
+                assert!(
+                    r.is_closed_manifold(),
+                    "{scheme} {name} level {level}: {} open edges",
+                    r.open_edges
+                );
+                assert_eq!(
+                    r.euler, euler,
+                    "{scheme} {name} level {level}: Euler characteristic"
+                );
+            }
+        }
+    }
+}
+
+/// A quad scheme refuses a triangle mesh and a triangle scheme a quad
+/// topology, with the typed facet error.
+#[test]
+fn gpu_facet_mismatch_is_a_typed_error() {
+    let (topo, positions, _) = load("catmark_cube");
+    assert!(matches!(
+        GpuMesh::new(gpu(), &topo, &positions, "pn"),
+        Err(tessgen_runtime::gpu::GpuError::Tess(
+            cpu::TessError::WrongFacet {
+                want: "triangles",
+                ..
+            }
+        ))
+    ));
+}
