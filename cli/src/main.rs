@@ -439,15 +439,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
-    let text = if tessellation.sides == 3 {
-        obj::tri_to_obj(
-            &tessellation.positions,
-            &tessellation.normals,
-            tessellation.level,
-        )
-    } else {
-        obj::to_obj(&tessellation)
-    };
+    let text = obj::to_obj(&tessellation);
     std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
         "tessgen: {} faces × {} samples = {} samples ({} level {}, {} backend) in {:.2} ms → {}",
@@ -463,15 +455,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     if !args.check_watertight {
         return Ok(ExitCode::SUCCESS);
     }
-    let r = if tessellation.sides == 3 {
-        weld::weld_triangles(
-            &tessellation.positions,
-            tessellation.grid_len(),
-            &tessgen_runtime::trimesh::tri_grid_triangles(tessellation.level),
-        )
-    } else {
-        weld::weld(&tessellation)
-    };
+    let r = weld::weld(&tessellation);
     let input_euler = MeshStats::of(&mesh).euler_characteristic;
     println!(
         "weld: {} vertices, {} edges, {} triangles, euler {} (input mesh {})",

@@ -241,6 +241,16 @@ impl Tessellation {
             ((self.level + 1) * (self.level + 1)) as usize
         }
     }
+
+    /// The triangles of one face's sample grid (local indices): what welding
+    /// and OBJ output connect.
+    pub fn local_triangles(&self) -> Vec<[u32; 3]> {
+        if self.sides == 3 {
+            crate::trimesh::tri_grid_triangles(self.level)
+        } else {
+            crate::weld::grid_triangles(self.level)
+        }
+    }
 }
 
 /// Evaluate every patch on a `level × level` grid.

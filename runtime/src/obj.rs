@@ -16,8 +16,11 @@ use crate::weld::grid_triangles;
 use glam::Vec3;
 use std::fmt::Write;
 
-/// Render a tessellation as OBJ text.
+/// Render a tessellation as OBJ text (triangle patches via [`tri_to_obj`]).
 pub fn to_obj(t: &Tessellation) -> String {
+    if t.sides == 3 {
+        return tri_to_obj(&t.positions, &t.normals, t.level);
+    }
     let header = format!("# tessgen {} level {}", env!("CARGO_PKG_VERSION"), t.level);
     write_patches(
         &header,

@@ -54,14 +54,10 @@ pub fn grid_triangles(level: u32) -> Vec<[u32; 3]> {
     tris
 }
 
-/// Weld a quad-grid tessellation by exact position bits and count edge uses.
+/// Weld a tessellation (quad or triangle patches) by exact position bits and
+/// count edge uses.
 pub fn weld(t: &Tessellation) -> WeldReport {
-    weld_faces(
-        &t.positions,
-        t.faces,
-        t.grid_len(),
-        &grid_triangles(t.level),
-    )
+    weld_faces(&t.positions, t.faces, t.grid_len(), &t.local_triangles())
 }
 
 /// Weld per-face sample patches by exact position bits and count edge uses.

@@ -457,6 +457,26 @@ fn gregory_matches_schemes_reference() {
     }
 }
 
+/// Runs a triangle scheme's patch stage on one triangle (corners 0, 1, 2).
+fn tri_control_points(scheme: &SchemeKernels, p: &[Vec3], n: &[Vec3]) -> Vec<Vec3> {
+    let class = &scheme.classes[0];
+    let mut cp = vec![Vec3::ZERO; class.control_points as usize];
+    let inputs = Inputs {
+        positions: p,
+        valence: &[],
+        ring_offsets: &[],
+        ring: &[],
+        vertex_out_offsets: &[],
+        vertex_out: &[],
+        corner_vertex: &[0, 1, 2],
+        corner_sector: &[],
+        normals: n,
+        table: kernels::table(),
+    };
+    (class.patch)(&inputs, &mut cp, 0, 0);
+    cp
+}
+
 /// One triangle through a triangle scheme's patch stage and evaluator, at
 /// the golden barycentric samples (multiples of 1/60).
 fn check_triangle(name: &str, key: &str) -> Worst {
@@ -468,21 +488,7 @@ fn check_triangle(name: &str, key: &str) -> Worst {
     let p: Vec<Vec3> = case["P"].as_array().expect("P").iter().map(v3).collect();
     let n: Vec<Vec3> = case["N"].as_array().expect("N").iter().map(v3).collect();
     let scale = scale_of(&p);
-    let class = &scheme.classes[0];
-    let mut cp = vec![Vec3::ZERO; class.control_points as usize];
-    let inputs = Inputs {
-        positions: &p,
-        valence: &[],
-        ring_offsets: &[],
-        ring: &[],
-        vertex_out_offsets: &[],
-        vertex_out: &[],
-        corner_vertex: &[0, 1, 2],
-        corner_sector: &[],
-        normals: &n,
-        table: kernels::table(),
-    };
-    (class.patch)(&inputs, &mut cp, 0, 0);
+    let cp = tri_control_points(scheme, &p, &n);
     let mut worst = Worst::default();
     for s in case["eval"].as_array().expect("eval") {
         let w = f64s(&s["bary"]);
@@ -512,20 +518,7 @@ fn pn_matches_schemes_reference() {
     let p: Vec<Vec3> = pn["P"].as_array().expect("P").iter().map(v3).collect();
     let n: Vec<Vec3> = pn["N"].as_array().expect("N").iter().map(v3).collect();
     let scale = scale_of(&p);
-    let mut cp = vec![Vec3::ZERO; scheme.classes[0].control_points as usize];
-    let inputs = Inputs {
-        positions: &p,
-        valence: &[],
-        ring_offsets: &[],
-        ring: &[],
-        vertex_out_offsets: &[],
-        vertex_out: &[],
-        corner_vertex: &[0, 1, 2],
-        corner_sector: &[],
-        normals: &n,
-        table: kernels::table(),
-    };
-    (scheme.classes[0].patch)(&inputs, &mut cp, 0, 0);
+    let cp = tri_control_points(scheme, &p, &n);
     let f = Form::TriCubic;
     // b_ijk exponents of (w1, w2, w3) = corners (0, 1, 2).
     let names = [

@@ -167,7 +167,7 @@ fn forced_small_limits_split_without_changing_results() {
 /// patch stage and triangle-domain evaluation equal the CPU and weld closed.
 #[test]
 fn gpu_triangle_schemes_match_cpu_and_are_watertight() {
-    use tessgen_runtime::trimesh::{tri_grid_len, tri_grid_triangles, TriMesh, TriOptions};
+    use tessgen_runtime::trimesh::{TriMesh, TriOptions};
     for scheme in ["pn", "phong"] {
         let kernels = cpu::scheme(scheme).expect("scheme");
         for name in common::CLOSED_MESHES {
@@ -193,11 +193,7 @@ fn gpu_triangle_schemes_match_cpu_and_are_watertight() {
                     dp = dp.max((t.positions[k] - c.positions[k]).length() as f64 / diag);
                     da = da.max(common::angle_deg(t.normals[k], c.normals[k]));
                 }
-                let r = weld::weld_triangles(
-                    &t.positions,
-                    tri_grid_len(level),
-                    &tri_grid_triangles(level),
-                );
+                let r = weld::weld(&t);
                 println!("{scheme} {name} level {level}: max |gpu - cpu| = {dp:.2e} × diagonal, normals {da:.2e}°, open edges {}", r.open_edges);
                 assert!(
                     dp <= 1e-5,

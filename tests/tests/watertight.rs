@@ -86,7 +86,6 @@ fn one_ulp_opens_the_weld() {
 /// must close every edge, and the Euler characteristic is the quad mesh's.
 #[test]
 fn pn_and_phong_split_meshes_weld_closed() {
-    use tessgen_runtime::trimesh::{tri_grid_len, tri_grid_triangles};
     for scheme in ["pn", "phong"] {
         for name in common::CLOSED_MESHES {
             let mesh = common::mesh(name);
@@ -96,11 +95,7 @@ fn pn_and_phong_split_meshes_weld_closed() {
             for &level in &[1, 2, 7, 8, 16] {
                 let t = cpu::tessellate_any(&mesh, scheme, level, true).expect("tessellate");
                 assert_eq!(t.sides, 3);
-                let r = weld::weld_triangles(
-                    &t.positions,
-                    tri_grid_len(level),
-                    &tri_grid_triangles(level),
-                );
+                let r = weld::weld(&t);
                 assert!(
                     r.is_closed_manifold(),
                     "{name} {scheme} level {level}: {} open edges, {} overused, {} degenerate",
