@@ -13,6 +13,7 @@ use std::time::Instant;
 use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::stats::MeshStats;
+use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
 
 /// Largest `--max-valence` accepted: the table has O(n²) rows of 2n + 1 columns.
@@ -192,12 +193,15 @@ struct TessellateArgs {
     /// Wavefront OBJ file (closed, manifold, all quads).
     #[arg(value_name = "MESH")]
     mesh: PathBuf,
-    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (quads; `regular` only handles faces whose corners all have valence 4), pn, phong (triangles).
+    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (quads; `regular` only handles faces whose corners all have valence 4), pn, stpn, phong (triangles).
     #[arg(long, value_parser = parse_scheme)]
     scheme: String,
-    /// Triangle schemes (pn, phong): split each quad along its v0–v2 diagonal first.
+    /// Triangle schemes (pn, stpn, phong): split each quad along its v0–v2 diagonal first.
     #[arg(long)]
     split_quads: bool,
+    /// stpn: crease tags (`tag V [tension T] [sharpness S] [bias B] [delta X Y Z]`, `side F V ±1`; 1-based indices). Without it stpn is plain PN.
+    #[arg(long, value_name = "FILE")]
+    tags: Option<PathBuf>,
     /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid (triangles: (N+1)(N+2)/2 samples).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
@@ -428,12 +432,17 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
             args.level
         ));
     }
+    let tags = match &args.tags {
+        Some(path) => Some(load_tags(path, &mesh)?),
+        None => None,
+    };
+    let (scheme, level, split) = (&args.scheme, args.level, args.split_quads);
     let start = Instant::now();
     let tessellation = match args.backend {
-        Backend::Cpu => cpu::tessellate_any(&mesh, &args.scheme, args.level, args.split_quads)
+        Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
             .map_err(|e| e.to_string()),
         Backend::Wgpu => {
-            tessgen_runtime::gpu::tessellate_any(&mesh, &args.scheme, args.level, args.split_quads)
+            tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
                 .map_err(|e| e.to_string())
         }
     }
@@ -505,6 +514,15 @@ fn quote(s: &str) -> String {
 fn dir_label(dir: &Path) -> String {
     let s = dir.display().to_string();
     format!("{}/", s.trim_end_matches('/'))
+}
+
+/// A tag file for `mesh` (stpn), errors naming the file and line.
+fn load_tags(path: &Path, mesh: &Mesh) -> Result<TagFile, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    TagFile::parse(&text, mesh.num_vertices(), mesh.num_faces(), |f| {
+        mesh.face(f)
+    })
+    .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 fn load_mesh(path: &Path) -> Result<Mesh, String> {

@@ -77,6 +77,10 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
             include_str!("../schemes/pn.tess"),
         ),
         SchemeSource::new(
+            "codegen/schemes/stpn.tess",
+            include_str!("../schemes/stpn.tess"),
+        ),
+        SchemeSource::new(
             "codegen/schemes/phong.tess",
             include_str!("../schemes/phong.tess"),
         ),

@@ -484,6 +484,8 @@ struct CornerLocals {
 struct PatchLower<'a> {
     s: &'a Scheme,
     f: Function,
+    /// The `face` parameter.
+    face: LocalId,
     corners: CornerLocals,
     /// Corners of the facet.
     sides: usize,
@@ -594,13 +596,30 @@ impl PatchLower<'_> {
         if let Some(id) = self.inputs.get(&(input, c)) {
             return *id;
         }
-        let (name, res) = match input {
-            sym::Input::Position => ("pos", Resource::Positions),
-            sym::Input::Normal => ("nrm", Resource::Normals),
+        let vertex = l(self.corners.vertex[c]);
+        // Scalar tags sit in one flat f32 array, TAGS_PER_VERTEX per vertex
+        // (tension, sharpness, bias, creased); the side sign is per
+        // triangle corner, at 3·face + corner like `corner_vertex`.
+        let tag = |k: u32| fetch(Resource::Tags, add(mul(vertex.clone(), u(4)), u(k)));
+        let (name, ty, value) = match input {
+            sym::Input::Position => ("pos", Ty::Vec3, fetch(Resource::Positions, vertex.clone())),
+            sym::Input::Normal => ("nrm", Ty::Vec3, fetch(Resource::Normals, vertex.clone())),
+            sym::Input::Crease => ("crease", Ty::Vec3, fetch(Resource::Crease, vertex.clone())),
+            sym::Input::Tension => ("tension", Ty::F32, tag(0)),
+            sym::Input::Sharpness => ("sharpness", Ty::F32, tag(1)),
+            sym::Input::Bias => ("bias", Ty::F32, tag(2)),
+            sym::Input::Creased => ("creased", Ty::F32, tag(3)),
+            sym::Input::Side => (
+                "side",
+                Ty::F32,
+                fetch(
+                    Resource::CornerSide,
+                    add(mul(l(self.face), u(self.sides as u32)), u(c as u32)),
+                ),
+            ),
         };
-        let id = self.f.local(format!("{name}_{c}"), Ty::Vec3);
-        self.loads
-            .push(Stmt::Let(id, fetch(res, l(self.corners.vertex[c]))));
+        let id = self.f.local(format!("{name}_{c}"), ty);
+        self.loads.push(Stmt::Let(id, value));
         self.inputs.insert((input, c), id);
         id
     }
@@ -698,7 +717,7 @@ impl PatchLower<'_> {
             }
             Sym::CornerInput { input, corner } => {
                 let id = self.input(*input, corner_of(corner, self.sides));
-                Val::Ex(l(id), true)
+                Val::Ex(l(id), input.is_vector())
             }
             Sym::Dot(a, b) => {
                 let (a, b) = (self.lower(a).expr(), self.lower(b).expr());
@@ -778,6 +797,7 @@ fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) -> Function {
     let mut pl = PatchLower {
         s,
         f,
+        face,
         corners,
         sides,
         inputs: BTreeMap::new(),

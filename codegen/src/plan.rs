@@ -43,6 +43,13 @@ pub enum Resource {
     ControlPoints,
     /// `vec3` unit normal, by vertex (triangle schemes).
     Normals,
+    /// `f32` scalar tags, 4 per vertex: tension θ, sharpness σ, bias β,
+    /// creased (1 when Δ ≠ 0) — scalar-tagged PN (pn.md §3).
+    Tags,
+    /// `vec3` crease vector Δ, by vertex (scalar-tagged PN).
+    Crease,
+    /// `f32` side sign ±1, by `3·face + corner` (scalar-tagged PN).
+    CornerSide,
 }
 
 impl Resource {
@@ -51,7 +58,9 @@ impl Resource {
             Resource::Positions
             | Resource::VertexOut
             | Resource::ControlPoints
-            | Resource::Normals => Ty::Vec3,
+            | Resource::Normals
+            | Resource::Crease => Ty::Vec3,
+            Resource::Tags | Resource::CornerSide => Ty::F32,
             _ => Ty::U32,
         }
     }
@@ -67,9 +76,12 @@ impl Resource {
             Resource::CornerSector => "corner_sector",
             Resource::ControlPoints => "control_points",
             Resource::Normals => "normals",
+            Resource::Tags => "tags",
+            Resource::Crease => "crease",
+            Resource::CornerSide => "corner_side",
         }
     }
-    pub const ALL: [Resource; 10] = [
+    pub const ALL: [Resource; 13] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -80,6 +92,9 @@ impl Resource {
         Resource::CornerSector,
         Resource::ControlPoints,
         Resource::Normals,
+        Resource::Tags,
+        Resource::Crease,
+        Resource::CornerSide,
     ];
 }
 

@@ -1214,11 +1214,9 @@ impl Resolver {
             });
         }
         if stage == Stage::Patch && self.tri {
-            let input = match s.as_str() {
-                "P" => Some(sym::Input::Position),
-                "N" => Some(sym::Input::Normal),
-                _ => None,
-            };
+            let input = sym::Input::ALL
+                .into_iter()
+                .find(|i| i.dsl_name() == s.as_str());
             if let Some(input) = input {
                 if args.len() != 1 {
                     return err(id.span(), format!("`{s}(corner)` takes one argument"));
@@ -1229,7 +1227,11 @@ impl Resolver {
                         input,
                         corner: Box::new(c),
                     },
-                    Ty::Point,
+                    if input.is_vector() {
+                        Ty::Point
+                    } else {
+                        Ty::Scalar
+                    },
                 ));
             }
         }

@@ -205,8 +205,57 @@ pub trait Env {
 /// A per-corner input of a triangle scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Input {
+    /// `P(i)`: the corner's position.
     Position,
+    /// `N(i)`: the corner's unit normal.
     Normal,
+    /// `Delta(i)`: the corner's crease vector Δ (pn.md §3; zero = smooth).
+    Crease,
+    /// `tension(i)`: θ of the corner's vertex.
+    Tension,
+    /// `sharpness(i)`: σ of the corner's vertex.
+    Sharpness,
+    /// `bias(i)`: β of the corner's vertex.
+    Bias,
+    /// `creased(i)`: 1 when the corner's vertex has a non-null Δ, else 0
+    /// (exact, so products of two flags select crease edges exactly).
+    Creased,
+    /// `side(i)`: ±1, which of the vertex's two crease normals this
+    /// triangle uses (a per-triangle-corner value, not per vertex).
+    Side,
+}
+
+impl Input {
+    /// Every input, in DSL order.
+    pub const ALL: [Input; 8] = [
+        Input::Position,
+        Input::Normal,
+        Input::Crease,
+        Input::Tension,
+        Input::Sharpness,
+        Input::Bias,
+        Input::Creased,
+        Input::Side,
+    ];
+
+    /// The DSL spelling: `name(corner)`.
+    pub fn dsl_name(self) -> &'static str {
+        match self {
+            Input::Position => "P",
+            Input::Normal => "N",
+            Input::Crease => "Delta",
+            Input::Tension => "tension",
+            Input::Sharpness => "sharpness",
+            Input::Bias => "bias",
+            Input::Creased => "creased",
+            Input::Side => "side",
+        }
+    }
+
+    /// A vector (`P`, `N`, `Delta`) or a scalar.
+    pub fn is_vector(self) -> bool {
+        matches!(self, Input::Position | Input::Normal | Input::Crease)
+    }
 }
 
 pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {

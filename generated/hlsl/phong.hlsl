@@ -74,6 +74,15 @@ struct Params {
 // binding 13: unit normal per vertex, 3 f32 (triangle schemes)
 [[vk::binding(13, 0)]] StructuredBuffer<float> normals : register(t13);
 
+// binding 14: scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN
+[[vk::binding(14, 0)]] StructuredBuffer<float> tags : register(t14);
+
+// binding 15: crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN
+[[vk::binding(15, 0)]] StructuredBuffer<float> crease : register(t15);
+
+// binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
+[[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // Control points per patch of each class (index = Params.class).
@@ -107,6 +116,10 @@ void store_control_points(uint i, float3 v) {
 
 float3 fetch_normals(uint i) {
     return float3(normals[(3u * i)], normals[((3u * i) + 1u)], normals[((3u * i) + 2u)]);
+}
+
+float3 fetch_crease(uint i) {
+    return float3(crease[(3u * i)], crease[((3u * i) + 1u)], crease[((3u * i) + 2u)]);
 }
 
 // ---- module `common` ----
@@ -187,10 +200,10 @@ precise float3 tessgen_edge(float3 b0, float3 b1, float3 b2, float3 b3, uint i, 
 // normals, normalize(Σ w_i N_i).
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-static const uint ROW_BASE[33] = {0u, 0u, 0u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u};
+static const uint ROW_BASE[33] = {0u, 0u, 0u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u};
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-static const uint CONST_ROW_BASE = 7680u;
+static const uint CONST_ROW_BASE = 7710u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 static const uint ROWS_PER_N = 0u;

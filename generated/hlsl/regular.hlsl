@@ -74,6 +74,15 @@ struct Params {
 // binding 13: unit normal per vertex, 3 f32 (triangle schemes)
 [[vk::binding(13, 0)]] StructuredBuffer<float> normals : register(t13);
 
+// binding 14: scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN
+[[vk::binding(14, 0)]] StructuredBuffer<float> tags : register(t14);
+
+// binding 15: crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN
+[[vk::binding(15, 0)]] StructuredBuffer<float> crease : register(t15);
+
+// binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
+[[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // Control points per patch of each class (index = Params.class).
@@ -107,6 +116,10 @@ void store_control_points(uint i, float3 v) {
 
 float3 fetch_normals(uint i) {
     return float3(normals[(3u * i)], normals[((3u * i) + 1u)], normals[((3u * i) + 2u)]);
+}
+
+float3 fetch_crease(uint i) {
+    return float3(crease[(3u * i)], crease[((3u * i) + 1u)], crease[((3u * i) + 2u)]);
 }
 
 // ---- module `common` ----

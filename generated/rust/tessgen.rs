@@ -40,6 +40,12 @@ pub mod common {
         pub corner_sector: &'a [u32],
         /// Unit normal per vertex (triangle schemes; empty for quad schemes).
         pub normals: &'a [Vec3],
+        /// Scalar-tagged PN: 4 f32 per vertex (tension, sharpness, bias, creased).
+        pub tags: &'a [f32],
+        /// Scalar-tagged PN: crease vector Δ per vertex.
+        pub crease: &'a [Vec3],
+        /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
+        pub corner_side: &'a [f32],
         /// The stencil table, row-major, TABLE_WIDTH columns.
         pub table: &'a [f32],
     }
@@ -1815,6 +1821,234 @@ pub mod pn {
     };
 }
 
+/// Scalar-tagged PN triangles (spec/pn.md §3): PN triangles with per-vertex
+/// tension θ, sharpness σ, bias β and a crease vector Δ, and a per-corner
+/// side sign that picks one of a crease vertex's two normals
+/// N' = normalize(N ± σΔ). An edge whose two vertices both carry a non-null
+/// Δ is a crease edge (δ = 1): its control points use only N and the crease
+/// normal normalize(N + βΔ), never the side, so the triangles on both sides
+/// of the crease build the same curve. Every other edge is shared by two
+/// triangles of the same sector, which agree on the side. With neutral tags
+/// (Δ = 0, θ = σ = β = 0) every control point equals plain PN.
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+pub mod stpn {
+    use glam::Vec3;
+    use super::common::*;
+    
+    /// First stencil-table row of each valence's vertex-stage block (index = valence).
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680];
+    
+    /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
+    pub const CONST_ROW_BASE: u32 = 7680;
+    
+    /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
+    pub const ROWS_PER_N: u32 = 0;
+    
+    /// See ROWS_PER_N.
+    pub const ROWS_FIXED: u32 = 0;
+    
+    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
+    
+    /// Vertex stage of `stpn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
+        let n: u32 = inputs.valence[(vertex) as usize];
+        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+        let row_base: u32 = ROW_BASE[(n) as usize];
+        let rows: u32 = ((0u32 * n) + 0u32);
+        let slots: u32 = ((2u32 * n) + 1u32);
+        for r in (0u32)..(rows) {
+            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            for k in (0u32)..(slots) {
+                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                if (w != 0.0f32) {
+                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                }
+            }
+            out[((out_base + r)) as usize] = acc;
+        }
+    }
+    
+    /// Patch stage of `stpn` for triangle triangles: the 16 control points of a tri_cubic patch from the corners' positions and normals, written from `cp_base`.
+    pub fn triangle_patch(inputs: &Inputs, out: &mut [Vec3], face: u32, cp_base: u32) {
+        let vertex_0: u32 = inputs.corner_vertex[(((face * 3u32) + 0u32)) as usize];
+        let vertex_1: u32 = inputs.corner_vertex[(((face * 3u32) + 1u32)) as usize];
+        let vertex_2: u32 = inputs.corner_vertex[(((face * 3u32) + 2u32)) as usize];
+        let nrm_0: Vec3 = inputs.normals[(vertex_0) as usize];
+        let side_0: f32 = inputs.corner_side[(((face * 3u32) + 0u32)) as usize];
+        let sharpness_0: f32 = inputs.tags[(((vertex_0 * 4u32) + 1u32)) as usize];
+        let crease_0: Vec3 = inputs.crease[(vertex_0) as usize];
+        let nrm_1: Vec3 = inputs.normals[(vertex_1) as usize];
+        let side_1: f32 = inputs.corner_side[(((face * 3u32) + 1u32)) as usize];
+        let sharpness_1: f32 = inputs.tags[(((vertex_1 * 4u32) + 1u32)) as usize];
+        let crease_1: Vec3 = inputs.crease[(vertex_1) as usize];
+        let nrm_2: Vec3 = inputs.normals[(vertex_2) as usize];
+        let side_2: f32 = inputs.corner_side[(((face * 3u32) + 2u32)) as usize];
+        let sharpness_2: f32 = inputs.tags[(((vertex_2 * 4u32) + 1u32)) as usize];
+        let crease_2: Vec3 = inputs.crease[(vertex_2) as usize];
+        let bias_0: f32 = inputs.tags[(((vertex_0 * 4u32) + 2u32)) as usize];
+        let bias_1: f32 = inputs.tags[(((vertex_1 * 4u32) + 2u32)) as usize];
+        let bias_2: f32 = inputs.tags[(((vertex_2 * 4u32) + 2u32)) as usize];
+        let tension_0: f32 = inputs.tags[(((vertex_0 * 4u32) + 0u32)) as usize];
+        let pos_1: Vec3 = inputs.positions[(vertex_1) as usize];
+        let pos_0: Vec3 = inputs.positions[(vertex_0) as usize];
+        let tension_1: f32 = inputs.tags[(((vertex_1 * 4u32) + 0u32)) as usize];
+        let pos_2: Vec3 = inputs.positions[(vertex_2) as usize];
+        let tension_2: f32 = inputs.tags[(((vertex_2 * 4u32) + 0u32)) as usize];
+        let creased_0: f32 = inputs.tags[(((vertex_0 * 4u32) + 3u32)) as usize];
+        let creased_1: f32 = inputs.tags[(((vertex_1 * 4u32) + 3u32)) as usize];
+        let creased_2: f32 = inputs.tags[(((vertex_2 * 4u32) + 3u32)) as usize];
+        let sharp_0: Vec3 = tessgen_normalize((nrm_0 + ((side_0 * sharpness_0) * crease_0)));
+        let sharp_1: Vec3 = tessgen_normalize((nrm_1 + ((side_1 * sharpness_1) * crease_1)));
+        let sharp_2: Vec3 = tessgen_normalize((nrm_2 + ((side_2 * sharpness_2) * crease_2)));
+        let x_0: Vec3 = tessgen_normalize((((1.0f32 - sharpness_0) * nrm_0) + sharp_0));
+        let x_1: Vec3 = tessgen_normalize((((1.0f32 - sharpness_1) * nrm_1) + sharp_1));
+        let x_2: Vec3 = tessgen_normalize((((1.0f32 - sharpness_2) * nrm_2) + sharp_2));
+        let y_0: Vec3 = tessgen_normalize((nrm_0 + (bias_0 * crease_0)));
+        let y_1: Vec3 = tessgen_normalize((nrm_1 + (bias_1 * crease_1)));
+        let y_2: Vec3 = tessgen_normalize((nrm_2 + (bias_2 * crease_2)));
+        let tn_0: Vec3 = (((1.0f32 - tension_0) / 3.0f32) * (pos_1 - pos_0));
+        let tn_1: Vec3 = (((1.0f32 - tension_1) / 3.0f32) * (pos_2 - pos_1));
+        let tn_2: Vec3 = (((1.0f32 - tension_2) / 3.0f32) * (pos_0 - pos_2));
+        let tp_0: Vec3 = (((1.0f32 - tension_0) / 3.0f32) * (pos_2 - pos_0));
+        let tp_1: Vec3 = (((1.0f32 - tension_1) / 3.0f32) * (pos_0 - pos_1));
+        let tp_2: Vec3 = (((1.0f32 - tension_2) / 3.0f32) * (pos_1 - pos_2));
+        let cn_0: f32 = (creased_0 * creased_1);
+        let cn_1: f32 = (creased_1 * creased_2);
+        let cn_2: f32 = (creased_2 * creased_0);
+        let cp_0: f32 = (creased_0 * creased_2);
+        let cp_1: f32 = (creased_1 * creased_0);
+        let cp_2: f32 = (creased_2 * creased_1);
+        let next_0: Vec3 = (((pos_0 + tn_0) - (((1.0f32 - cn_0) * x_0.dot(tn_0)) * x_0)) - ((cn_0 * nrm_0.dot(tn_0)) * y_0));
+        let next_1: Vec3 = (((pos_1 + tn_1) - (((1.0f32 - cn_1) * x_1.dot(tn_1)) * x_1)) - ((cn_1 * nrm_1.dot(tn_1)) * y_1));
+        let next_2: Vec3 = (((pos_2 + tn_2) - (((1.0f32 - cn_2) * x_2.dot(tn_2)) * x_2)) - ((cn_2 * nrm_2.dot(tn_2)) * y_2));
+        let prev_0: Vec3 = (((pos_0 + tp_0) - (((1.0f32 - cp_0) * x_0.dot(tp_0)) * x_0)) - ((cp_0 * nrm_0.dot(tp_0)) * y_0));
+        let prev_1: Vec3 = (((pos_1 + tp_1) - (((1.0f32 - cp_1) * x_1.dot(tp_1)) * x_1)) - ((cp_1 * nrm_1.dot(tp_1)) * y_1));
+        let prev_2: Vec3 = (((pos_2 + tp_2) - (((1.0f32 - cp_2) * x_2.dot(tp_2)) * x_2)) - ((cp_2 * nrm_2.dot(tp_2)) * y_2));
+        out[((cp_base + 0u32)) as usize] = pos_0;
+        out[((cp_base + 5u32)) as usize] = pos_1;
+        out[((cp_base + 10u32)) as usize] = pos_2;
+        out[((cp_base + 1u32)) as usize] = next_0;
+        out[((cp_base + 6u32)) as usize] = next_1;
+        out[((cp_base + 11u32)) as usize] = next_2;
+        out[((cp_base + 2u32)) as usize] = prev_0;
+        out[((cp_base + 7u32)) as usize] = prev_1;
+        out[((cp_base + 12u32)) as usize] = prev_2;
+        out[((cp_base + 15u32)) as usize] = (((((next_0 + prev_0) + (next_1 + prev_1)) + (next_2 + prev_2)) / 4.0f32) - (((pos_0 + pos_1) + pos_2) / 6.0f32));
+        let d_0: Vec3 = (pos_1 - pos_0);
+        let d_1: Vec3 = (pos_2 - pos_1);
+        let d_2: Vec3 = (pos_0 - pos_2);
+        out[((cp_base + 3u32)) as usize] = sharp_0;
+        out[((cp_base + 8u32)) as usize] = sharp_1;
+        out[((cp_base + 13u32)) as usize] = sharp_2;
+        out[((cp_base + 4u32)) as usize] = ((sharp_0 + sharp_1) - (((4.0f32 * d_0.dot((sharp_0 + sharp_1))) / d_0.dot(d_0)) * d_0));
+        out[((cp_base + 9u32)) as usize] = ((sharp_1 + sharp_2) - (((4.0f32 * d_1.dot((sharp_1 + sharp_2))) / d_1.dot(d_1)) * d_1));
+        out[((cp_base + 14u32)) as usize] = ((sharp_2 + sharp_0) - (((4.0f32 * d_2.dot((sharp_2 + sharp_0))) / d_2.dot(d_2)) * d_2));
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
+        let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
+        let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
+        let b1: Vec3 = cp[((cp_base + 5u32)) as usize];
+        let bn1: Vec3 = cp[((cp_base + 6u32)) as usize];
+        let bp1: Vec3 = cp[((cp_base + 7u32)) as usize];
+        let b2: Vec3 = cp[((cp_base + 10u32)) as usize];
+        let bn2: Vec3 = cp[((cp_base + 11u32)) as usize];
+        let bp2: Vec3 = cp[((cp_base + 12u32)) as usize];
+        let center: Vec3 = cp[((cp_base + 15u32)) as usize];
+        let s2_200: Vec3 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+        let s2_110: Vec3 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+        let s2_101: Vec3 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+        let s2_020: Vec3 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+        let s2_011: Vec3 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+        let s2_002: Vec3 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+        let s1_100: Vec3 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+        let s1_010: Vec3 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+        let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+        let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+        return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface(cp, cp_base, iu, iv, level);
+        if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+            let mut edge: u32 = 2u32;
+            let mut t: u32 = (level - iv);
+            if (iv == 0u32) {
+                edge = 0u32;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    edge = 1u32;
+                    t = iv;
+                }
+            }
+            let curve: u32 = ((class * 12u32) + (edge * 4u32));
+            let b0: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+            let b1: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 1u32)) as usize])) as usize];
+            let b2: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 2u32)) as usize])) as usize];
+            let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+            sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
+        }
+        return sample;
+    }
+    
+    /// Samples of one triangle patch at `level`: (level+1)(level+2)/2.
+    pub fn grid_len(level: u32) -> u32 {
+        return (((level + 1u32) * (level + 2u32)) / 2u32);
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iu(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return rest;
+    }
+    
+    /// Integer domain coordinate of sample `s`: rows iv = 0..=level of level+1−iv samples each (iu = 0..=level−iv), found by walking the rows.
+    pub fn grid_iv(s: u32, level: u32) -> u32 {
+        let mut row: u32 = 0u32;
+        let mut rest: u32 = s;
+        for r in (0u32)..(level) {
+            if (rest >= ((level + 1u32) - row)) {
+                rest = (rest - ((level + 1u32) - row));
+                row = (row + 1u32);
+            }
+        }
+        return row;
+    }
+    
+    /// Entry points of this scheme.
+    pub const KERNELS: SchemeKernels = SchemeKernels {
+        name: "stpn",
+        rows_per_n: 0,
+        rows_fixed: 0,
+        vertex_stage: vertex_stage,
+        classes: &[
+            ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
+        ],
+        eval: eval,
+        sides: 3,
+        grid_len: grid_len,
+        grid_iu: grid_iu,
+        grid_iv: grid_iv,
+    };
+}
+
 /// Phong tessellation (Boubekeur & Alexa 2008) with shape factor α = 3/4:
 /// the linear triangle blended with its projections onto the corners'
 /// tangent planes, a quadratic triangle (spec/pn.md §4), stored degree-raised
@@ -1826,10 +2060,10 @@ pub mod phong {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 7680;
+    pub const CONST_ROW_BASE: u32 = 7710;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 0;
@@ -1996,4 +2230,4 @@ pub mod phong {
 
 /// Every scheme in this file.
 #[allow(dead_code)]
-pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS, &acc::KERNELS, &gregory::KERNELS, &gregory_osd::KERNELS, &pn::KERNELS, &phong::KERNELS];
+pub const SCHEMES: &[&common::SchemeKernels] = &[&regular::KERNELS, &pccm::KERNELS, &acc::KERNELS, &gregory::KERNELS, &gregory_osd::KERNELS, &pn::KERNELS, &stpn::KERNELS, &phong::KERNELS];

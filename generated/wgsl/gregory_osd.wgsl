@@ -76,6 +76,15 @@ struct Params {
 // unit normal per vertex, 3 f32 (triangle schemes)
 @group(0) @binding(13) var<storage, read> normals: array<f32>;
 
+// scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN
+@group(0) @binding(14) var<storage, read> tags: array<f32>;
+
+// crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN
+@group(0) @binding(15) var<storage, read> crease: array<f32>;
+
+// side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
+@group(0) @binding(16) var<storage, read> corner_side: array<f32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);

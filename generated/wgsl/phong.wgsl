@@ -76,6 +76,15 @@ struct Params {
 // unit normal per vertex, 3 f32 (triangle schemes)
 @group(0) @binding(13) var<storage, read> normals: array<f32>;
 
+// scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN
+@group(0) @binding(14) var<storage, read> tags: array<f32>;
+
+// crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN
+@group(0) @binding(15) var<storage, read> crease: array<f32>;
+
+// side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
+@group(0) @binding(16) var<storage, read> corner_side: array<f32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -177,10 +186,10 @@ fn tessgen_edge(b0: vec3<f32>, b1: vec3<f32>, b2: vec3<f32>, b3: vec3<f32>, i: u
 // normals, normalize(Σ w_i N_i).
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-var<private> ROW_BASE: array<u32, 33> = array<u32, 33>(0u, 0u, 0u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u);
+var<private> ROW_BASE: array<u32, 33> = array<u32, 33>(0u, 0u, 0u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const CONST_ROW_BASE: u32 = 7680u;
+const CONST_ROW_BASE: u32 = 7710u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const ROWS_PER_N: u32 = 0u;

@@ -126,6 +126,7 @@ fn macro_scheme_sits_beside_the_builtins() {
             "gregory",
             "gregory_osd",
             "pn",
+            "stpn",
             "phong",
             "pccm_sigma"
         ]

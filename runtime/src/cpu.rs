@@ -31,6 +31,10 @@ pub enum TessError {
     },
     #[error(transparent)]
     TriMesh(#[from] crate::trimesh::TriMeshError),
+    #[error(transparent)]
+    Tags(#[from] crate::tags::TagError),
+    #[error("scheme `{scheme}` takes no crease tags (only `stpn` reads them)")]
+    TagsUnused { scheme: String },
 }
 
 /// The error for a scheme given the wrong kind of facet.
@@ -45,7 +49,7 @@ pub fn facet_error(scheme: &SchemeKernels) -> TessError {
         TessError::WrongFacet {
             scheme: scheme.name.into(),
             want: "quads",
-            hint: "triangle meshes need a triangle scheme (pn, phong)",
+            hint: "triangle meshes need a triangle scheme (pn, stpn, phong)",
         }
     }
 }
@@ -171,6 +175,9 @@ pub fn construct(
             corner_vertex: &corner_vertex,
             corner_sector: &corner_sector,
             normals: &[],
+            tags: &[],
+            crease: &[],
+            corner_side: &[],
             table,
         };
         split_by_offsets(&mut vertex_out, &vertex_out_offsets)
@@ -199,6 +206,9 @@ pub fn construct(
             corner_vertex: &corner_vertex,
             corner_sector: &corner_sector,
             normals: &[],
+            tags: &[],
+            crease: &[],
+            corner_side: &[],
             table,
         };
         split_by_offsets(&mut control_points, &cp_offsets)
@@ -336,6 +346,9 @@ pub fn construct_tri(
         corner_vertex: &corner_vertex,
         corner_sector: &[],
         normals: &mesh.normals,
+        tags: &mesh.crease_tags.tags,
+        crease: &mesh.crease_tags.crease,
+        corner_side: &mesh.crease_tags.corner_side,
         table: kernels::table(),
     };
     control_points
@@ -362,13 +375,43 @@ pub fn tessellate_any(
     level: u32,
     split_quads: bool,
 ) -> Result<Tessellation, TessError> {
+    tessellate_tagged(mesh, scheme_name, level, split_quads, None)
+}
+
+/// [`tessellate_any`] with the crease tags of a tag file for `stpn`
+/// ([`crate::tags`]); `tags` with any other scheme is an error rather than
+/// silently ignored.
+pub fn tessellate_tagged(
+    mesh: &Mesh,
+    scheme_name: &str,
+    level: u32,
+    split_quads: bool,
+    tags: Option<&crate::tags::TagFile>,
+) -> Result<Tessellation, TessError> {
     let kernels = scheme(scheme_name)?;
+    if tags.is_some() && kernels.name != "stpn" {
+        return Err(TessError::TagsUnused {
+            scheme: kernels.name.into(),
+        });
+    }
     if kernels.sides == 4 {
         return tessellate_mesh(mesh, scheme_name, level);
     }
     if level == 0 || level > MAX_LEVEL {
         return Err(TessError::Level(level));
     }
+    let tri = tri_mesh(mesh, split_quads, tags)?;
+    let patches = construct_tri(&tri, kernels)?;
+    evaluate(&patches, level)
+}
+
+/// The triangle mesh a triangle scheme runs on: quads split when asked,
+/// normals from the OBJ or area-weighted, crease tags from `tags`.
+pub fn tri_mesh(
+    mesh: &Mesh,
+    split_quads: bool,
+    tags: Option<&crate::tags::TagFile>,
+) -> Result<crate::trimesh::TriMesh, TessError> {
     let tri = crate::trimesh::TriMesh::from_mesh(
         mesh,
         &crate::trimesh::TriOptions {
@@ -376,6 +419,8 @@ pub fn tessellate_any(
             ..Default::default()
         },
     )?;
-    let patches = construct_tri(&tri, kernels)?;
-    evaluate(&patches, level)
+    Ok(match tags {
+        Some(t) => tri.with_tags(t)?,
+        None => tri,
+    })
 }

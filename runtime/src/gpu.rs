@@ -210,6 +210,14 @@ fn u32_bytes(x: &[u32]) -> Vec<u8> {
     b
 }
 
+fn f32_bytes(x: &[f32]) -> Vec<u8> {
+    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 4]);
+    }
+    b
+}
+
 fn vec3_bytes(x: &[Vec3]) -> Vec<u8> {
     let mut b: Vec<u8> = x
         .iter()
@@ -259,6 +267,9 @@ mod binding {
     pub const PATCH_FACES: u32 = 11;
     pub const SAMPLES: u32 = 12;
     pub const NORMALS: u32 = 13;
+    pub const TAGS: u32 = 14;
+    pub const CREASE: u32 = 15;
+    pub const CORNER_SIDE: u32 = 16;
 }
 
 /// What a constructor uploads besides the shared parts (table, pipelines):
@@ -415,8 +426,9 @@ impl<'g> GpuMesh<'g> {
         Self::build(gpu, scheme, limits, upload)
     }
 
-    /// Upload a triangle mesh for a triangle scheme (`pn`, `phong`): corner
-    /// vertices, positions and unit normals; no vertex stage runs.
+    /// Upload a triangle mesh for a triangle scheme (`pn`, `stpn`, `phong`):
+    /// corner vertices, positions, unit normals and the crease tags (read
+    /// only by `stpn`); no vertex stage runs.
     pub fn new_tri(
         gpu: &'g Gpu,
         mesh: &crate::trimesh::TriMesh,
@@ -454,6 +466,24 @@ impl<'g> GpuMesh<'g> {
                     none,
                 ),
                 (binding::NORMALS, "normals", vec3_bytes(&mesh.normals), none),
+                (
+                    binding::TAGS,
+                    "tags",
+                    f32_bytes(&mesh.crease_tags.tags),
+                    none,
+                ),
+                (
+                    binding::CREASE,
+                    "crease",
+                    vec3_bytes(&mesh.crease_tags.crease),
+                    none,
+                ),
+                (
+                    binding::CORNER_SIDE,
+                    "corner_side",
+                    f32_bytes(&mesh.crease_tags.corner_side),
+                    none,
+                ),
                 (
                     binding::CORNER_VERTEX,
                     "corner_vertex",
@@ -938,21 +968,31 @@ pub fn tessellate_any(
     level: u32,
     split_quads: bool,
 ) -> Result<Tessellation, GpuError> {
+    tessellate_tagged(mesh, scheme, level, split_quads, None)
+}
+
+/// Like [`cpu::tessellate_tagged`] on the GPU.
+pub fn tessellate_tagged(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+    tags: Option<&crate::tags::TagFile>,
+) -> Result<Tessellation, GpuError> {
     let kernels = cpu::scheme(scheme)?;
+    if tags.is_some() && kernels.name != "stpn" {
+        return Err(cpu::TessError::TagsUnused {
+            scheme: kernels.name.into(),
+        }
+        .into());
+    }
     if kernels.sides == 4 {
         return tessellate_mesh(mesh, scheme, level);
     }
     if level == 0 || level > cpu::MAX_LEVEL {
         return Err(cpu::TessError::Level(level).into());
     }
-    let tri = crate::trimesh::TriMesh::from_mesh(
-        mesh,
-        &crate::trimesh::TriOptions {
-            split_quads,
-            ..Default::default()
-        },
-    )
-    .map_err(cpu::TessError::from)?;
+    let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
     let gpu = Gpu::new()?;
     GpuMesh::new_tri(&gpu, &tri, kernels.name)?.evaluate(level)
 }

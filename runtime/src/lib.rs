@@ -27,6 +27,7 @@ pub mod pattern;
 #[cfg(feature = "gpu")]
 pub mod render;
 pub mod stats;
+pub mod tags;
 pub mod topology;
 pub mod trimesh;
 pub mod weld;

@@ -44,6 +44,7 @@ use glam::{DVec3, Vec3};
 use thiserror::Error;
 
 use crate::mesh::{Mesh, MeshError};
+use crate::tags::{CreaseTags, TagError, TagFile};
 
 /// A triangle mesh with one unit normal per vertex: the input of the triangle schemes.
 ///
@@ -66,6 +67,9 @@ pub struct TriMesh {
     pub source_face: Vec<u32>,
     /// Where [`TriMesh::normals`] came from.
     pub normal_source: NormalSource,
+    /// Scalar tags and side signs for `stpn` ([`crate::tags`]); neutral (plain PN) unless
+    /// [`TriMesh::with_tags`] set them. Other schemes never read them.
+    pub crease_tags: CreaseTags,
 }
 
 /// Where the vertex normals of a [`TriMesh`] came from.
@@ -209,13 +213,22 @@ impl TriMesh {
         } else {
             (obj_normals(mesh)?, NormalSource::Obj)
         };
+        let crease_tags = CreaseTags::neutral(positions.len(), triangles.len());
         Ok(TriMesh {
             positions,
             normals,
             triangles,
             source_face,
             normal_source,
+            crease_tags,
         })
+    }
+
+    /// This mesh with the scalar tags of a parsed tag file ([`crate::tags`]): explicit sides
+    /// where the file names them, the geometric default elsewhere.
+    pub fn with_tags(mut self, file: &TagFile) -> Result<TriMesh, TagError> {
+        self.crease_tags = CreaseTags::resolve(&self, file)?;
+        Ok(self)
     }
 
     /// Number of vertices, including vertices no triangle uses.

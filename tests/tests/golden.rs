@@ -139,6 +139,9 @@ impl Quad {
             corner_vertex: cv,
             corner_sector: cs,
             normals: &[],
+            tags: &[],
+            crease: &[],
+            corner_side: &[],
             table,
         }
     }
@@ -457,24 +460,68 @@ fn gregory_matches_schemes_reference() {
     }
 }
 
-/// Runs a triangle scheme's patch stage on one triangle (corners 0, 1, 2).
-fn tri_control_points(scheme: &SchemeKernels, p: &[Vec3], n: &[Vec3]) -> Vec<Vec3> {
-    let class = &scheme.classes[0];
-    let mut cp = vec![Vec3::ZERO; class.control_points as usize];
-    let inputs = Inputs {
-        positions: p,
-        valence: &[],
-        ring_offsets: &[],
-        ring: &[],
-        vertex_out_offsets: &[],
-        vertex_out: &[],
-        corner_vertex: &[0, 1, 2],
-        corner_sector: &[],
-        normals: n,
-        table: kernels::table(),
-    };
-    (class.patch)(&inputs, &mut cp, 0, 0);
-    cp
+/// One golden triangle's inputs: corners 0, 1, 2 with positions, normals
+/// and (for `st_pn`) the scalar tags and side signs; neutral tags otherwise.
+struct TriCase {
+    p: Vec<Vec3>,
+    n: Vec<Vec3>,
+    tags: Vec<f32>,
+    crease: Vec<Vec3>,
+    side: Vec<f32>,
+}
+
+impl TriCase {
+    fn load(case: &serde_json::Value) -> TriCase {
+        let p: Vec<Vec3> = case["P"].as_array().expect("P").iter().map(v3).collect();
+        let n: Vec<Vec3> = case["N"].as_array().expect("N").iter().map(v3).collect();
+        let mut tags = vec![0.0; 12];
+        let mut crease = vec![Vec3::ZERO; 3];
+        let mut side = vec![1.0; 3];
+        if let Some(ts) = case["tags"].as_array() {
+            for (i, t) in ts.iter().enumerate() {
+                let delta = v3(&t["Delta"]);
+                let creased = if delta != Vec3::ZERO { 1.0 } else { 0.0 };
+                tags[4 * i..4 * i + 4].copy_from_slice(&[
+                    t["theta"].as_f64().expect("theta") as f32,
+                    t["sigma"].as_f64().expect("sigma") as f32,
+                    t["beta"].as_f64().expect("beta") as f32,
+                    creased,
+                ]);
+                crease[i] = delta;
+            }
+            side = f64s(&case["side"]).iter().map(|&x| x as f32).collect();
+        }
+        TriCase {
+            p,
+            n,
+            tags,
+            crease,
+            side,
+        }
+    }
+
+    /// Runs a triangle scheme's patch stage on this triangle.
+    fn control_points(&self, scheme: &SchemeKernels) -> Vec<Vec3> {
+        let class = &scheme.classes[0];
+        let mut cp = vec![Vec3::ZERO; class.control_points as usize];
+        let inputs = Inputs {
+            positions: &self.p,
+            valence: &[],
+            ring_offsets: &[],
+            ring: &[],
+            vertex_out_offsets: &[],
+            vertex_out: &[],
+            corner_vertex: &[0, 1, 2],
+            corner_sector: &[],
+            normals: &self.n,
+            tags: &self.tags,
+            crease: &self.crease,
+            corner_side: &self.side,
+            table: kernels::table(),
+        };
+        (class.patch)(&inputs, &mut cp, 0, 0);
+        cp
+    }
 }
 
 /// One triangle through a triangle scheme's patch stage and evaluator, at
@@ -485,10 +532,9 @@ fn check_triangle(name: &str, key: &str) -> Worst {
     let case = &g[key];
     let scheme = kernels::scheme(name).expect("scheme");
     assert_eq!(scheme.sides, 3);
-    let p: Vec<Vec3> = case["P"].as_array().expect("P").iter().map(v3).collect();
-    let n: Vec<Vec3> = case["N"].as_array().expect("N").iter().map(v3).collect();
-    let scale = scale_of(&p);
-    let cp = tri_control_points(scheme, &p, &n);
+    let tc = TriCase::load(case);
+    let scale = scale_of(&tc.p);
+    let cp = tc.control_points(scheme);
     let mut worst = Worst::default();
     for s in case["eval"].as_array().expect("eval") {
         let w = f64s(&s["bary"]);
@@ -507,21 +553,12 @@ fn check_triangle(name: &str, key: &str) -> Worst {
     worst
 }
 
-/// PN triangles (pn.md §5): the 10 geometry and 6 normal control points,
-/// and positions/normals at the golden barycentric samples.
-#[test]
-fn pn_matches_schemes_reference() {
+/// The cubic-triangle control points as the reference names them:
+/// `b_ijk` exponents of (w1, w2, w3) = corners (0, 1, 2).
+fn tri_control_names() -> [(&'static str, usize); 10] {
     use tessgen_codegen::form::Form;
-    let g = common::json("spec/schemes_reference.json");
-    let pn = &g["pn"];
-    let scheme = kernels::scheme("pn").expect("pn");
-    let p: Vec<Vec3> = pn["P"].as_array().expect("P").iter().map(v3).collect();
-    let n: Vec<Vec3> = pn["N"].as_array().expect("N").iter().map(v3).collect();
-    let scale = scale_of(&p);
-    let cp = tri_control_points(scheme, &p, &n);
     let f = Form::TriCubic;
-    // b_ijk exponents of (w1, w2, w3) = corners (0, 1, 2).
-    let names = [
+    [
         ("b300", f.storage_index(0, 0)),
         ("b030", f.storage_index(1, 0)),
         ("b003", f.storage_index(2, 0)),
@@ -532,8 +569,22 @@ fn pn_matches_schemes_reference() {
         ("b102", f.storage_index(2, 1)),
         ("b012", f.storage_index(2, 2)),
         ("b111", f.single_index(0)),
-    ];
-    for (key, idx) in names {
+    ]
+}
+
+/// PN triangles (pn.md §5): the 10 geometry and 6 normal control points,
+/// and positions/normals at the golden barycentric samples.
+#[test]
+fn pn_matches_schemes_reference() {
+    use tessgen_codegen::form::Form;
+    let g = common::json("spec/schemes_reference.json");
+    let pn = &g["pn"];
+    let scheme = kernels::scheme("pn").expect("pn");
+    let tc = TriCase::load(pn);
+    let scale = scale_of(&tc.p);
+    let cp = tc.control_points(scheme);
+    let f = Form::TriCubic;
+    for (key, idx) in tri_control_names() {
         let e = rel(cp[idx], v3(&pn["control"][key]), scale);
         assert!(e < 1e-5, "pn {key} off by {e}");
     }
@@ -551,6 +602,57 @@ fn pn_matches_schemes_reference() {
     }
     let w = check_triangle("pn", "pn");
     println!("pn golden: worst {w:?}");
+}
+
+/// Scalar-tagged PN (pn.md §3): a tension, two sharpness values, a bias
+/// and crease vectors on two corners (their shared edge is a crease edge,
+/// δ = 1). Checks the ten control points, the side normals N' (the normal
+/// field's corner coefficients) and positions/normals at the samples.
+#[test]
+fn stpn_matches_schemes_reference() {
+    use tessgen_codegen::form::Form;
+    let g = common::json("spec/schemes_reference.json");
+    let st = &g["st_pn"];
+    let scheme = kernels::scheme("stpn").expect("stpn");
+    let tc = TriCase::load(st);
+    let scale = scale_of(&tc.p);
+    let cp = tc.control_points(scheme);
+    let mut worst = 0.0f64;
+    for (key, idx) in tri_control_names() {
+        let e = rel(cp[idx], v3(&st["control"][key]), scale);
+        assert!(e < 1e-5, "stpn {key} off by {e}");
+        worst = worst.max(e);
+    }
+    let f = Form::TriCubic;
+    for (i, want) in st["sharp_normals"]
+        .as_array()
+        .expect("sharp")
+        .iter()
+        .enumerate()
+    {
+        let a = angle_deg(cp[f.storage_index(i, 3)], v3(want));
+        assert!(a < 1e-3, "stpn sharp normal {i} off by {a}°");
+    }
+    let w = check_triangle("stpn", "st_pn");
+    println!("stpn golden: control points worst {worst:.2e}, eval {w:?}");
+}
+
+/// With neutral tags scalar-tagged PN is plain PN (pn.md §3): the same
+/// control points up to f32 rounding on the pn golden triangle.
+#[test]
+fn stpn_with_neutral_tags_is_pn() {
+    let g = common::json("spec/schemes_reference.json");
+    let tc = TriCase::load(&g["pn"]);
+    let scale = scale_of(&tc.p);
+    let a = tc.control_points(kernels::scheme("pn").expect("pn"));
+    let b = tc.control_points(kernels::scheme("stpn").expect("stpn"));
+    assert_eq!(a.len(), b.len());
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(x, y)| rel(*x, *y, scale))
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "stpn (neutral) vs pn: {worst}");
 }
 
 /// Phong tessellation with α = 3/4 (pn.md §4), degree-raised to the cubic

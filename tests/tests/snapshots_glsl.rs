@@ -62,6 +62,12 @@ const FILES: &[&str] = &[
     "glsl/pn_vertex_stage.comp",
     "glsl/pn_patch.comp",
     "glsl/pn_eval.comp",
+    "glsl/stpn.vert",
+    "glsl/stpn.tesc",
+    "glsl/stpn.tese",
+    "glsl/stpn_vertex_stage.comp",
+    "glsl/stpn_patch.comp",
+    "glsl/stpn_eval.comp",
     "glsl/phong.vert",
     "glsl/phong.tesc",
     "glsl/phong.tese",
@@ -145,6 +151,14 @@ fn glsl_gregory_osd() {
 fn glsl_pn() {
     let out = build();
     for path in files_of("pn") {
+        insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_stpn() {
+    let out = build();
+    for path in files_of("stpn") {
         insta::assert_snapshot!(name(&path), text(&out, &path));
     }
 }

@@ -38,6 +38,7 @@ fn hlsl_files_are_one_per_scheme() {
             "hlsl/gregory.hlsl",
             "hlsl/gregory_osd.hlsl",
             "hlsl/pn.hlsl",
+            "hlsl/stpn.hlsl",
             "hlsl/phong.hlsl"
         ]
     );
@@ -77,6 +78,12 @@ fn hlsl_gregory_osd() {
 fn hlsl_pn() {
     let out = build();
     insta::assert_snapshot!("hlsl_pn_hlsl", text(&out, "hlsl/pn.hlsl"));
+}
+
+#[test]
+fn hlsl_stpn() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_stpn_hlsl", text(&out, "hlsl/stpn.hlsl"));
 }
 
 #[test]

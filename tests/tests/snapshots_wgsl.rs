@@ -40,7 +40,8 @@ fn wgsl_files() {
             "wgsl/pccm.wgsl",
             "wgsl/phong.wgsl",
             "wgsl/pn.wgsl",
-            "wgsl/regular.wgsl"
+            "wgsl/regular.wgsl",
+            "wgsl/stpn.wgsl"
         ]
     );
 }
@@ -76,6 +77,11 @@ fn wgsl_gregory_osd() {
 #[test]
 fn wgsl_pn() {
     insta::assert_snapshot!("wgsl_pn_wgsl", text(&build(), "wgsl/pn.wgsl"));
+}
+
+#[test]
+fn wgsl_stpn() {
+    insta::assert_snapshot!("wgsl_stpn_wgsl", text(&build(), "wgsl/stpn.wgsl"));
 }
 
 #[test]

@@ -136,7 +136,8 @@ fn builtin_schemes_validate() {
             "pccm",
             "phong",
             "pn",
-            "regular"
+            "regular",
+            "stpn"
         ])
     );
     validate_all(&files);

@@ -262,8 +262,8 @@ fn printer_lists_the_expected_entry_points() {
 fn builtin_schemes_compile_and_validate() {
     let out = build(Builder::new().builtin_schemes());
     let modules = validate(&out);
-    // regular, pccm, acc, gregory, gregory_osd, pn, phong: every entry point of each.
-    assert_eq!(modules.len(), 7 * EXPECTED.len());
+    // regular, pccm, acc, gregory, gregory_osd, pn, stpn, phong: every entry point of each.
+    assert_eq!(modules.len(), 8 * EXPECTED.len());
     cleanup(&modules);
 }
 
@@ -322,6 +322,7 @@ fn spirv_bindings_are_the_abi_bindings_and_edges_are_precise() {
         // outputs (pn.md: no vertex stage), so the compiler drops it all.
         let empty_vertex_stage = entry == "vertex_stage_main"
             && (file.ends_with("pn.hlsl") || file.ends_with("phong.hlsl"));
+        // (`stpn.hlsl` ends with `pn.hlsl`.)
         assert!(
             entry == "vs_main" || empty_vertex_stage || !bindings.is_empty(),
             "{file} {entry}: no descriptor bindings at all"

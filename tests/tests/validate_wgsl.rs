@@ -335,7 +335,8 @@ fn builtin_schemes_validate() {
             "wgsl/pccm.wgsl",
             "wgsl/phong.wgsl",
             "wgsl/pn.wgsl",
-            "wgsl/regular.wgsl"
+            "wgsl/regular.wgsl",
+            "wgsl/stpn.wgsl"
         ]
     );
     validate_all(&files);
@@ -371,6 +372,19 @@ fn entry_point_bindings() {
                     "5 vertex_out read_write",
                     "9 stencil_table -",
                     "10 params -",
+                ],
+                // Scalar-tagged PN also reads the tags, crease vectors and
+                // side signs: 8 storage buffers, WebGPU's default limit.
+                "patch_main" if f.path == "wgsl/stpn.wgsl" => &[
+                    "0 positions read",
+                    "6 corner_vertex read",
+                    "8 control_points read_write",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "13 normals read",
+                    "14 tags read",
+                    "15 crease read",
+                    "16 corner_side read",
                 ],
                 // Triangle schemes: positions and normals at the corners.
                 "patch_main" if ["wgsl/pn.wgsl", "wgsl/phong.wgsl"].contains(&f.path.as_str()) => {

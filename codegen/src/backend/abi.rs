@@ -54,6 +54,9 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 11, name: "patch_faces", kind: Kind::U32Buffer, resource: None, written: false, doc: "face index of each patch, patches sorted by class" },
     Binding { binding: 12, name: "samples", kind: Kind::F32Buffer, resource: None, written: true, doc: "evaluated samples, 6 f32 each (position xyz, normal xyz)" },
     Binding { binding: 13, name: "normals", kind: Kind::Vec3Buffer, resource: Some(Resource::Normals), written: false, doc: "unit normal per vertex, 3 f32 (triangle schemes)" },
+    Binding { binding: 14, name: "tags", kind: Kind::F32Buffer, resource: Some(Resource::Tags), written: false, doc: "scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN" },
+    Binding { binding: 15, name: "crease", kind: Kind::Vec3Buffer, resource: Some(Resource::Crease), written: false, doc: "crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN" },
+    Binding { binding: 16, name: "corner_side", kind: Kind::F32Buffer, resource: Some(Resource::CornerSide), written: false, doc: "side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN" },
 ];
 
 /// Binding of a Plan resource.

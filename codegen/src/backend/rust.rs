@@ -177,6 +177,12 @@ pub struct Inputs<'a> {
     pub corner_sector: &'a [u32],
     /// Unit normal per vertex (triangle schemes; empty for quad schemes).
     pub normals: &'a [Vec3],
+    /// Scalar-tagged PN: 4 f32 per vertex (tension, sharpness, bias, creased).
+    pub tags: &'a [f32],
+    /// Scalar-tagged PN: crease vector Δ per vertex.
+    pub crease: &'a [Vec3],
+    /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
+    pub corner_side: &'a [f32],
     /// The stencil table, row-major, TABLE_WIDTH columns.
     pub table: &'a [f32],
 }

@@ -56,6 +56,9 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         corner_vertex: &corner_vertex,
         corner_sector: &corner_sector,
         normals: &[],
+        tags: &[],
+        crease: &[],
+        corner_side: &[],
         table: &table,
     };
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
