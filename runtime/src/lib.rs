@@ -29,6 +29,9 @@ pub mod render;
 pub mod stats;
 pub mod topology;
 pub mod trimesh;
+pub mod upload;
+#[cfg(feature = "vulkan")]
+pub mod vulkan;
 pub mod weld;
 
 pub use cpu::{TessError, Tessellation};

@@ -280,6 +280,16 @@ fn param(field: &str) -> String {
     format!("params.{}", ident(field))
 }
 
+/// The six floats of a captured sample, in `samples` order.
+const SAMPLE_FIELDS: [&str; 6] = [
+    "position.x",
+    "position.y",
+    "position.z",
+    "normal.x",
+    "normal.y",
+    "normal.z",
+];
+
 pub struct Writer<'a> {
     plan: &'a Plan,
     module: &'a Module,
@@ -372,7 +382,11 @@ impl<'a> Writer<'a> {
                 .iter()
                 .map(|p| FnRef::Local(p.function))
                 .collect(),
-            Stage::Tese => vec![FnRef::Local(self.entries.eval)],
+            Stage::Tese => vec![
+                FnRef::Local(self.entries.eval),
+                FnRef::Local(self.entries.grid[0]),
+                FnRef::Local(self.entries.grid_index),
+            ],
             Stage::CompEval => std::iter::once(self.entries.eval)
                 .chain(self.entries.grid)
                 .map(FnRef::Local)
@@ -561,6 +575,14 @@ impl<'a> Writer<'a> {
             self.line("layout(location = 0) out vec3 te_normal;");
             self.line("layout(location = 1) out vec3 te_position;");
             self.line("");
+            // Capture builds bind the samples buffer (written from this stage).
+            self.out
+                .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+            if let Some(b) = abi::BINDINGS.iter().find(|b| b.name == "samples") {
+                self.binding(b, true);
+            }
+            self.out.push_str("#endif\n");
+            self.line("");
         }
         self.helpers(&need);
         for r in self.reachable() {
@@ -743,6 +765,19 @@ impl<'a> Writer<'a> {
                 self.line("te_normal = result.normal;");
                 self.line("te_position = result.position;");
                 self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
+                let grid_len = self.fn_name(FnRef::Local(self.entries.grid[0]));
+                let grid_index = self.fn_name(FnRef::Local(self.entries.grid_index));
+                self.out
+                    .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+                self.line("// Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw");
+                self.line("// being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).");
+                self.line(&format!(
+                    "uint o = ((((params.out_base + uint(gl_PrimitiveID)) * {grid_len}({level})) + {grid_index}(iu, iv, {level})) * 6u);"
+                ));
+                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
+                    self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+                }
+                self.out.push_str("#endif\n");
             }
             Stage::CompVertex => {
                 self.line("uint k = gl_GlobalInvocationID.x;");
@@ -799,17 +834,7 @@ impl<'a> Writer<'a> {
                     self.fn_name(FnRef::Local(self.entries.eval))
                 ));
                 self.line(&format!("uint o = (({} + k) * 6u);", param("out_base")));
-                for (i, c) in [
-                    "position.x",
-                    "position.y",
-                    "position.z",
-                    "normal.x",
-                    "normal.y",
-                    "normal.z",
-                ]
-                .iter()
-                .enumerate()
-                {
+                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
                     self.line(&format!("samples[(o + {i}u)] = result.{c};"));
                 }
             }
@@ -911,6 +936,21 @@ impl<'a> Writer<'a> {
                         self.indent -= 1;
                         self.line("}");
                     }
+                }
+                Stmt::IfDef(d, a, b) => {
+                    // Preprocessor lines at column 0.
+                    let (open, first, second) = if a.is_empty() {
+                        (format!("#ifndef {}\n", d.name()), b, &a[..])
+                    } else {
+                        (format!("#ifdef {}\n", d.name()), a, &b[..])
+                    };
+                    self.out.push_str(&open);
+                    self.stmts(m, f, first);
+                    if !second.is_empty() {
+                        self.out.push_str("#else\n");
+                        self.stmts(m, f, second);
+                    }
+                    self.out.push_str("#endif\n");
                 }
                 Stmt::For(id, a, b, body) => {
                     let v = self.locals[id.0].clone();

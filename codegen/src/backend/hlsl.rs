@@ -595,6 +595,21 @@ impl<'a> Writer<'a> {
                         self.line("}");
                     }
                 }
+                Stmt::IfDef(d, a, b) => {
+                    // Preprocessor lines at column 0.
+                    let (open, first, second) = if a.is_empty() {
+                        (format!("#ifndef {}\n", d.name()), b, &a[..])
+                    } else {
+                        (format!("#ifdef {}\n", d.name()), a, &b[..])
+                    };
+                    self.out.push_str(&open);
+                    self.stmts(cx, first);
+                    if !second.is_empty() {
+                        self.out.push_str("#else\n");
+                        self.stmts(cx, second);
+                    }
+                    self.out.push_str("#endif\n");
+                }
                 Stmt::For(id, a, b, body) => {
                     let v = &cx.names[id.0];
                     let s = format!(
@@ -878,6 +893,9 @@ impl<'a> Writer<'a> {
             .map(|t| self.ty(t))
             .unwrap_or_else(|| "void".into());
         let (position, normal) = self.sample_fields();
+        let capture = Define::Capture.name();
+        let grid_len = ident(&self.module.functions[self.entries.grid[0]].name);
+        let grid_index = ident(&self.module.functions[self.entries.grid_index].name);
         let tri = self.entries.sides == 3;
         let (domain, edges, inside, uv_ty, cu, cv) = if tri {
             ("tri", 3, 1, "float3", "y", "z")
@@ -992,7 +1010,7 @@ struct DsOut {{
 
 {domain_doc}
 [domain("{domain}")]
-DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
+DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl, uint patch_id : SV_PrimitiveID) {{
     uint level = params.level;
     uint iu = (uint)round(uv.{cu} * float(level));
     uint iv = (uint)round(uv.{cv} * float(level));
@@ -1001,6 +1019,17 @@ DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch
     o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
     o.normal = result.{normal};
     o.world = result.{position};
+#ifdef {capture}
+    // Capture: the sample at eval_main's layout, patch patch_id of the draw
+    // being patch out_base + patch_id, sample grid_index(iu, iv).
+    uint at = ((((params.out_base + patch_id) * {grid_len}(level)) + {grid_index}(iu, iv, level)) * 6u);
+    samples[at] = result.{position}.x;
+    samples[(at + 1u)] = result.{position}.y;
+    samples[(at + 2u)] = result.{position}.z;
+    samples[(at + 3u)] = result.{normal}.x;
+    samples[(at + 4u)] = result.{normal}.y;
+    samples[(at + 5u)] = result.{normal}.z;
+#endif
     return o;
 }}"#
         );
