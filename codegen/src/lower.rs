@@ -135,8 +135,17 @@ pub fn common_module(table: &StencilTable) -> Module {
             vec![Stmt::Return(l(b[3]))],
             vec![],
         ),
-        Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
         Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
+        // Negative control (GLSL/HLSL only): `l = 1 − r` in float, the form
+        // watertight.md Rule 2 forbids; the two sides then disagree.
+        Stmt::IfDef(
+            plan::Define::AsymmetricEdgeWeights,
+            vec![Stmt::Let(wl, sub(f32c(1.0), l(wr)))],
+            vec![Stmt::Let(
+                wl,
+                div(to_f32(sub(l(level), l(i))), to_f32(l(level))),
+            )],
+        ),
     ];
     for k in 0..3 {
         f.body

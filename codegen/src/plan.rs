@@ -155,6 +155,10 @@ pub enum Define {
     /// boundary keep the patch's own surface formula instead of taking the
     /// one shared edge evaluator, so the check must then find cracks.
     NoBoundaryPath,
+    /// Negative control: the shared edge evaluator forms its left weight as
+    /// `1 − r` in float instead of from integers (watertight.md Rule 2's
+    /// forbidden form), so the two patches of an edge round differently.
+    AsymmetricEdgeWeights,
     /// The tessellation evaluation stage also writes every sample into the
     /// `samples` buffer, at the layout of `eval_main` (harness builds).
     Capture,
@@ -166,6 +170,7 @@ impl Define {
         match self {
             Define::NoBoundaryPath => "TESSGEN_NO_BOUNDARY_PATH",
             Define::Capture => "TESSGEN_CAPTURE",
+            Define::AsymmetricEdgeWeights => "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS",
         }
     }
 }

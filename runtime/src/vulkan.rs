@@ -53,6 +53,10 @@ impl Language {
 /// Define that compiles the shared boundary path out of `eval` (a negative
 /// control: the watertightness check must then find cracks).
 pub const NO_BOUNDARY_PATH: &str = "TESSGEN_NO_BOUNDARY_PATH";
+/// Define that makes the shared edge evaluator form `l = 1 − r` in float
+/// (watertight.md Rule 2's forbidden form): a negative control that must
+/// open the weld at levels whose `i/level` is inexact.
+pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
 /// Define that makes the evaluation stage write its samples (always set by
 /// this harness).
 pub const CAPTURE: &str = "TESSGEN_CAPTURE";
@@ -547,17 +551,19 @@ fn compile(
     result
 }
 
-/// The per-patch output locations a scheme's control stage writes: one
-/// `vec3` location per control point (`tcs_cp[KMAX]`), against the
-/// device's `maxTessellationControlPerPatchOutputComponents / 4` locations
-/// (Vulkan's "Shader Input and Output Locations" table).
+/// The per-patch output locations a scheme's control stage writes: the
+/// control points packed into `ceil(3·KMAX / 4)` `vec4`s, plus one for the
+/// patch index the HLSL hull passes on; against the device's
+/// `maxTessellationControlPerPatchOutputComponents / 4` locations (Vulkan's
+/// "Shader Input and Output Locations" table).
 pub fn per_patch_locations(scheme: &SchemeKernels) -> u32 {
-    scheme
+    let kmax = scheme
         .classes
         .iter()
         .map(|c| c.control_points)
         .max()
-        .unwrap_or(1)
+        .unwrap_or(1);
+    (3 * kmax).div_ceil(4) + 1
 }
 
 /// Check that a scheme's tessellation pipeline fits the device.

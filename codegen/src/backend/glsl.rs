@@ -318,7 +318,16 @@ impl<'a> Writer<'a> {
             globals.insert(format!("load_{}", b.name));
             globals.insert(format!("store_{}", b.name));
         }
-        for g in ["tcs_cp", "KMAX", "te_normal", "te_position", "Params"] {
+        for g in [
+            "tcs_cp",
+            "KMAX",
+            "KMAX4",
+            "load_tcs_cp",
+            "store_tcs_cp",
+            "te_normal",
+            "te_position",
+            "Params",
+        ] {
             globals.insert(g.to_string());
         }
         Writer {
@@ -564,11 +573,28 @@ impl<'a> Writer<'a> {
             } else {
                 "in"
             };
-            self.line("// Control points of this patch, written once by the control stage.");
+            self.line("// Control points of this patch, written once by the control stage, packed:");
+            self.line("// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted");
+            self.line("// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),");
+            self.line("// so KMAX vec3 would take KMAX locations.");
             self.line(&format!("const uint KMAX = {}u;", self.kmax()));
+            self.line(&format!("const uint KMAX4 = {}u;", (3 * self.kmax()).div_ceil(4)));
             self.line(&format!(
-                "layout(location = 0) patch {dir} vec3 tcs_cp[KMAX];"
+                "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));
+            self.line("");
+            if self.stage == Stage::Tesc {
+                self.line("void store_tcs_cp(uint i, vec3 v) {");
+                self.line("    uint c = (3u * i);");
+                self.line("    tcs_cp[(c / 4u)][(c % 4u)] = v.x;");
+                self.line("    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;");
+                self.line("    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;");
+            } else {
+                self.line("vec3 load_tcs_cp(uint i) {");
+                self.line("    uint c = (3u * i);");
+                self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
+            }
+            self.line("}");
             self.line("");
         }
         if self.stage == Stage::Tese {
@@ -913,7 +939,7 @@ impl<'a> Writer<'a> {
                 Stmt::Store(r, i, v) => {
                     let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
                     let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("tcs_cp[{i}] = {v};")
+                        format!("store_tcs_cp({i}, {v});")
                     } else if r.ty() == Ty::Vec3 {
                         format!("store_{}({i}, {v});", r.name())
                     } else {
@@ -1036,7 +1062,7 @@ impl<'a> Writer<'a> {
             Expr::Fetch(r, i) => {
                 let idx = self.expr(m, f, i);
                 if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("tcs_cp[{idx}]")
+                    format!("load_tcs_cp({idx})")
                 } else if r.ty() == Ty::Vec3 {
                     format!("load_{}({idx})", r.name())
                 } else {
