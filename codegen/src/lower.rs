@@ -270,10 +270,7 @@ fn grid_index_fn(sides: u32) -> Function {
     let below = if sides == 4 {
         mul(l(iv), add(l(level), u(1)))
     } else {
-        div(
-            mul(l(iv), sub(add(mul(u(2), l(level)), u(3)), l(iv))),
-            u(2),
-        )
+        div(mul(l(iv), sub(add(mul(u(2), l(level)), u(3)), l(iv))), u(2))
     };
     f.body = vec![Stmt::Return(add(below, l(iu)))];
     f

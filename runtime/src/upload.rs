@@ -244,10 +244,7 @@ impl Upload {
 
     /// A triangle mesh for a triangle scheme: corner vertices, positions
     /// and unit normals; no vertex stage runs.
-    pub fn tri(
-        mesh: &crate::trimesh::TriMesh,
-        scheme_name: &str,
-    ) -> Result<Upload, UploadError> {
+    pub fn tri(mesh: &crate::trimesh::TriMesh, scheme_name: &str) -> Result<Upload, UploadError> {
         let scheme = cpu::scheme(scheme_name)?;
         if scheme.sides != 3 {
             return Err(cpu::facet_error(scheme).into());

@@ -127,7 +127,9 @@ impl From<UploadError> for VkError {
     fn from(e: UploadError) -> Self {
         match e {
             UploadError::Tess(e) => VkError::Tess(e),
-            UploadError::PositionCount { expected, got } => VkError::PositionCount { expected, got },
+            UploadError::PositionCount { expected, got } => {
+                VkError::PositionCount { expected, got }
+            }
         }
     }
 }
@@ -202,12 +204,12 @@ impl Vulkan {
                 }
             }
             let f = unsafe { instance.get_physical_device_features(pd) };
-            if f.tessellation_shader == vk::FALSE || f.vertex_pipeline_stores_and_atomics == vk::FALSE
+            if f.tessellation_shader == vk::FALSE
+                || f.vertex_pipeline_stores_and_atomics == vk::FALSE
             {
                 continue;
             }
-            let families =
-                unsafe { instance.get_physical_device_queue_family_properties(pd) };
+            let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
             let Some(family) = families.iter().position(|q| {
                 q.queue_flags
                     .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
@@ -543,7 +545,8 @@ fn compile(
                 ),
             });
         }
-        let bytes = std::fs::read(&spv).map_err(|e| VkError::Io(format!("{}: {e}", spv.display())))?;
+        let bytes =
+            std::fs::read(&spv).map_err(|e| VkError::Io(format!("{}: {e}", spv.display())))?;
         ash::util::read_spv(&mut std::io::Cursor::new(bytes))
             .map_err(|e| VkError::Io(format!("{}: {e}", spv.display())))
     })();
@@ -581,7 +584,11 @@ pub fn check_limits(scheme: &SchemeKernels, l: &DeviceLimits) -> Result<(), VkEr
             Ok(())
         }
     };
-    limit("patch size (control points per input patch)", 1, l.max_tessellation_patch_size as u64)?;
+    limit(
+        "patch size (control points per input patch)",
+        1,
+        l.max_tessellation_patch_size as u64,
+    )?;
     limit(
         "per-patch output locations of the control stage (maxTessellationControlPerPatchOutputComponents / 4)",
         locations,
@@ -696,11 +703,8 @@ impl<'v> VkMesh<'v> {
             mesh.buffers.push((b.binding, buf));
         }
         mesh.dummy = Some(vk.buffer("unused bindings", 16, storage)?);
-        mesh.params = Some(vk.buffer(
-            "params",
-            PARAMS_SIZE,
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-        )?);
+        mesh.params =
+            Some(vk.buffer("params", PARAMS_SIZE, vk::BufferUsageFlags::UNIFORM_BUFFER)?);
         mesh.table()?;
         mesh.descriptors()?;
         mesh.pipelines()?;
@@ -980,7 +984,10 @@ impl<'v> VkMesh<'v> {
     }
 
     /// Source, file name and entry point of a stage of the emitted shaders.
-    fn shader(&self, stage: &'static str) -> Result<(String, &'static str, Option<&'static str>), VkError> {
+    fn shader(
+        &self,
+        stage: &'static str,
+    ) -> Result<(String, &'static str, Option<&'static str>), VkError> {
         let s = self.scheme.name;
         let (file, entry) = match self.options.language {
             Language::Glsl => (
@@ -1008,14 +1015,16 @@ impl<'v> VkMesh<'v> {
         Ok((file, source, entry))
     }
 
-    fn module(&mut self, stage: &'static str) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
+    fn module(
+        &mut self,
+        stage: &'static str,
+    ) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
         let (file, source, entry) = self.shader(stage)?;
         let words = compile(source, &file, stage, entry, &self.options.defines)?;
         let m = unsafe {
-            self.vk.device.create_shader_module(
-                &vk::ShaderModuleCreateInfo::default().code(&words),
-                None,
-            )
+            self.vk
+                .device
+                .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&words), None)
         }
         .map_err(call("vkCreateShaderModule"))?;
         self.modules.push(m);
@@ -1050,8 +1059,9 @@ impl<'v> VkMesh<'v> {
         let (tesc, cn) = self.module("tesc")?;
         let (tese, en) = self.module("tese")?;
         let d = &self.vk.device;
-        let sub = [vk::SubpassDescription::default()
-            .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)];
+        let sub =
+            [vk::SubpassDescription::default()
+                .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)];
         self.render_pass = unsafe {
             d.create_render_pass(&vk::RenderPassCreateInfo::default().subpasses(&sub), None)
         }
@@ -1100,16 +1110,23 @@ impl<'v> VkMesh<'v> {
             .layout(self.layout)
             .render_pass(self.render_pass)
             .subpass(0);
-        self.draw_pipeline = unsafe {
-            d.create_graphics_pipelines(vk::PipelineCache::null(), &[ci], None)
-        }
-        .map_err(|(_, e)| call("vkCreateGraphicsPipelines")(e))?[0];
+        self.draw_pipeline =
+            unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[ci], None) }
+                .map_err(|(_, e)| call("vkCreateGraphicsPipelines")(e))?[0];
         Ok(())
     }
 
     fn set_params(&self, p: [u32; 6]) {
         if let Some(b) = &self.params {
-            b.write(&params_bytes(Mat4::IDENTITY, p[0], p[1], p[2], p[3], p[4], p[5]));
+            b.write(&params_bytes(
+                Mat4::IDENTITY,
+                p[0],
+                p[1],
+                p[2],
+                p[3],
+                p[4],
+                p[5],
+            ));
         }
     }
 
@@ -1309,8 +1326,7 @@ pub fn tessellate_any(
     }
     let vk = Vulkan::new()?;
     if kernels.sides == 4 {
-        let topo =
-            Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
         let positions: Vec<Vec3> = mesh
             .positions
             .iter()

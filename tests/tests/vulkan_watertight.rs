@@ -111,7 +111,11 @@ fn parity(t: &Tessellation, c: &Tessellation, diag: f32) -> f64 {
     let mut worst = 0.0f64;
     for (a, b) in t.positions.iter().zip(&c.positions) {
         let d = ((*a - *b).length() / diag) as f64;
-        worst = if d.is_nan() { f64::INFINITY } else { worst.max(d) };
+        worst = if d.is_nan() {
+            f64::INFINITY
+        } else {
+            worst.max(d)
+        };
     }
     worst
 }
@@ -129,7 +133,11 @@ fn matrix(language: Language) {
                 continue;
             };
             meshes += 1;
-            let split = if c.mesh.scheme.sides == 3 { " (split)" } else { "" };
+            let split = if c.mesh.scheme.sides == 3 {
+                " (split)"
+            } else {
+                ""
+            };
             for &level in levels_for(name, c.mesh.scheme.sides) {
                 let t = c
                     .mesh
@@ -203,7 +211,13 @@ fn negative_rows(define: &str) -> Vec<(String, Language, String, u32, usize)> {
                         language.name(),
                         r.open_edges
                     );
-                    rows.push((scheme.to_string(), language, name.to_string(), level, r.open_edges));
+                    rows.push((
+                        scheme.to_string(),
+                        language,
+                        name.to_string(),
+                        level,
+                        r.open_edges,
+                    ));
                 }
             }
         }

@@ -573,12 +573,21 @@ impl<'a> Writer<'a> {
             } else {
                 "in"
             };
-            self.line("// Control points of this patch, written once by the control stage, packed:");
-            self.line("// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted");
-            self.line("// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),");
+            self.line(
+                "// Control points of this patch, written once by the control stage, packed:",
+            );
+            self.line(
+                "// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted",
+            );
+            self.line(
+                "// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),",
+            );
             self.line("// so KMAX vec3 would take KMAX locations.");
             self.line(&format!("const uint KMAX = {}u;", self.kmax()));
-            self.line(&format!("const uint KMAX4 = {}u;", (3 * self.kmax()).div_ceil(4)));
+            self.line(&format!(
+                "const uint KMAX4 = {}u;",
+                (3 * self.kmax()).div_ceil(4)
+            ));
             self.line(&format!(
                 "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));

@@ -390,9 +390,14 @@ impl<'a> Writer<'a> {
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
         self.line(&format!("static const uint KMAX = {}u;", self.kmax));
-        self.line("// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch");
+        self.line(
+            "// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch",
+        );
         self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
-        self.line(&format!("static const uint KMAX4 = {}u;", (3 * self.kmax).div_ceil(4)));
+        self.line(&format!(
+            "static const uint KMAX4 = {}u;",
+            (3 * self.kmax).div_ceil(4)
+        ));
         self.line("// Control points per patch of each class (index = Params.class).");
         let ks: Vec<String> = self
             .entries
