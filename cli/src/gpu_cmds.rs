@@ -109,6 +109,12 @@ pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
     let gpu = match args.backend {
         Backend::Wgpu => Some(tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?),
         Backend::Cpu => None,
+        Backend::Glsl | Backend::Hlsl => {
+            return Err(format!(
+                "bench: --backend {} is not supported (cpu or wgpu)",
+                args.backend.name()
+            ))
+        }
     };
     let device = gpu
         .as_ref()

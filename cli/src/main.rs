@@ -172,6 +172,10 @@ enum Backend {
     Cpu,
     /// The generated WGSL on the GPU through wgpu (any adapter; TESSGEN_ADAPTER picks one).
     Wgpu,
+    /// The emitted GLSL tessellation shaders (.vert/.tesc/.tese) in a Vulkan tessellation pipeline (tessellate only; needs glslangValidator and a Vulkan driver, e.g. lavapipe; TESSGEN_VK_DEVICE picks a device).
+    Glsl,
+    /// The emitted HLSL hull/domain shaders (compiled by glslangValidator -D) in a Vulkan tessellation pipeline (tessellate only).
+    Hlsl,
 }
 
 impl Backend {
@@ -179,6 +183,8 @@ impl Backend {
         match self {
             Backend::Cpu => "cpu",
             Backend::Wgpu => "wgpu",
+            Backend::Glsl => "glsl",
+            Backend::Hlsl => "hlsl",
         }
     }
 }
@@ -421,6 +427,42 @@ fn inspect(args: &InspectArgs) -> CmdResult {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--backend glsl|hlsl`: the Vulkan tessellation harness.
+#[cfg(feature = "vulkan")]
+fn vulkan_tessellate(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+    tags: Option<&TagFile>,
+) -> Result<tessgen_runtime::Tessellation, String> {
+    use tessgen_runtime::vulkan::{self, Language, Options};
+    let language = if args.backend == Backend::Hlsl {
+        Language::Hlsl
+    } else {
+        Language::Glsl
+    };
+    vulkan::tessellate_tagged(
+        mesh,
+        &args.scheme,
+        args.level,
+        args.split_quads,
+        tags,
+        &Options::new(language),
+    )
+    .map_err(|e| e.to_string())
+}
+
+#[cfg(not(feature = "vulkan"))]
+fn vulkan_tessellate(
+    _mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+    _tags: Option<&TagFile>,
+) -> Result<tessgen_runtime::Tessellation, String> {
+    Err(format!(
+        "--backend {} needs tessgen built with the `vulkan` feature",
+        args.backend.name()
+    ))
+}
+
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
     let per_face = u64::from(args.level + 1).pow(2);
@@ -445,6 +487,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
             tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
                 .map_err(|e| e.to_string())
         }
+        Backend::Glsl | Backend::Hlsl => vulkan_tessellate(&mesh, args, tags.as_ref()),
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();

@@ -358,15 +358,68 @@ fn tessellate_wgpu_backend_writes_the_same_format() {
         std::fs::read_to_string(&out).unwrap()
     };
     let cpu = run("cpu");
-    let gpu = run("wgpu");
-    assert_eq!(cpu.lines().count(), gpu.lines().count());
-    // Same layout line by line: groups, then v, vn and f lines in the same places.
-    for (a, b) in cpu.lines().zip(gpu.lines()) {
-        assert_eq!(a.split(' ').next(), b.split(' ').next());
-        if a.starts_with("f ") || a.starts_with("g ") {
-            assert_eq!(a, b);
+    // wgpu, and the GLSL and HLSL tessellation shaders on the Vulkan harness.
+    for backend in ["wgpu", "glsl", "hlsl"] {
+        let gpu = run(backend);
+        assert_eq!(cpu.lines().count(), gpu.lines().count(), "{backend}");
+        // Same layout line by line: groups, then v, vn and f lines in the same places.
+        for (a, b) in cpu.lines().zip(gpu.lines()) {
+            assert_eq!(a.split(' ').next(), b.split(' ').next(), "{backend}");
+            if a.starts_with("f ") || a.starts_with("g ") {
+                assert_eq!(a, b, "{backend}");
+            }
         }
     }
+}
+
+/// `--scheme stpn --tags FILE`: the creased torus welds closed on every
+/// backend; tags for another scheme, and a bad tag line, are errors that
+/// name the file and line.
+#[test]
+fn tessellate_stpn_with_tags() {
+    let tmp = TempDir::new("tess-stpn");
+    let torus = mesh("catmark_torus.obj");
+    let tags = mesh("catmark_torus_crease.tags");
+    let out = tmp.path().join("stpn.obj");
+    let run = |scheme: &str, backend: &str, tags: &Path| {
+        tessgen([
+            "tessellate".as_ref(),
+            torus.as_os_str(),
+            "--scheme".as_ref(),
+            scheme.as_ref(),
+            "--split-quads".as_ref(),
+            "--tags".as_ref(),
+            tags.as_os_str(),
+            "--level".as_ref(),
+            "3".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ])
+    };
+    for backend in ["cpu", "wgpu", "glsl", "hlsl"] {
+        let o = run("stpn", backend, &tags);
+        assert_ok(&o);
+        assert!(
+            stdout(&o).contains("closed 2-manifold"),
+            "{backend}: {}",
+            all(&o)
+        );
+    }
+    let o = run("pn", "cpu", &tags);
+    assert_exit(&o, 1);
+    assert!(stderr(&o).contains("only `stpn` reads them"), "{}", all(&o));
+    let bad = tmp.path().join("bad.tags");
+    std::fs::write(&bad, "# ok\ntag 1 sharpness 3\n").unwrap();
+    let o = run("stpn", "cpu", &bad);
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("bad.tags: tags line 2: sharpness 3 is outside [0, 1]"),
+        "{}",
+        all(&o)
+    );
 }
 
 #[test]
@@ -415,9 +468,9 @@ fn tessellate_errors() {
         "--out".as_ref(),
         out.as_os_str(),
         "--backend".as_ref(),
-        "glsl".as_ref(),
+        "metal".as_ref(),
     ]);
-    // Not a backend (yet): clap rejects it.
+    // Not a backend: clap rejects it.
     assert_ne!(o.status.code(), Some(0));
 
     // Open mesh: topology error, exit 1.

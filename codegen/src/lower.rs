@@ -135,8 +135,17 @@ pub fn common_module(table: &StencilTable) -> Module {
             vec![Stmt::Return(l(b[3]))],
             vec![],
         ),
-        Stmt::Let(wl, div(to_f32(sub(l(level), l(i))), to_f32(l(level)))),
         Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
+        // Negative control (GLSL/HLSL only): `l = 1 − r` in float, the form
+        // watertight.md Rule 2 forbids; the two sides then disagree.
+        Stmt::IfDef(
+            plan::Define::AsymmetricEdgeWeights,
+            vec![Stmt::Let(wl, sub(f32c(1.0), l(wr)))],
+            vec![Stmt::Let(
+                wl,
+                div(to_f32(sub(l(level), l(i))), to_f32(l(level))),
+            )],
+        ),
     ];
     for k in 0..3 {
         f.body
@@ -228,6 +237,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         m.functions.len() + 2,
     ];
     m.functions.extend(grid_fns(sides));
+    let grid_index = m.functions.len();
+    m.functions.push(grid_index_fn(sides));
     (
         m,
         Entries {
@@ -236,8 +247,33 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             eval,
             sides,
             grid,
+            grid_index,
         },
     )
+}
+
+/// `grid_index(iu, iv, level)`, the inverse of `grid_iu`/`grid_iv` (see
+/// [`Entries::grid_index`]).
+fn grid_index_fn(sides: u32) -> Function {
+    let mut f = Function::new(
+        "grid_index",
+        if sides == 4 {
+            "Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv)."
+        } else {
+            "Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv)."
+        },
+    );
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::U32);
+    let below = if sides == 4 {
+        mul(l(iv), add(l(level), u(1)))
+    } else {
+        div(mul(l(iv), sub(add(mul(u(2), l(level)), u(3)), l(iv))), u(2))
+    };
+    f.body = vec![Stmt::Return(add(below, l(iu)))];
+    f
 }
 
 /// `grid_len`, `grid_iu`, `grid_iv` of the facet's domain (see
@@ -1574,7 +1610,13 @@ fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize, sides
             vec![l(b[0]), l(b[1]), l(b[2]), l(b[3]), l(t), l(level)],
         ),
     ));
-    f.body.push(Stmt::If(on_boundary, boundary, vec![]));
+    // The boundary path can be compiled out (GLSL/HLSL only) as a negative
+    // control: the watertightness check must then find cracks.
+    f.body.push(Stmt::IfDef(
+        plan::Define::NoBoundaryPath,
+        vec![],
+        vec![Stmt::If(on_boundary, boundary, vec![])],
+    ));
     f.body.push(Stmt::Return(l(sample)));
     f
 }

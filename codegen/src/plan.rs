@@ -161,6 +161,35 @@ pub enum FnRef {
     Local(usize),
 }
 
+/// A build-time switch of the emitted GLSL and HLSL: a preprocessor
+/// define a harness passes to the shader compiler (`-DNAME`). Targets
+/// without a preprocessor (WGSL, Rust) always print the default branch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Define {
+    /// Negative control for watertightness tests: samples on the patch
+    /// boundary keep the patch's own surface formula instead of taking the
+    /// one shared edge evaluator, so the check must then find cracks.
+    NoBoundaryPath,
+    /// Negative control: the shared edge evaluator forms its left weight as
+    /// `1 − r` in float instead of from integers (watertight.md Rule 2's
+    /// forbidden form), so the two patches of an edge round differently.
+    AsymmetricEdgeWeights,
+    /// The tessellation evaluation stage also writes every sample into the
+    /// `samples` buffer, at the layout of `eval_main` (harness builds).
+    Capture,
+}
+
+impl Define {
+    /// The preprocessor name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Define::NoBoundaryPath => "TESSGEN_NO_BOUNDARY_PATH",
+            Define::Capture => "TESSGEN_CAPTURE",
+            Define::AsymmetricEdgeWeights => "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS",
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub enum Stmt {
     /// Immutable binding.
@@ -175,6 +204,9 @@ pub enum Stmt {
     /// `for local in start..end` over u32.
     For(LocalId, Expr, Expr, Vec<Stmt>),
     Return(Expr),
+    /// `#ifdef define` first branch `#else` second branch `#endif` in GLSL
+    /// and HLSL; the second (default) branch alone elsewhere.
+    IfDef(Define, Vec<Stmt>, Vec<Stmt>),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -266,6 +298,10 @@ impl Function {
                         stmts(a, out);
                         stmts(b, out);
                     }
+                    Stmt::IfDef(_, a, b) => {
+                        stmts(a, out);
+                        stmts(b, out);
+                    }
                     Stmt::For(_, a, b, body) => {
                         expr(a, out);
                         expr(b, out);
@@ -297,6 +333,7 @@ impl Function {
                 Stmt::AssignField(_, _, e) => expr(e),
                 Stmt::Store(_, i, v) => expr(i) || expr(v),
                 Stmt::If(c, a, b) => expr(c) || stmts(a) || stmts(b),
+                Stmt::IfDef(_, a, b) => stmts(a) || stmts(b),
                 Stmt::For(_, a, b, body) => expr(a) || expr(b) || stmts(body),
             })
         }
@@ -367,6 +404,10 @@ pub struct Entries {
     /// sample `s` (quads: `(level+1)²`, `s = iv·(level+1) + iu`; triangles:
     /// `(level+1)(level+2)/2`, row `iv` holding `iu = 0 ..= level − iv`).
     pub grid: [usize; 3],
+    /// `grid_index(iu, iv, level)`: the inverse of `grid_iu`/`grid_iv`, the
+    /// flat sample index of an integer domain point (the tessellation
+    /// evaluation stages write their captured samples there).
+    pub grid_index: usize,
 }
 
 #[derive(Clone, Debug, PartialEq)]

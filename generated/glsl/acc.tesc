@@ -72,9 +72,20 @@ layout(std140, set = 0, binding = 10) uniform Params {
 // binding 11: face index of each patch, patches sorted by class
 layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 40u;
-layout(location = 0) patch out vec3 tcs_cp[KMAX];
+const uint KMAX4 = 30u;
+layout(location = 0) patch out vec4 tcs_cp[KMAX4];
+
+void store_tcs_cp(uint i, vec3 v) {
+    uint c = (3u * i);
+    tcs_cp[(c / 4u)][(c % 4u)] = v.x;
+    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;
+    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
+}
 
 vec3 load_vertex_out(uint i) {
     return vec3(vertex_out[(3u * i)], vertex_out[((3u * i) + 1u)], vertex_out[((3u * i) + 2u)]);
@@ -114,22 +125,22 @@ void ordinary_patch(uint face, uint cp_base) {
     vec3 f_1_0 = load_vertex_out(((out_base_1 + ((0u * n_1) + 0u)) + sector_1));
     vec3 f_2_0 = load_vertex_out(((out_base_2 + ((0u * n_2) + 0u)) + sector_2));
     vec3 f_3_0 = load_vertex_out(((out_base_3 + ((0u * n_3) + 0u)) + sector_3));
-    tcs_cp[(cp_base + 0u)] = v_0;
-    tcs_cp[(cp_base + 12u)] = v_1;
-    tcs_cp[(cp_base + 15u)] = v_2;
-    tcs_cp[(cp_base + 3u)] = v_3;
-    tcs_cp[(cp_base + 4u)] = e_0_0;
-    tcs_cp[(cp_base + 13u)] = e_1_0;
-    tcs_cp[(cp_base + 11u)] = e_2_0;
-    tcs_cp[(cp_base + 2u)] = e_3_0;
-    tcs_cp[(cp_base + 1u)] = e_0_1;
-    tcs_cp[(cp_base + 8u)] = e_1_1;
-    tcs_cp[(cp_base + 14u)] = e_2_1;
-    tcs_cp[(cp_base + 7u)] = e_3_1;
-    tcs_cp[(cp_base + 5u)] = f_0_0;
-    tcs_cp[(cp_base + 9u)] = f_1_0;
-    tcs_cp[(cp_base + 10u)] = f_2_0;
-    tcs_cp[(cp_base + 6u)] = f_3_0;
+    store_tcs_cp((cp_base + 0u), v_0);
+    store_tcs_cp((cp_base + 12u), v_1);
+    store_tcs_cp((cp_base + 15u), v_2);
+    store_tcs_cp((cp_base + 3u), v_3);
+    store_tcs_cp((cp_base + 4u), e_0_0);
+    store_tcs_cp((cp_base + 13u), e_1_0);
+    store_tcs_cp((cp_base + 11u), e_2_0);
+    store_tcs_cp((cp_base + 2u), e_3_0);
+    store_tcs_cp((cp_base + 1u), e_0_1);
+    store_tcs_cp((cp_base + 8u), e_1_1);
+    store_tcs_cp((cp_base + 14u), e_2_1);
+    store_tcs_cp((cp_base + 7u), e_3_1);
+    store_tcs_cp((cp_base + 5u), f_0_0);
+    store_tcs_cp((cp_base + 9u), f_1_0);
+    store_tcs_cp((cp_base + 10u), f_2_0);
+    store_tcs_cp((cp_base + 6u), f_3_0);
 }
 
 // Patch stage of `acc` for extraordinary quads: the 40 control points of a acc patch from the corners' vertex-stage outputs, written from `cp_base`.
@@ -178,50 +189,50 @@ void extraordinary_patch(uint face, uint cp_base) {
     float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_1) - 3u))), 0).x;
     float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_2) - 3u))), 0).x;
     float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_3) - 3u))), 0).x;
-    tcs_cp[(cp_base + 0u)] = v_0;
-    tcs_cp[(cp_base + 12u)] = v_1;
-    tcs_cp[(cp_base + 15u)] = v_2;
-    tcs_cp[(cp_base + 3u)] = v_3;
-    tcs_cp[(cp_base + 4u)] = e_0_0;
-    tcs_cp[(cp_base + 13u)] = e_1_0;
-    tcs_cp[(cp_base + 11u)] = e_2_0;
-    tcs_cp[(cp_base + 2u)] = e_3_0;
-    tcs_cp[(cp_base + 1u)] = e_0_1;
-    tcs_cp[(cp_base + 8u)] = e_1_1;
-    tcs_cp[(cp_base + 14u)] = e_2_1;
-    tcs_cp[(cp_base + 7u)] = e_3_1;
-    tcs_cp[(cp_base + 5u)] = f_0_0;
-    tcs_cp[(cp_base + 9u)] = f_1_0;
-    tcs_cp[(cp_base + 10u)] = f_2_0;
-    tcs_cp[(cp_base + 6u)] = f_3_0;
+    store_tcs_cp((cp_base + 0u), v_0);
+    store_tcs_cp((cp_base + 12u), v_1);
+    store_tcs_cp((cp_base + 15u), v_2);
+    store_tcs_cp((cp_base + 3u), v_3);
+    store_tcs_cp((cp_base + 4u), e_0_0);
+    store_tcs_cp((cp_base + 13u), e_1_0);
+    store_tcs_cp((cp_base + 11u), e_2_0);
+    store_tcs_cp((cp_base + 2u), e_3_0);
+    store_tcs_cp((cp_base + 1u), e_0_1);
+    store_tcs_cp((cp_base + 8u), e_1_1);
+    store_tcs_cp((cp_base + 14u), e_2_1);
+    store_tcs_cp((cp_base + 7u), e_3_1);
+    store_tcs_cp((cp_base + 5u), f_0_0);
+    store_tcs_cp((cp_base + 9u), f_1_0);
+    store_tcs_cp((cp_base + 10u), f_2_0);
+    store_tcs_cp((cp_base + 6u), f_3_0);
     vec3 mid_0 = (3.0 * (e_1_1 - e_0_0));
     vec3 mid_1 = (3.0 * (e_2_1 - e_1_0));
     vec3 mid_2 = (3.0 * (e_3_1 - e_2_0));
     vec3 mid_3 = (3.0 * (e_0_1 - e_3_0));
-    tcs_cp[(cp_base + 16u)] = t_0_0;
-    tcs_cp[(cp_base + 22u)] = t_1_0;
-    tcs_cp[(cp_base + 28u)] = t_2_0;
-    tcs_cp[(cp_base + 34u)] = t_3_0;
-    tcs_cp[(cp_base + 20u)] = t_0_1;
-    tcs_cp[(cp_base + 26u)] = t_1_1;
-    tcs_cp[(cp_base + 32u)] = t_2_1;
-    tcs_cp[(cp_base + 38u)] = t_3_1;
-    tcs_cp[(cp_base + 18u)] = mid_0;
-    tcs_cp[(cp_base + 24u)] = mid_1;
-    tcs_cp[(cp_base + 30u)] = mid_2;
-    tcs_cp[(cp_base + 36u)] = mid_3;
-    tcs_cp[(cp_base + 19u)] = (3.0 * (f_1_0 - f_0_0));
-    tcs_cp[(cp_base + 25u)] = (3.0 * (f_2_0 - f_1_0));
-    tcs_cp[(cp_base + 31u)] = (3.0 * (f_3_0 - f_2_0));
-    tcs_cp[(cp_base + 37u)] = (3.0 * (f_0_0 - f_3_0));
-    tcs_cp[(cp_base + 21u)] = ((3.0 * (f_0_0 - e_0_0)) + ((((2.0 * c_0) * mid_0) - (c_1 * t_0_0)) / 3.0));
-    tcs_cp[(cp_base + 27u)] = ((3.0 * (f_1_0 - e_1_0)) + ((((2.0 * c_1) * mid_1) - (c_2 * t_1_0)) / 3.0));
-    tcs_cp[(cp_base + 33u)] = ((3.0 * (f_2_0 - e_2_0)) + ((((2.0 * c_2) * mid_2) - (c_3 * t_2_0)) / 3.0));
-    tcs_cp[(cp_base + 39u)] = ((3.0 * (f_3_0 - e_3_0)) + ((((2.0 * c_3) * mid_3) - (c_0 * t_3_0)) / 3.0));
-    tcs_cp[(cp_base + 17u)] = ((3.0 * (f_0_0 - e_0_1)) - ((((2.0 * c_0) * mid_3) + (c_3 * t_0_1)) / 3.0));
-    tcs_cp[(cp_base + 23u)] = ((3.0 * (f_1_0 - e_1_1)) - ((((2.0 * c_1) * mid_0) + (c_0 * t_1_1)) / 3.0));
-    tcs_cp[(cp_base + 29u)] = ((3.0 * (f_2_0 - e_2_1)) - ((((2.0 * c_2) * mid_1) + (c_1 * t_2_1)) / 3.0));
-    tcs_cp[(cp_base + 35u)] = ((3.0 * (f_3_0 - e_3_1)) - ((((2.0 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0));
+    store_tcs_cp((cp_base + 16u), t_0_0);
+    store_tcs_cp((cp_base + 22u), t_1_0);
+    store_tcs_cp((cp_base + 28u), t_2_0);
+    store_tcs_cp((cp_base + 34u), t_3_0);
+    store_tcs_cp((cp_base + 20u), t_0_1);
+    store_tcs_cp((cp_base + 26u), t_1_1);
+    store_tcs_cp((cp_base + 32u), t_2_1);
+    store_tcs_cp((cp_base + 38u), t_3_1);
+    store_tcs_cp((cp_base + 18u), mid_0);
+    store_tcs_cp((cp_base + 24u), mid_1);
+    store_tcs_cp((cp_base + 30u), mid_2);
+    store_tcs_cp((cp_base + 36u), mid_3);
+    store_tcs_cp((cp_base + 19u), (3.0 * (f_1_0 - f_0_0)));
+    store_tcs_cp((cp_base + 25u), (3.0 * (f_2_0 - f_1_0)));
+    store_tcs_cp((cp_base + 31u), (3.0 * (f_3_0 - f_2_0)));
+    store_tcs_cp((cp_base + 37u), (3.0 * (f_0_0 - f_3_0)));
+    store_tcs_cp((cp_base + 21u), ((3.0 * (f_0_0 - e_0_0)) + ((((2.0 * c_0) * mid_0) - (c_1 * t_0_0)) / 3.0)));
+    store_tcs_cp((cp_base + 27u), ((3.0 * (f_1_0 - e_1_0)) + ((((2.0 * c_1) * mid_1) - (c_2 * t_1_0)) / 3.0)));
+    store_tcs_cp((cp_base + 33u), ((3.0 * (f_2_0 - e_2_0)) + ((((2.0 * c_2) * mid_2) - (c_3 * t_2_0)) / 3.0)));
+    store_tcs_cp((cp_base + 39u), ((3.0 * (f_3_0 - e_3_0)) + ((((2.0 * c_3) * mid_3) - (c_0 * t_3_0)) / 3.0)));
+    store_tcs_cp((cp_base + 17u), ((3.0 * (f_0_0 - e_0_1)) - ((((2.0 * c_0) * mid_3) + (c_3 * t_0_1)) / 3.0)));
+    store_tcs_cp((cp_base + 23u), ((3.0 * (f_1_0 - e_1_1)) - ((((2.0 * c_1) * mid_0) + (c_0 * t_1_1)) / 3.0)));
+    store_tcs_cp((cp_base + 29u), ((3.0 * (f_2_0 - e_2_1)) - ((((2.0 * c_2) * mid_1) + (c_1 * t_2_1)) / 3.0)));
+    store_tcs_cp((cp_base + 35u), ((3.0 * (f_3_0 - e_3_1)) - ((((2.0 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0)));
 }
 
 void main() {

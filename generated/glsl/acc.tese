@@ -58,12 +58,27 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 40u;
-layout(location = 0) patch in vec3 tcs_cp[KMAX];
+const uint KMAX4 = 30u;
+layout(location = 0) patch in vec4 tcs_cp[KMAX4];
+
+vec3 load_tcs_cp(uint i) {
+    uint c = (3u * i);
+    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+}
 
 layout(location = 0) out vec3 te_normal;
 layout(location = 1) out vec3 te_position;
+
+#ifdef TESSGEN_CAPTURE
+// binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
+layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
+
+#endif
 
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
@@ -92,8 +107,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -108,10 +127,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(tcs_cp[(cp_base + 0u)], tcs_cp[(cp_base + 4u)], tcs_cp[(cp_base + 8u)], tcs_cp[(cp_base + 12u)], lu, ru);
-    Curve row1 = tessgen_cubic(tcs_cp[(cp_base + 1u)], tcs_cp[(cp_base + 5u)], tcs_cp[(cp_base + 9u)], tcs_cp[(cp_base + 13u)], lu, ru);
-    Curve row2 = tessgen_cubic(tcs_cp[(cp_base + 2u)], tcs_cp[(cp_base + 6u)], tcs_cp[(cp_base + 10u)], tcs_cp[(cp_base + 14u)], lu, ru);
-    Curve row3 = tessgen_cubic(tcs_cp[(cp_base + 3u)], tcs_cp[(cp_base + 7u)], tcs_cp[(cp_base + 11u)], tcs_cp[(cp_base + 15u)], lu, ru);
+    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -123,36 +142,36 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(tcs_cp[(cp_base + 0u)], tcs_cp[(cp_base + 4u)], tcs_cp[(cp_base + 8u)], tcs_cp[(cp_base + 12u)], lu, ru);
-    Curve row1 = tessgen_cubic(tcs_cp[(cp_base + 1u)], tcs_cp[(cp_base + 5u)], tcs_cp[(cp_base + 9u)], tcs_cp[(cp_base + 13u)], lu, ru);
-    Curve row2 = tessgen_cubic(tcs_cp[(cp_base + 2u)], tcs_cp[(cp_base + 6u)], tcs_cp[(cp_base + 10u)], tcs_cp[(cp_base + 14u)], lu, ru);
-    Curve row3 = tessgen_cubic(tcs_cp[(cp_base + 3u)], tcs_cp[(cp_base + 7u)], tcs_cp[(cp_base + 11u)], tcs_cp[(cp_base + 15u)], lu, ru);
+    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     vec3 position = along_v.point;
-    vec3 urow0_0 = ((tcs_cp[(cp_base + 16u)] * lu) + (tcs_cp[(cp_base + 18u)] * ru));
-    vec3 urow0_1 = ((tcs_cp[(cp_base + 18u)] * lu) + ((-tcs_cp[(cp_base + 26u)]) * ru));
+    vec3 urow0_0 = ((load_tcs_cp((cp_base + 16u)) * lu) + (load_tcs_cp((cp_base + 18u)) * ru));
+    vec3 urow0_1 = ((load_tcs_cp((cp_base + 18u)) * lu) + ((-load_tcs_cp((cp_base + 26u))) * ru));
     vec3 urow0 = ((urow0_0 * lu) + (urow0_1 * ru));
-    vec3 urow1_0 = ((tcs_cp[(cp_base + 17u)] * lu) + (tcs_cp[(cp_base + 19u)] * ru));
-    vec3 urow1_1 = ((tcs_cp[(cp_base + 19u)] * lu) + ((-tcs_cp[(cp_base + 27u)]) * ru));
+    vec3 urow1_0 = ((load_tcs_cp((cp_base + 17u)) * lu) + (load_tcs_cp((cp_base + 19u)) * ru));
+    vec3 urow1_1 = ((load_tcs_cp((cp_base + 19u)) * lu) + ((-load_tcs_cp((cp_base + 27u))) * ru));
     vec3 urow1 = ((urow1_0 * lu) + (urow1_1 * ru));
-    vec3 urow2_0 = ((tcs_cp[(cp_base + 39u)] * lu) + ((-tcs_cp[(cp_base + 31u)]) * ru));
-    vec3 urow2_1 = (((-tcs_cp[(cp_base + 31u)]) * lu) + ((-tcs_cp[(cp_base + 29u)]) * ru));
+    vec3 urow2_0 = ((load_tcs_cp((cp_base + 39u)) * lu) + ((-load_tcs_cp((cp_base + 31u))) * ru));
+    vec3 urow2_1 = (((-load_tcs_cp((cp_base + 31u))) * lu) + ((-load_tcs_cp((cp_base + 29u))) * ru));
     vec3 urow2 = ((urow2_0 * lu) + (urow2_1 * ru));
-    vec3 urow3_0 = ((tcs_cp[(cp_base + 38u)] * lu) + ((-tcs_cp[(cp_base + 30u)]) * ru));
-    vec3 urow3_1 = (((-tcs_cp[(cp_base + 30u)]) * lu) + ((-tcs_cp[(cp_base + 28u)]) * ru));
+    vec3 urow3_0 = ((load_tcs_cp((cp_base + 38u)) * lu) + ((-load_tcs_cp((cp_base + 30u))) * ru));
+    vec3 urow3_1 = (((-load_tcs_cp((cp_base + 30u))) * lu) + ((-load_tcs_cp((cp_base + 28u))) * ru));
     vec3 urow3 = ((urow3_0 * lu) + (urow3_1 * ru));
     Curve tangent_u = tessgen_cubic(urow0, urow1, urow2, urow3, lv, rv);
-    vec3 vcol0_0 = ((tcs_cp[(cp_base + 20u)] * lv) + ((-tcs_cp[(cp_base + 36u)]) * rv));
-    vec3 vcol0_1 = (((-tcs_cp[(cp_base + 36u)]) * lv) + ((-tcs_cp[(cp_base + 34u)]) * rv));
+    vec3 vcol0_0 = ((load_tcs_cp((cp_base + 20u)) * lv) + ((-load_tcs_cp((cp_base + 36u))) * rv));
+    vec3 vcol0_1 = (((-load_tcs_cp((cp_base + 36u))) * lv) + ((-load_tcs_cp((cp_base + 34u))) * rv));
     vec3 vcol0 = ((vcol0_0 * lv) + (vcol0_1 * rv));
-    vec3 vcol1_0 = ((tcs_cp[(cp_base + 21u)] * lv) + ((-tcs_cp[(cp_base + 37u)]) * rv));
-    vec3 vcol1_1 = (((-tcs_cp[(cp_base + 37u)]) * lv) + ((-tcs_cp[(cp_base + 35u)]) * rv));
+    vec3 vcol1_0 = ((load_tcs_cp((cp_base + 21u)) * lv) + ((-load_tcs_cp((cp_base + 37u))) * rv));
+    vec3 vcol1_1 = (((-load_tcs_cp((cp_base + 37u))) * lv) + ((-load_tcs_cp((cp_base + 35u))) * rv));
     vec3 vcol1 = ((vcol1_0 * lv) + (vcol1_1 * rv));
-    vec3 vcol2_0 = ((tcs_cp[(cp_base + 23u)] * lv) + (tcs_cp[(cp_base + 25u)] * rv));
-    vec3 vcol2_1 = ((tcs_cp[(cp_base + 25u)] * lv) + ((-tcs_cp[(cp_base + 33u)]) * rv));
+    vec3 vcol2_0 = ((load_tcs_cp((cp_base + 23u)) * lv) + (load_tcs_cp((cp_base + 25u)) * rv));
+    vec3 vcol2_1 = ((load_tcs_cp((cp_base + 25u)) * lv) + ((-load_tcs_cp((cp_base + 33u))) * rv));
     vec3 vcol2 = ((vcol2_0 * lv) + (vcol2_1 * rv));
-    vec3 vcol3_0 = ((tcs_cp[(cp_base + 22u)] * lv) + (tcs_cp[(cp_base + 24u)] * rv));
-    vec3 vcol3_1 = ((tcs_cp[(cp_base + 24u)] * lv) + ((-tcs_cp[(cp_base + 32u)]) * rv));
+    vec3 vcol3_0 = ((load_tcs_cp((cp_base + 22u)) * lv) + (load_tcs_cp((cp_base + 24u)) * rv));
+    vec3 vcol3_1 = ((load_tcs_cp((cp_base + 24u)) * lv) + ((-load_tcs_cp((cp_base + 32u))) * rv));
     vec3 vcol3 = ((vcol3_0 * lv) + (vcol3_1 * rv));
     Curve tangent_v = tessgen_cubic(vcol0, vcol1, vcol2, vcol3, lu, ru);
     return Sample(position, tessgen_normalize(cross(tangent_u.point, tangent_v.point)));
@@ -166,6 +185,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     } else {
         sample_ = extraordinary_surface(cp_base, iu, iv, level);
     }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         uint edge = 3u;
         uint t = (level - iv);
@@ -184,13 +204,24 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-        vec3 b1 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 1u)])];
-        vec3 b2 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 2u)])];
-        vec3 b3 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
+}
+
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+uint grid_index(uint iu, uint iv, uint level) {
+    return ((iv * (level + 1u)) + iu);
 }
 
 void main() {
@@ -205,4 +236,15 @@ void main() {
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+#ifdef TESSGEN_CAPTURE
+    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
+    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+#endif
 }

@@ -58,12 +58,27 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 20u;
-layout(location = 0) patch in vec3 tcs_cp[KMAX];
+const uint KMAX4 = 15u;
+layout(location = 0) patch in vec4 tcs_cp[KMAX4];
+
+vec3 load_tcs_cp(uint i) {
+    uint c = (3u * i);
+    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+}
 
 layout(location = 0) out vec3 te_normal;
 layout(location = 1) out vec3 te_position;
+
+#ifdef TESSGEN_CAPTURE
+// binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
+layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
+
+#endif
 
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
@@ -92,8 +107,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -108,10 +127,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(tcs_cp[(cp_base + 0u)], tcs_cp[(cp_base + 4u)], tcs_cp[(cp_base + 8u)], tcs_cp[(cp_base + 12u)], lu, ru);
-    Curve row1 = tessgen_cubic(tcs_cp[(cp_base + 1u)], tcs_cp[(cp_base + 5u)], tcs_cp[(cp_base + 9u)], tcs_cp[(cp_base + 13u)], lu, ru);
-    Curve row2 = tessgen_cubic(tcs_cp[(cp_base + 2u)], tcs_cp[(cp_base + 6u)], tcs_cp[(cp_base + 10u)], tcs_cp[(cp_base + 14u)], lu, ru);
-    Curve row3 = tessgen_cubic(tcs_cp[(cp_base + 3u)], tcs_cp[(cp_base + 7u)], tcs_cp[(cp_base + 11u)], tcs_cp[(cp_base + 15u)], lu, ru);
+    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -124,8 +143,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
     float nf = float(level);
-    vec3 fp0 = tcs_cp[(cp_base + 3u)];
-    vec3 fm0 = tcs_cp[(cp_base + 4u)];
+    vec3 fp0 = load_tcs_cp((cp_base + 3u));
+    vec3 fm0 = load_tcs_cp((cp_base + 4u));
     uint wp0 = iu;
     uint wm0 = iv;
     uint ws0 = (wp0 + wm0);
@@ -143,8 +162,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf0 = (float(wm0) / nf);
     vec3 dfm0 = (fp0 - fm0);
     float bw0 = (((3.0 * ru) * (lu * lu)) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp1 = tcs_cp[(cp_base + 8u)];
-    vec3 fm1 = tcs_cp[(cp_base + 9u)];
+    vec3 fp1 = load_tcs_cp((cp_base + 8u));
+    vec3 fm1 = load_tcs_cp((cp_base + 9u));
     uint wp1 = iv;
     uint wm1 = (level - iu);
     uint ws1 = (wp1 + wm1);
@@ -162,8 +181,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf1 = (float(wm1) / nf);
     vec3 dfm1 = (fp1 - fm1);
     float bw1 = (((3.0 * (ru * ru)) * lu) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp2 = tcs_cp[(cp_base + 13u)];
-    vec3 fm2 = tcs_cp[(cp_base + 14u)];
+    vec3 fp2 = load_tcs_cp((cp_base + 13u));
+    vec3 fm2 = load_tcs_cp((cp_base + 14u));
     uint wp2 = (level - iu);
     uint wm2 = (level - iv);
     uint ws2 = (wp2 + wm2);
@@ -181,8 +200,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf2 = (float(wm2) / nf);
     vec3 dfm2 = (fp2 - fm2);
     float bw2 = (((3.0 * (ru * ru)) * lu) * ((3.0 * (rv * rv)) * lv));
-    vec3 fp3 = tcs_cp[(cp_base + 18u)];
-    vec3 fm3 = tcs_cp[(cp_base + 19u)];
+    vec3 fp3 = load_tcs_cp((cp_base + 18u));
+    vec3 fm3 = load_tcs_cp((cp_base + 19u));
     uint wp3 = (level - iv);
     uint wm3 = iu;
     uint ws3 = (wp3 + wm3);
@@ -200,10 +219,10 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf3 = (float(wm3) / nf);
     vec3 dfm3 = (fp3 - fm3);
     float bw3 = (((3.0 * ru) * (lu * lu)) * ((3.0 * (rv * rv)) * lv));
-    Curve row0 = tessgen_cubic(tcs_cp[(cp_base + 0u)], tcs_cp[(cp_base + 1u)], tcs_cp[(cp_base + 7u)], tcs_cp[(cp_base + 5u)], lu, ru);
-    Curve row1 = tessgen_cubic(tcs_cp[(cp_base + 2u)], x0, x1, tcs_cp[(cp_base + 6u)], lu, ru);
-    Curve row2 = tessgen_cubic(tcs_cp[(cp_base + 16u)], x3, x2, tcs_cp[(cp_base + 12u)], lu, ru);
-    Curve row3 = tessgen_cubic(tcs_cp[(cp_base + 15u)], tcs_cp[(cp_base + 17u)], tcs_cp[(cp_base + 11u)], tcs_cp[(cp_base + 10u)], lu, ru);
+    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 5u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), x0, x1, load_tcs_cp((cp_base + 6u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 16u)), x3, x2, load_tcs_cp((cp_base + 12u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 15u)), load_tcs_cp((cp_base + 17u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 10u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     vec3 du = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
@@ -219,6 +238,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     } else {
         sample_ = extraordinary_surface(cp_base, iu, iv, level);
     }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         uint edge = 3u;
         uint t = (level - iv);
@@ -237,13 +257,24 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-        vec3 b1 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 1u)])];
-        vec3 b2 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 2u)])];
-        vec3 b3 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
+}
+
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+uint grid_index(uint iu, uint iv, uint level) {
+    return ((iv * (level + 1u)) + iu);
 }
 
 void main() {
@@ -258,4 +289,15 @@ void main() {
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+#ifdef TESSGEN_CAPTURE
+    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
+    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+#endif
 }

@@ -58,12 +58,27 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 24u;
-layout(location = 0) patch in vec3 tcs_cp[KMAX];
+const uint KMAX4 = 18u;
+layout(location = 0) patch in vec4 tcs_cp[KMAX4];
+
+vec3 load_tcs_cp(uint i) {
+    uint c = (3u * i);
+    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+}
 
 layout(location = 0) out vec3 te_normal;
 layout(location = 1) out vec3 te_position;
+
+#ifdef TESSGEN_CAPTURE
+// binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
+layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
+
+#endif
 
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
@@ -92,8 +107,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -108,10 +127,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(tcs_cp[(cp_base + 0u)], tcs_cp[(cp_base + 4u)], tcs_cp[(cp_base + 8u)], tcs_cp[(cp_base + 12u)], lu, ru);
-    Curve row1 = tessgen_cubic(tcs_cp[(cp_base + 1u)], tcs_cp[(cp_base + 5u)], tcs_cp[(cp_base + 9u)], tcs_cp[(cp_base + 13u)], lu, ru);
-    Curve row2 = tessgen_cubic(tcs_cp[(cp_base + 2u)], tcs_cp[(cp_base + 6u)], tcs_cp[(cp_base + 10u)], tcs_cp[(cp_base + 14u)], lu, ru);
-    Curve row3 = tessgen_cubic(tcs_cp[(cp_base + 3u)], tcs_cp[(cp_base + 7u)], tcs_cp[(cp_base + 11u)], tcs_cp[(cp_base + 15u)], lu, ru);
+    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -153,20 +172,20 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     uint ca = (cp_base + (piece * 6u));
     uint cb = (cp_base + (((piece + 1u) % 4u) * 6u));
     uint cprev = (cp_base + (((piece + 3u) % 4u) * 6u));
-    vec3 va = tcs_cp[(ca + 0u)];
-    vec3 t0a = tcs_cp[(ca + 1u)];
-    vec3 t1a = tcs_cp[(ca + 2u)];
-    vec3 b211a = tcs_cp[(ca + 3u)];
-    vec3 b121a = tcs_cp[(ca + 4u)];
-    vec3 b112a = tcs_cp[(ca + 5u)];
-    vec3 vb = tcs_cp[(cb + 0u)];
-    vec3 t0b = tcs_cp[(cb + 1u)];
-    vec3 t1b = tcs_cp[(cb + 2u)];
-    vec3 b211b = tcs_cp[(cb + 3u)];
-    vec3 b112b = tcs_cp[(cb + 5u)];
-    vec3 b121p = tcs_cp[(cprev + 4u)];
-    vec3 b112p = tcs_cp[(cprev + 5u)];
-    vec3 n004 = ((((tcs_cp[(cp_base + 5u)] + tcs_cp[(cp_base + 11u)]) + tcs_cp[(cp_base + 17u)]) + tcs_cp[(cp_base + 23u)]) / 4.0);
+    vec3 va = load_tcs_cp((ca + 0u));
+    vec3 t0a = load_tcs_cp((ca + 1u));
+    vec3 t1a = load_tcs_cp((ca + 2u));
+    vec3 b211a = load_tcs_cp((ca + 3u));
+    vec3 b121a = load_tcs_cp((ca + 4u));
+    vec3 b112a = load_tcs_cp((ca + 5u));
+    vec3 vb = load_tcs_cp((cb + 0u));
+    vec3 t0b = load_tcs_cp((cb + 1u));
+    vec3 t1b = load_tcs_cp((cb + 2u));
+    vec3 b211b = load_tcs_cp((cb + 3u));
+    vec3 b112b = load_tcs_cp((cb + 5u));
+    vec3 b121p = load_tcs_cp((cprev + 4u));
+    vec3 b112p = load_tcs_cp((cprev + 5u));
+    vec3 n004 = ((((load_tcs_cp((cp_base + 5u)) + load_tcs_cp((cp_base + 11u))) + load_tcs_cp((cp_base + 17u))) + load_tcs_cp((cp_base + 23u))) / 4.0);
     vec3 n013 = ((b112a + b112b) / 2.0);
     vec3 n022 = ((b121a + b211b) / 2.0);
     vec3 n031 = ((((vb * 2.0) + (t1b * 3.0)) + (t0b * 3.0)) / 8.0);
@@ -211,6 +230,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     } else {
         sample_ = extraordinary_surface(cp_base, iu, iv, level);
     }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         uint edge = 3u;
         uint t = (level - iv);
@@ -229,13 +249,24 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-        vec3 b1 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 1u)])];
-        vec3 b2 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 2u)])];
-        vec3 b3 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
+}
+
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+uint grid_index(uint iu, uint iv, uint level) {
+    return ((iv * (level + 1u)) + iu);
 }
 
 void main() {
@@ -250,4 +281,15 @@ void main() {
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+#ifdef TESSGEN_CAPTURE
+    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
+    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+#endif
 }

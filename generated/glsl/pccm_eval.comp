@@ -88,8 +88,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -207,6 +211,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     } else {
         sample_ = extraordinary_surface(cp_base, iu, iv, level);
     }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         uint edge = 3u;
         uint t = (level - iv);
@@ -231,6 +236,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
         vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
 }
 

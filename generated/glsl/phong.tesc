@@ -63,9 +63,20 @@ layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_fa
 // binding 13: unit normal per vertex, 3 f32 (triangle schemes)
 layout(std430, set = 0, binding = 13) readonly buffer Normals { float normals[]; };
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 16u;
-layout(location = 0) patch out vec3 tcs_cp[KMAX];
+const uint KMAX4 = 12u;
+layout(location = 0) patch out vec4 tcs_cp[KMAX4];
+
+void store_tcs_cp(uint i, vec3 v) {
+    uint c = (3u * i);
+    tcs_cp[(c / 4u)][(c % 4u)] = v.x;
+    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;
+    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
+}
 
 vec3 load_positions(uint i) {
     return vec3(positions[(3u * i)], positions[((3u * i) + 1u)], positions[((3u * i) + 2u)]);
@@ -89,22 +100,22 @@ void triangle_patch(uint face, uint cp_base) {
     vec3 mid_0 = (((pos_0 + pos_1) / 8.0) + (0.375 * ((pos_1 - (dot((pos_1 - pos_0), nrm_0) * nrm_0)) + (pos_0 - (dot((pos_0 - pos_1), nrm_1) * nrm_1)))));
     vec3 mid_1 = (((pos_1 + pos_2) / 8.0) + (0.375 * ((pos_2 - (dot((pos_2 - pos_1), nrm_1) * nrm_1)) + (pos_1 - (dot((pos_1 - pos_2), nrm_2) * nrm_2)))));
     vec3 mid_2 = (((pos_2 + pos_0) / 8.0) + (0.375 * ((pos_0 - (dot((pos_0 - pos_2), nrm_2) * nrm_2)) + (pos_2 - (dot((pos_2 - pos_0), nrm_0) * nrm_0)))));
-    tcs_cp[(cp_base + 0u)] = pos_0;
-    tcs_cp[(cp_base + 5u)] = pos_1;
-    tcs_cp[(cp_base + 10u)] = pos_2;
-    tcs_cp[(cp_base + 1u)] = ((pos_0 + (2.0 * mid_0)) / 3.0);
-    tcs_cp[(cp_base + 6u)] = ((pos_1 + (2.0 * mid_1)) / 3.0);
-    tcs_cp[(cp_base + 11u)] = ((pos_2 + (2.0 * mid_2)) / 3.0);
-    tcs_cp[(cp_base + 2u)] = ((pos_0 + (2.0 * mid_2)) / 3.0);
-    tcs_cp[(cp_base + 7u)] = ((pos_1 + (2.0 * mid_0)) / 3.0);
-    tcs_cp[(cp_base + 12u)] = ((pos_2 + (2.0 * mid_1)) / 3.0);
-    tcs_cp[(cp_base + 15u)] = (((mid_0 + mid_1) + mid_2) / 3.0);
-    tcs_cp[(cp_base + 3u)] = nrm_0;
-    tcs_cp[(cp_base + 8u)] = nrm_1;
-    tcs_cp[(cp_base + 13u)] = nrm_2;
-    tcs_cp[(cp_base + 4u)] = (nrm_0 + nrm_1);
-    tcs_cp[(cp_base + 9u)] = (nrm_1 + nrm_2);
-    tcs_cp[(cp_base + 14u)] = (nrm_2 + nrm_0);
+    store_tcs_cp((cp_base + 0u), pos_0);
+    store_tcs_cp((cp_base + 5u), pos_1);
+    store_tcs_cp((cp_base + 10u), pos_2);
+    store_tcs_cp((cp_base + 1u), ((pos_0 + (2.0 * mid_0)) / 3.0));
+    store_tcs_cp((cp_base + 6u), ((pos_1 + (2.0 * mid_1)) / 3.0));
+    store_tcs_cp((cp_base + 11u), ((pos_2 + (2.0 * mid_2)) / 3.0));
+    store_tcs_cp((cp_base + 2u), ((pos_0 + (2.0 * mid_2)) / 3.0));
+    store_tcs_cp((cp_base + 7u), ((pos_1 + (2.0 * mid_0)) / 3.0));
+    store_tcs_cp((cp_base + 12u), ((pos_2 + (2.0 * mid_1)) / 3.0));
+    store_tcs_cp((cp_base + 15u), (((mid_0 + mid_1) + mid_2) / 3.0));
+    store_tcs_cp((cp_base + 3u), nrm_0);
+    store_tcs_cp((cp_base + 8u), nrm_1);
+    store_tcs_cp((cp_base + 13u), nrm_2);
+    store_tcs_cp((cp_base + 4u), (nrm_0 + nrm_1));
+    store_tcs_cp((cp_base + 9u), (nrm_1 + nrm_2));
+    store_tcs_cp((cp_base + 14u), (nrm_2 + nrm_0));
 }
 
 void main() {

@@ -53,12 +53,27 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 16u;
-layout(location = 0) patch in vec3 tcs_cp[KMAX];
+const uint KMAX4 = 12u;
+layout(location = 0) patch in vec4 tcs_cp[KMAX4];
+
+vec3 load_tcs_cp(uint i) {
+    uint c = (3u * i);
+    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+}
 
 layout(location = 0) out vec3 te_normal;
 layout(location = 1) out vec3 te_position;
+
+#ifdef TESSGEN_CAPTURE
+// binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
+layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
+
+#endif
 
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
@@ -77,8 +92,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -93,16 +112,16 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
     float w0 = (float(((level - iu) - iv)) / nf);
     float w1 = (float(iu) / nf);
     float w2 = (float(iv) / nf);
-    vec3 b0 = tcs_cp[(cp_base + 0u)];
-    vec3 bn0 = tcs_cp[(cp_base + 1u)];
-    vec3 bp0 = tcs_cp[(cp_base + 2u)];
-    vec3 b1 = tcs_cp[(cp_base + 5u)];
-    vec3 bn1 = tcs_cp[(cp_base + 6u)];
-    vec3 bp1 = tcs_cp[(cp_base + 7u)];
-    vec3 b2 = tcs_cp[(cp_base + 10u)];
-    vec3 bn2 = tcs_cp[(cp_base + 11u)];
-    vec3 bp2 = tcs_cp[(cp_base + 12u)];
-    vec3 center = tcs_cp[(cp_base + 15u)];
+    vec3 b0 = load_tcs_cp((cp_base + 0u));
+    vec3 bn0 = load_tcs_cp((cp_base + 1u));
+    vec3 bp0 = load_tcs_cp((cp_base + 2u));
+    vec3 b1 = load_tcs_cp((cp_base + 5u));
+    vec3 bn1 = load_tcs_cp((cp_base + 6u));
+    vec3 bp1 = load_tcs_cp((cp_base + 7u));
+    vec3 b2 = load_tcs_cp((cp_base + 10u));
+    vec3 bn2 = load_tcs_cp((cp_base + 11u));
+    vec3 bp2 = load_tcs_cp((cp_base + 12u));
+    vec3 center = load_tcs_cp((cp_base + 15u));
     vec3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
     vec3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
     vec3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
@@ -113,13 +132,14 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
     vec3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
     vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
-    return Sample(s0_000, tessgen_normalize(((((((tcs_cp[(cp_base + 3u)] * (w0 * w0)) + (tcs_cp[(cp_base + 4u)] * (w0 * w1))) + (tcs_cp[(cp_base + 8u)] * (w1 * w1))) + (tcs_cp[(cp_base + 9u)] * (w1 * w2))) + (tcs_cp[(cp_base + 13u)] * (w2 * w2))) + (tcs_cp[(cp_base + 14u)] * (w2 * w0)))));
+    return Sample(s0_000, tessgen_normalize(((((((load_tcs_cp((cp_base + 3u)) * (w0 * w0)) + (load_tcs_cp((cp_base + 4u)) * (w0 * w1))) + (load_tcs_cp((cp_base + 8u)) * (w1 * w1))) + (load_tcs_cp((cp_base + 9u)) * (w1 * w2))) + (load_tcs_cp((cp_base + 13u)) * (w2 * w2))) + (load_tcs_cp((cp_base + 14u)) * (w2 * w0)))));
 }
 
 // Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
 Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     sample_ = triangle_surface(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
         uint edge = 2u;
         uint t = (level - iv);
@@ -133,13 +153,24 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 12u) + (edge * 4u));
-        vec3 b0 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-        vec3 b1 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 1u)])];
-        vec3 b2 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 2u)])];
-        vec3 b3 = tcs_cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
+}
+
+// Samples of one triangle patch at `level`: (level+1)(level+2)/2.
+uint grid_len(uint level) {
+    return (((level + 1u) * (level + 2u)) / 2u);
+}
+
+// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+uint grid_index(uint iu, uint iv, uint level) {
+    return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
 }
 
 void main() {
@@ -154,4 +185,15 @@ void main() {
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+#ifdef TESSGEN_CAPTURE
+    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
+    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+#endif
 }

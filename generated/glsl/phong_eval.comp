@@ -78,8 +78,12 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     if (i == level) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0 - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise vec3 c0 = ((b0 * l) + (b1 * r));
     precise vec3 c1 = ((b1 * l) + (b2 * r));
     precise vec3 c2 = ((b2 * l) + (b3 * r));
@@ -121,6 +125,7 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
 Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     sample_ = triangle_surface(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
         uint edge = 2u;
         uint t = (level - iv);
@@ -140,6 +145,7 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
         vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
 }
 

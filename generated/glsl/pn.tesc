@@ -63,9 +63,20 @@ layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_fa
 // binding 13: unit normal per vertex, 3 f32 (triangle schemes)
 layout(std430, set = 0, binding = 13) readonly buffer Normals { float normals[]; };
 
-// Control points of this patch, written once by the control stage.
+// Control points of this patch, written once by the control stage, packed:
+// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
+// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
+// so KMAX vec3 would take KMAX locations.
 const uint KMAX = 16u;
-layout(location = 0) patch out vec3 tcs_cp[KMAX];
+const uint KMAX4 = 12u;
+layout(location = 0) patch out vec4 tcs_cp[KMAX4];
+
+void store_tcs_cp(uint i, vec3 v) {
+    uint c = (3u * i);
+    tcs_cp[(c / 4u)][(c % 4u)] = v.x;
+    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;
+    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
+}
 
 vec3 load_positions(uint i) {
     return vec3(positions[(3u * i)], positions[((3u * i) + 1u)], positions[((3u * i) + 2u)]);
@@ -92,25 +103,25 @@ void triangle_patch(uint face, uint cp_base) {
     vec3 prev_0 = ((((2.0 * pos_0) + pos_2) - (dot((pos_2 - pos_0), nrm_0) * nrm_0)) / 3.0);
     vec3 prev_1 = ((((2.0 * pos_1) + pos_0) - (dot((pos_0 - pos_1), nrm_1) * nrm_1)) / 3.0);
     vec3 prev_2 = ((((2.0 * pos_2) + pos_1) - (dot((pos_1 - pos_2), nrm_2) * nrm_2)) / 3.0);
-    tcs_cp[(cp_base + 0u)] = pos_0;
-    tcs_cp[(cp_base + 5u)] = pos_1;
-    tcs_cp[(cp_base + 10u)] = pos_2;
-    tcs_cp[(cp_base + 1u)] = next_0;
-    tcs_cp[(cp_base + 6u)] = next_1;
-    tcs_cp[(cp_base + 11u)] = next_2;
-    tcs_cp[(cp_base + 2u)] = prev_0;
-    tcs_cp[(cp_base + 7u)] = prev_1;
-    tcs_cp[(cp_base + 12u)] = prev_2;
-    tcs_cp[(cp_base + 15u)] = (((((next_0 + prev_0) + (next_1 + prev_1)) + (next_2 + prev_2)) / 4.0) - (((pos_0 + pos_1) + pos_2) / 6.0));
+    store_tcs_cp((cp_base + 0u), pos_0);
+    store_tcs_cp((cp_base + 5u), pos_1);
+    store_tcs_cp((cp_base + 10u), pos_2);
+    store_tcs_cp((cp_base + 1u), next_0);
+    store_tcs_cp((cp_base + 6u), next_1);
+    store_tcs_cp((cp_base + 11u), next_2);
+    store_tcs_cp((cp_base + 2u), prev_0);
+    store_tcs_cp((cp_base + 7u), prev_1);
+    store_tcs_cp((cp_base + 12u), prev_2);
+    store_tcs_cp((cp_base + 15u), (((((next_0 + prev_0) + (next_1 + prev_1)) + (next_2 + prev_2)) / 4.0) - (((pos_0 + pos_1) + pos_2) / 6.0)));
     vec3 d_0 = (pos_1 - pos_0);
     vec3 d_1 = (pos_2 - pos_1);
     vec3 d_2 = (pos_0 - pos_2);
-    tcs_cp[(cp_base + 3u)] = nrm_0;
-    tcs_cp[(cp_base + 8u)] = nrm_1;
-    tcs_cp[(cp_base + 13u)] = nrm_2;
-    tcs_cp[(cp_base + 4u)] = ((nrm_0 + nrm_1) - (((4.0 * dot(d_0, (nrm_0 + nrm_1))) / dot(d_0, d_0)) * d_0));
-    tcs_cp[(cp_base + 9u)] = ((nrm_1 + nrm_2) - (((4.0 * dot(d_1, (nrm_1 + nrm_2))) / dot(d_1, d_1)) * d_1));
-    tcs_cp[(cp_base + 14u)] = ((nrm_2 + nrm_0) - (((4.0 * dot(d_2, (nrm_2 + nrm_0))) / dot(d_2, d_2)) * d_2));
+    store_tcs_cp((cp_base + 3u), nrm_0);
+    store_tcs_cp((cp_base + 8u), nrm_1);
+    store_tcs_cp((cp_base + 13u), nrm_2);
+    store_tcs_cp((cp_base + 4u), ((nrm_0 + nrm_1) - (((4.0 * dot(d_0, (nrm_0 + nrm_1))) / dot(d_0, d_0)) * d_0)));
+    store_tcs_cp((cp_base + 9u), ((nrm_1 + nrm_2) - (((4.0 * dot(d_1, (nrm_1 + nrm_2))) / dot(d_1, d_1)) * d_1)));
+    store_tcs_cp((cp_base + 14u), ((nrm_2 + nrm_0) - (((4.0 * dot(d_2, (nrm_2 + nrm_0))) / dot(d_2, d_2)) * d_2)));
 }
 
 void main() {

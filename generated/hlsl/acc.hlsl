@@ -85,6 +85,9 @@ struct Params {
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 40u;
+// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
+// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).
+static const uint KMAX4 = 30u;
 // Control points per patch of each class (index = Params.class).
 static const uint CONTROL_POINTS[2] = {16u, 40u};
 
@@ -182,8 +185,12 @@ precise float3 tessgen_edge(float3 b0, float3 b1, float3 b2, float3 b3, uint i, 
     if ((i == level)) {
         return b3;
     }
-    precise float l = (float((level - i)) / float(level));
     precise float r = (float(i) / float(level));
+#ifdef TESSGEN_ASYMMETRIC_EDGE_WEIGHTS
+    precise float l = (1.0f - r);
+#else
+    precise float l = (float((level - i)) / float(level));
+#endif
     precise float3 c0 = ((b0 * l) + (b1 * r));
     precise float3 c1 = ((b1 * l) + (b2 * r));
     precise float3 c2 = ((b2 * l) + (b3 * r));
@@ -441,6 +448,7 @@ Sample eval(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uin
     } else {
         sample_ = extraordinary_surface(cp, cp_base, iu, iv, level);
     }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
     if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
         uint edge = 3u;
         uint t = (level - iv);
@@ -465,6 +473,7 @@ Sample eval(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uin
         float3 b3 = cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+#endif
     return sample_;
 }
 
@@ -481,6 +490,11 @@ uint grid_iu(uint s, uint level) {
 // Integer domain coordinate of sample `s` = iv·(level+1) + iu.
 uint grid_iv(uint s, uint level) {
     return (s / (level + 1u));
+}
+
+// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+uint grid_index(uint iu, uint iv, uint level) {
+    return ((iv * (level + 1u)) + iu);
 }
 
 // ---- compute entry points ----
@@ -587,7 +601,11 @@ struct HsControlPoint {
 struct HsConstants {
     float edges[4] : SV_TessFactor;
     float inside[2] : SV_InsideTessFactor;
-    float3 cp[KMAX] : CONTROL_POINT;
+    // Control point j at floats 3j .. 3j+2 of the packed array.
+    float4 cp[KMAX4] : CONTROL_POINT;
+    // glslang's HLSL front end reads a domain shader's SV_PrimitiveID as a
+    // user input, so the hull passes the patch index on as a constant.
+    uint patch_id : PATCH_ID;
 };
 
 // The patch stage, once per patch: the class's patch function fills the
@@ -604,9 +622,16 @@ HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
     } else {
         extraordinary_patch(cp_out, face, 0u);
     }
-    for (uint j = 0u; j < KMAX; j += 1u) {
-        c.cp[j] = cp_out[j];
+    for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {
+        c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }
+    for (uint j = 0u; j < KMAX; j += 1u) {
+        uint k = (3u * j);
+        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
+        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
+        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+    }
+    c.patch_id = patch_id;
     float level = float(params.level);
     c.edges[0] = level;
     c.edges[1] = level;
@@ -642,12 +667,28 @@ struct DsOut {
 [domain("quad")]
 DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
     uint level = params.level;
+    float3 cp[KMAX];
+    for (uint j = 0u; j < KMAX; j += 1u) {
+        uint k = (3u * j);
+        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+    }
     uint iu = (uint)round(uv.x * float(level));
     uint iv = (uint)round(uv.y * float(level));
-    Sample result = eval(c.cp, params.class_, 0u, iu, iv, level);
+    Sample result = eval(cp, params.class_, 0u, iu, iv, level);
     DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.normal = result.normal;
     o.world = result.position;
+#ifdef TESSGEN_CAPTURE
+    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
+    // being patch out_base + c.patch_id, sample grid_index(iu, iv).
+    uint at = ((((params.out_base + c.patch_id) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
+    samples[at] = result.position.x;
+    samples[(at + 1u)] = result.position.y;
+    samples[(at + 2u)] = result.position.z;
+    samples[(at + 3u)] = result.normal.x;
+    samples[(at + 4u)] = result.normal.y;
+    samples[(at + 5u)] = result.normal.z;
+#endif
     return o;
 }

@@ -108,8 +108,8 @@ pub mod common {
         if (i == level) {
             return b3;
         }
-        let l: f32 = (((level - i) as f32) / (level as f32));
         let r: f32 = ((i as f32) / (level as f32));
+        let l: f32 = (((level - i) as f32) / (level as f32));
         let c0: Vec3 = ((b0 * l) + (b1 * r));
         let c1: Vec3 = ((b1 * l) + (b2 * r));
         let c2: Vec3 = ((b2 * l) + (b3 * r));
@@ -271,6 +271,11 @@ pub mod regular {
     /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
     pub fn grid_iv(s: u32, level: u32) -> u32 {
         return (s / (level + 1u32));
+    }
+    
+    /// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return ((iv * (level + 1u32)) + iu);
     }
     
     /// Entry points of this scheme.
@@ -632,6 +637,11 @@ pub mod pccm {
         return (s / (level + 1u32));
     }
     
+    /// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return ((iv * (level + 1u32)) + iu);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pccm",
@@ -942,6 +952,11 @@ pub mod acc {
     /// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
     pub fn grid_iv(s: u32, level: u32) -> u32 {
         return (s / (level + 1u32));
+    }
+    
+    /// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return ((iv * (level + 1u32)) + iu);
     }
     
     /// Entry points of this scheme.
@@ -1281,6 +1296,11 @@ pub mod gregory {
         return (s / (level + 1u32));
     }
     
+    /// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return ((iv * (level + 1u32)) + iu);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory",
@@ -1618,6 +1638,11 @@ pub mod gregory_osd {
         return (s / (level + 1u32));
     }
     
+    /// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return ((iv * (level + 1u32)) + iu);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory_osd",
@@ -1802,6 +1827,11 @@ pub mod pn {
             }
         }
         return row;
+    }
+    
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
     
     /// Entry points of this scheme.
@@ -2032,6 +2062,11 @@ pub mod stpn {
         return row;
     }
     
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "stpn",
@@ -2209,6 +2244,11 @@ pub mod phong {
             }
         }
         return row;
+    }
+    
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+        return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
     
     /// Entry points of this scheme.

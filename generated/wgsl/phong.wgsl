@@ -167,8 +167,8 @@ fn tessgen_edge(b0: vec3<f32>, b1: vec3<f32>, b2: vec3<f32>, b3: vec3<f32>, i: u
     if (i == level) {
         return b3;
     }
-    let l: f32 = (f32((level - i)) / f32(level));
     let r: f32 = (f32(i) / f32(level));
+    let l: f32 = (f32((level - i)) / f32(level));
     let c0: vec3<f32> = ((b0 * l) + (b1 * r));
     let c1: vec3<f32> = ((b1 * l) + (b2 * r));
     let c2: vec3<f32> = ((b2 * l) + (b3 * r));
@@ -335,6 +335,11 @@ fn grid_iv(s: u32, level: u32) -> u32 {
         }
     }
     return row;
+}
+
+// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+    return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
 }
 
 // ---- Entry points ----

@@ -167,8 +167,8 @@ fn tessgen_edge(b0: vec3<f32>, b1: vec3<f32>, b2: vec3<f32>, b3: vec3<f32>, i: u
     if (i == level) {
         return b3;
     }
-    let l: f32 = (f32((level - i)) / f32(level));
     let r: f32 = (f32(i) / f32(level));
+    let l: f32 = (f32((level - i)) / f32(level));
     let c0: vec3<f32> = ((b0 * l) + (b1 * r));
     let c1: vec3<f32> = ((b1 * l) + (b2 * r));
     let c2: vec3<f32> = ((b2 * l) + (b3 * r));
@@ -327,6 +327,11 @@ fn grid_iu(s: u32, level: u32) -> u32 {
 // Integer domain coordinate of sample `s` = iv·(level+1) + iu.
 fn grid_iv(s: u32, level: u32) -> u32 {
     return (s / (level + 1u));
+}
+
+// Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
+fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
+    return ((iv * (level + 1u)) + iu);
 }
 
 // ---- Entry points ----

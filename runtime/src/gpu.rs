@@ -13,6 +13,9 @@ use crate::kernels::{self, common::SchemeKernels};
 use crate::topology::Topology;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
+
+pub use crate::upload::ClassRange;
+use crate::upload::{binding, params_bytes, vec3_bytes, Upload, UploadError, PARAMS_SIZE};
 use wgpu::naga;
 
 /// Errors of the GPU path.
@@ -48,6 +51,17 @@ pub enum GpuError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+}
+
+impl From<UploadError> for GpuError {
+    fn from(e: UploadError) -> Self {
+        match e {
+            UploadError::Tess(e) => GpuError::Tess(e),
+            UploadError::PositionCount { expected, got } => {
+                GpuError::PositionCount { expected, got }
+            }
+        }
+    }
 }
 
 /// The limits this crate plans its dispatches with. Defaults come from the
@@ -166,70 +180,6 @@ fn entry_bindings(source: &str) -> Result<HashMap<String, Vec<u32>>, GpuError> {
     Ok(out)
 }
 
-/// One class's patches: a contiguous range of `patch_faces` and of the
-/// control-point buffer.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ClassRange {
-    pub class: u32,
-    /// First patch (index into `patch_faces`).
-    pub first: u32,
-    pub count: u32,
-    /// First control point (in points).
-    pub cp_base: u32,
-    /// Control points per patch.
-    pub points: u32,
-}
-
-const PARAMS_SIZE: u64 = 96;
-
-fn params_bytes(
-    view_proj: Mat4,
-    first: u32,
-    count: u32,
-    class: u32,
-    cp_base: u32,
-    level: u32,
-    out_base: u32,
-) -> Vec<u8> {
-    let mut b = Vec::with_capacity(PARAMS_SIZE as usize);
-    for x in view_proj.to_cols_array() {
-        b.extend_from_slice(&x.to_le_bytes());
-    }
-    for x in [first, count, class, cp_base, level, out_base, 0, 0] {
-        b.extend_from_slice(&x.to_le_bytes());
-    }
-    b
-}
-
-fn u32_bytes(x: &[u32]) -> Vec<u8> {
-    // A zero-length storage binding is invalid; pad empty arrays to one element.
-    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
-    if b.is_empty() {
-        b.extend_from_slice(&[0; 4]);
-    }
-    b
-}
-
-fn f32_bytes(x: &[f32]) -> Vec<u8> {
-    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
-    if b.is_empty() {
-        b.extend_from_slice(&[0; 4]);
-    }
-    b
-}
-
-fn vec3_bytes(x: &[Vec3]) -> Vec<u8> {
-    let mut b: Vec<u8> = x
-        .iter()
-        .flat_map(|v| v.to_array())
-        .flat_map(|f| f.to_le_bytes())
-        .collect();
-    if b.is_empty() {
-        b.extend_from_slice(&[0; 12]);
-    }
-    b
-}
-
 /// A control mesh on the GPU with one scheme's pipelines.
 pub struct GpuMesh<'g> {
     gpu: &'g Gpu,
@@ -251,39 +201,6 @@ pub struct GpuMesh<'g> {
     eval_pipeline: wgpu::ComputePipeline,
 }
 
-/// Binding numbers (crate `tessgen-codegen`'s `backend::abi::BINDINGS`).
-mod binding {
-    pub const POSITIONS: u32 = 0;
-    pub const VALENCE: u32 = 1;
-    pub const RING_OFFSETS: u32 = 2;
-    pub const RING: u32 = 3;
-    pub const VERTEX_OUT_OFFSETS: u32 = 4;
-    pub const VERTEX_OUT: u32 = 5;
-    pub const CORNER_VERTEX: u32 = 6;
-    pub const CORNER_SECTOR: u32 = 7;
-    pub const CONTROL_POINTS: u32 = 8;
-    pub const TABLE: u32 = 9;
-    pub const PARAMS: u32 = 10;
-    pub const PATCH_FACES: u32 = 11;
-    pub const SAMPLES: u32 = 12;
-    pub const NORMALS: u32 = 13;
-    pub const TAGS: u32 = 14;
-    pub const CREASE: u32 = 15;
-    pub const CORNER_SIDE: u32 = 16;
-}
-
-/// What a constructor uploads besides the shared parts (table, pipelines):
-/// the facet data of a quad mesh (topology, rings) or a triangle mesh
-/// (corner vertices, normals).
-struct Upload {
-    patch_faces: Vec<u32>,
-    classes: Vec<ClassRange>,
-    num_vertices: u32,
-    num_positions: u32,
-    /// `(binding, label, contents, extra usages)`.
-    buffers: Vec<(u32, &'static str, Vec<u8>, wgpu::BufferUsages)>,
-}
-
 /// A buffer larger than one storage binding is a typed error, never a
 /// truncation.
 fn check(limits: &Limits, what: &'static str, bytes: u64) -> Result<(), GpuError> {
@@ -296,33 +213,6 @@ fn check(limits: &Limits, what: &'static str, bytes: u64) -> Result<(), GpuError
     } else {
         Ok(())
     }
-}
-
-/// Patches sorted by class; control points laid out class by class.
-fn class_layout(scheme: &SchemeKernels, face_class: &[u32]) -> (Vec<u32>, Vec<ClassRange>, u32) {
-    let mut patch_faces = Vec::with_capacity(face_class.len());
-    let mut classes = Vec::new();
-    let mut cp_base = 0u32;
-    for (c, ck) in scheme.classes.iter().enumerate() {
-        let first = patch_faces.len() as u32;
-        patch_faces.extend(
-            face_class
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| **k == c as u32)
-                .map(|(f, _)| f as u32),
-        );
-        let count = patch_faces.len() as u32 - first;
-        classes.push(ClassRange {
-            class: c as u32,
-            first,
-            count,
-            cp_base,
-            points: ck.control_points,
-        });
-        cp_base += count * ck.control_points;
-    }
-    (patch_faces, classes, cp_base)
 }
 
 impl<'g> GpuMesh<'g> {
@@ -344,86 +234,8 @@ impl<'g> GpuMesh<'g> {
         scheme_name: &str,
         limits: Limits,
     ) -> Result<Self, GpuError> {
-        let scheme = cpu::scheme(scheme_name)?;
-        if scheme.sides != 4 {
-            return Err(cpu::facet_error(scheme).into());
-        }
-        let face_class = cpu::face_classes(topo, scheme)?;
-        if positions.len() != topo.valence.len() {
-            return Err(GpuError::PositionCount {
-                expected: topo.valence.len(),
-                got: positions.len(),
-            });
-        }
-        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
-        let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
-        let mut total = 0u32;
-        for &n in &topo.valence {
-            vertex_out_offsets.push(total);
-            if n > 0 {
-                total += scheme.rows_per_n * n + scheme.rows_fixed;
-            }
-        }
-        vertex_out_offsets.push(total);
-        let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
-        check(&limits, "vertex_out", total as u64 * 12)?;
-        check(&limits, "control_points", cp_total as u64 * 12)?;
-        check(&limits, "ring", topo.ring.len() as u64 * 4)?;
-        let none = wgpu::BufferUsages::empty();
-        let upload = Upload {
-            num_vertices: topo.valence.len() as u32,
-            num_positions: positions.len() as u32,
-            buffers: vec![
-                (binding::POSITIONS, "positions", vec3_bytes(positions), none),
-                (binding::VALENCE, "valence", u32_bytes(&topo.valence), none),
-                (
-                    binding::RING_OFFSETS,
-                    "ring_offsets",
-                    u32_bytes(&topo.ring_offsets),
-                    none,
-                ),
-                (binding::RING, "ring", u32_bytes(&topo.ring), none),
-                (
-                    binding::VERTEX_OUT_OFFSETS,
-                    "vertex_out_offsets",
-                    u32_bytes(&vertex_out_offsets),
-                    none,
-                ),
-                (
-                    binding::VERTEX_OUT,
-                    "vertex_out",
-                    vec3_bytes(&vec![Vec3::ZERO; total as usize]),
-                    none,
-                ),
-                (
-                    binding::CORNER_VERTEX,
-                    "corner_vertex",
-                    u32_bytes(&corner_vertex),
-                    none,
-                ),
-                (
-                    binding::CORNER_SECTOR,
-                    "corner_sector",
-                    u32_bytes(&corner_sector),
-                    none,
-                ),
-                (
-                    binding::CONTROL_POINTS,
-                    "control_points",
-                    vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
-                    wgpu::BufferUsages::COPY_SRC,
-                ),
-                (
-                    binding::PATCH_FACES,
-                    "patch_faces",
-                    u32_bytes(&patch_faces),
-                    none,
-                ),
-            ],
-            patch_faces,
-            classes,
-        };
-        Self::build(gpu, scheme, limits, upload)
+        let upload = Upload::quad(topo, positions, scheme_name)?;
+        Self::build(gpu, limits, upload)
     }
 
     /// Upload a triangle mesh for a triangle scheme (`pn`, `stpn`, `phong`):
@@ -444,85 +256,29 @@ impl<'g> GpuMesh<'g> {
         scheme_name: &str,
         limits: Limits,
     ) -> Result<Self, GpuError> {
-        let scheme = cpu::scheme(scheme_name)?;
-        if scheme.sides != 3 {
-            return Err(cpu::facet_error(scheme).into());
-        }
-        let face_class = vec![0u32; mesh.triangles.len()];
-        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
-        let corner_vertex: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
-        check(&limits, "control_points", cp_total as u64 * 12)?;
-        check(&limits, "positions", mesh.positions.len() as u64 * 12)?;
-        let none = wgpu::BufferUsages::empty();
-        let upload = Upload {
-            // Triangle schemes have no vertex stage.
-            num_vertices: 0,
-            num_positions: mesh.positions.len() as u32,
-            buffers: vec![
-                (
-                    binding::POSITIONS,
-                    "positions",
-                    vec3_bytes(&mesh.positions),
-                    none,
-                ),
-                (binding::NORMALS, "normals", vec3_bytes(&mesh.normals), none),
-                (
-                    binding::TAGS,
-                    "tags",
-                    f32_bytes(&mesh.crease_tags.tags),
-                    none,
-                ),
-                (
-                    binding::CREASE,
-                    "crease",
-                    vec3_bytes(&mesh.crease_tags.crease),
-                    none,
-                ),
-                (
-                    binding::CORNER_SIDE,
-                    "corner_side",
-                    f32_bytes(&mesh.crease_tags.corner_side),
-                    none,
-                ),
-                (
-                    binding::CORNER_VERTEX,
-                    "corner_vertex",
-                    u32_bytes(&corner_vertex),
-                    none,
-                ),
-                (
-                    binding::CONTROL_POINTS,
-                    "control_points",
-                    vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
-                    wgpu::BufferUsages::COPY_SRC,
-                ),
-                (
-                    binding::PATCH_FACES,
-                    "patch_faces",
-                    u32_bytes(&patch_faces),
-                    none,
-                ),
-            ],
-            patch_faces,
-            classes,
-        };
-        Self::build(gpu, scheme, limits, upload)
+        let upload = Upload::tri(mesh, scheme_name)?;
+        Self::build(gpu, limits, upload)
     }
 
     /// The parts every mesh shares: buffers, the stencil table, pipelines,
     /// then the first construction.
-    fn build(
-        gpu: &'g Gpu,
-        scheme: &'static SchemeKernels,
-        limits: Limits,
-        upload: Upload,
-    ) -> Result<Self, GpuError> {
+    fn build(gpu: &'g Gpu, limits: Limits, upload: Upload) -> Result<Self, GpuError> {
+        let scheme = upload.scheme;
+        for b in &upload.buffers {
+            check(&limits, b.label, b.bytes.len() as u64)?;
+        }
         let source =
             kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
         let bindings = entry_bindings(source)?;
         let dev = &gpu.device;
         let mut buffers = HashMap::new();
-        for (b, label, contents, extra) in upload.buffers {
+        for b in upload.buffers {
+            let (label, contents) = (b.label, b.bytes);
+            let extra = if b.read_back {
+                wgpu::BufferUsages::COPY_SRC
+            } else {
+                wgpu::BufferUsages::empty()
+            };
             let buf = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 // wgpu rejects zero-sized storage bindings.
@@ -531,7 +287,7 @@ impl<'g> GpuMesh<'g> {
                 mapped_at_creation: false,
             });
             gpu.queue.write_buffer(&buf, 0, &contents);
-            buffers.insert(b, buf);
+            buffers.insert(b.binding, buf);
         }
 
         // The stencil table as an R32Float texture (x = ring slot, y = row).

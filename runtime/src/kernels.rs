@@ -44,3 +44,12 @@ pub fn wgsl(name: &str) -> Option<&'static str> {
         .find(|(n, _)| *n == name)
         .map(|(_, s)| *s)
 }
+
+/// An emitted GLSL or HLSL file by its path in the generated tree
+/// (`glsl/acc.tese`, `hlsl/acc.hlsl`); built only with the `vulkan` feature.
+pub fn shader(path: &str) -> Option<&'static str> {
+    wgsl_index::SHADERS
+        .iter()
+        .find(|(p, _)| *p == path)
+        .map(|(_, s)| *s)
+}

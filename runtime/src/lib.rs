@@ -30,6 +30,9 @@ pub mod stats;
 pub mod tags;
 pub mod topology;
 pub mod trimesh;
+pub mod upload;
+#[cfg(feature = "vulkan")]
+pub mod vulkan;
 pub mod weld;
 
 pub use cpu::{TessError, Tessellation};

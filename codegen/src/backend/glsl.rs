@@ -280,6 +280,16 @@ fn param(field: &str) -> String {
     format!("params.{}", ident(field))
 }
 
+/// The six floats of a captured sample, in `samples` order.
+const SAMPLE_FIELDS: [&str; 6] = [
+    "position.x",
+    "position.y",
+    "position.z",
+    "normal.x",
+    "normal.y",
+    "normal.z",
+];
+
 pub struct Writer<'a> {
     plan: &'a Plan,
     module: &'a Module,
@@ -308,7 +318,16 @@ impl<'a> Writer<'a> {
             globals.insert(format!("load_{}", b.name));
             globals.insert(format!("store_{}", b.name));
         }
-        for g in ["tcs_cp", "KMAX", "te_normal", "te_position", "Params"] {
+        for g in [
+            "tcs_cp",
+            "KMAX",
+            "KMAX4",
+            "load_tcs_cp",
+            "store_tcs_cp",
+            "te_normal",
+            "te_position",
+            "Params",
+        ] {
             globals.insert(g.to_string());
         }
         Writer {
@@ -372,7 +391,11 @@ impl<'a> Writer<'a> {
                 .iter()
                 .map(|p| FnRef::Local(p.function))
                 .collect(),
-            Stage::Tese => vec![FnRef::Local(self.entries.eval)],
+            Stage::Tese => vec![
+                FnRef::Local(self.entries.eval),
+                FnRef::Local(self.entries.grid[0]),
+                FnRef::Local(self.entries.grid_index),
+            ],
             Stage::CompEval => std::iter::once(self.entries.eval)
                 .chain(self.entries.grid)
                 .map(FnRef::Local)
@@ -550,16 +573,50 @@ impl<'a> Writer<'a> {
             } else {
                 "in"
             };
-            self.line("// Control points of this patch, written once by the control stage.");
+            self.line(
+                "// Control points of this patch, written once by the control stage, packed:",
+            );
+            self.line(
+                "// point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted",
+            );
+            self.line(
+                "// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),",
+            );
+            self.line("// so KMAX vec3 would take KMAX locations.");
             self.line(&format!("const uint KMAX = {}u;", self.kmax()));
             self.line(&format!(
-                "layout(location = 0) patch {dir} vec3 tcs_cp[KMAX];"
+                "const uint KMAX4 = {}u;",
+                (3 * self.kmax()).div_ceil(4)
             ));
+            self.line(&format!(
+                "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
+            ));
+            self.line("");
+            if self.stage == Stage::Tesc {
+                self.line("void store_tcs_cp(uint i, vec3 v) {");
+                self.line("    uint c = (3u * i);");
+                self.line("    tcs_cp[(c / 4u)][(c % 4u)] = v.x;");
+                self.line("    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;");
+                self.line("    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;");
+            } else {
+                self.line("vec3 load_tcs_cp(uint i) {");
+                self.line("    uint c = (3u * i);");
+                self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
+            }
+            self.line("}");
             self.line("");
         }
         if self.stage == Stage::Tese {
             self.line("layout(location = 0) out vec3 te_normal;");
             self.line("layout(location = 1) out vec3 te_position;");
+            self.line("");
+            // Capture builds bind the samples buffer (written from this stage).
+            self.out
+                .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+            if let Some(b) = abi::BINDINGS.iter().find(|b| b.name == "samples") {
+                self.binding(b, true);
+            }
+            self.out.push_str("#endif\n");
             self.line("");
         }
         self.helpers(&need);
@@ -743,6 +800,19 @@ impl<'a> Writer<'a> {
                 self.line("te_normal = result.normal;");
                 self.line("te_position = result.position;");
                 self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
+                let grid_len = self.fn_name(FnRef::Local(self.entries.grid[0]));
+                let grid_index = self.fn_name(FnRef::Local(self.entries.grid_index));
+                self.out
+                    .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+                self.line("// Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw");
+                self.line("// being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).");
+                self.line(&format!(
+                    "uint o = ((((params.out_base + uint(gl_PrimitiveID)) * {grid_len}({level})) + {grid_index}(iu, iv, {level})) * 6u);"
+                ));
+                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
+                    self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+                }
+                self.out.push_str("#endif\n");
             }
             Stage::CompVertex => {
                 self.line("uint k = gl_GlobalInvocationID.x;");
@@ -799,17 +869,7 @@ impl<'a> Writer<'a> {
                     self.fn_name(FnRef::Local(self.entries.eval))
                 ));
                 self.line(&format!("uint o = (({} + k) * 6u);", param("out_base")));
-                for (i, c) in [
-                    "position.x",
-                    "position.y",
-                    "position.z",
-                    "normal.x",
-                    "normal.y",
-                    "normal.z",
-                ]
-                .iter()
-                .enumerate()
-                {
+                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
                     self.line(&format!("samples[(o + {i}u)] = result.{c};"));
                 }
             }
@@ -888,7 +948,7 @@ impl<'a> Writer<'a> {
                 Stmt::Store(r, i, v) => {
                     let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
                     let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("tcs_cp[{i}] = {v};")
+                        format!("store_tcs_cp({i}, {v});")
                     } else if r.ty() == Ty::Vec3 {
                         format!("store_{}({i}, {v});", r.name())
                     } else {
@@ -911,6 +971,21 @@ impl<'a> Writer<'a> {
                         self.indent -= 1;
                         self.line("}");
                     }
+                }
+                Stmt::IfDef(d, a, b) => {
+                    // Preprocessor lines at column 0.
+                    let (open, first, second) = if a.is_empty() {
+                        (format!("#ifndef {}\n", d.name()), b, &a[..])
+                    } else {
+                        (format!("#ifdef {}\n", d.name()), a, &b[..])
+                    };
+                    self.out.push_str(&open);
+                    self.stmts(m, f, first);
+                    if !second.is_empty() {
+                        self.out.push_str("#else\n");
+                        self.stmts(m, f, second);
+                    }
+                    self.out.push_str("#endif\n");
                 }
                 Stmt::For(id, a, b, body) => {
                     let v = self.locals[id.0].clone();
@@ -996,7 +1071,7 @@ impl<'a> Writer<'a> {
             Expr::Fetch(r, i) => {
                 let idx = self.expr(m, f, i);
                 if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("tcs_cp[{idx}]")
+                    format!("load_tcs_cp({idx})")
                 } else if r.ty() == Ty::Vec3 {
                     format!("load_{}({idx})", r.name())
                 } else {

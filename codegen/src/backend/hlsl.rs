@@ -209,6 +209,7 @@ impl<'a> Writer<'a> {
             "Params",
             "ParamsBlock",
             "KMAX",
+            "KMAX4",
             "CONTROL_POINTS",
             "cp",
             "cp_out",
@@ -389,6 +390,14 @@ impl<'a> Writer<'a> {
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
         self.line(&format!("static const uint KMAX = {}u;", self.kmax));
+        self.line(
+            "// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch",
+        );
+        self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
+        self.line(&format!(
+            "static const uint KMAX4 = {}u;",
+            (3 * self.kmax).div_ceil(4)
+        ));
         self.line("// Control points per patch of each class (index = Params.class).");
         let ks: Vec<String> = self
             .entries
@@ -594,6 +603,21 @@ impl<'a> Writer<'a> {
                         self.indent -= 1;
                         self.line("}");
                     }
+                }
+                Stmt::IfDef(d, a, b) => {
+                    // Preprocessor lines at column 0.
+                    let (open, first, second) = if a.is_empty() {
+                        (format!("#ifndef {}\n", d.name()), b, &a[..])
+                    } else {
+                        (format!("#ifdef {}\n", d.name()), a, &b[..])
+                    };
+                    self.out.push_str(&open);
+                    self.stmts(cx, first);
+                    if !second.is_empty() {
+                        self.out.push_str("#else\n");
+                        self.stmts(cx, second);
+                    }
+                    self.out.push_str("#endif\n");
                 }
                 Stmt::For(id, a, b, body) => {
                     let v = &cx.names[id.0];
@@ -878,6 +902,9 @@ impl<'a> Writer<'a> {
             .map(|t| self.ty(t))
             .unwrap_or_else(|| "void".into());
         let (position, normal) = self.sample_fields();
+        let capture = Define::Capture.name();
+        let grid_len = ident(&self.module.functions[self.entries.grid[0]].name);
+        let grid_index = ident(&self.module.functions[self.entries.grid_index].name);
         let tri = self.entries.sides == 3;
         let (domain, edges, inside, uv_ty, cu, cv) = if tri {
             ("tri", 3, 1, "float3", "y", "z")
@@ -946,7 +973,11 @@ struct HsControlPoint {{
 struct HsConstants {{
     float edges[{edges}] : SV_TessFactor;
     {inside_decl}
-    float3 cp[KMAX] : CONTROL_POINT;
+    // Control point j at floats 3j .. 3j+2 of the packed array.
+    float4 cp[KMAX4] : CONTROL_POINT;
+    // glslang's HLSL front end reads a domain shader's SV_PrimitiveID as a
+    // user input, so the hull passes the patch index on as a constant.
+    uint patch_id : PATCH_ID;
 }};
 
 // The patch stage, once per patch: the class's patch function fills the
@@ -966,9 +997,16 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
         self.class_dispatch(|w, p| w.patch_call(p, "cp_out", "face"));
         self.indent -= 1;
         let text = format!(
-            r#"    for (uint j = 0u; j < KMAX; j += 1u) {{
-        c.cp[j] = cp_out[j];
+            r#"    for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {{
+        c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }}
+    for (uint j = 0u; j < KMAX; j += 1u) {{
+        uint k = (3u * j);
+        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
+        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
+        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+    }}
+    c.patch_id = patch_id;
     float level = float(params.level);
 {set_factors}    return c;
 }}
@@ -994,13 +1032,29 @@ struct DsOut {{
 [domain("{domain}")]
 DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
     uint level = params.level;
+    float3 cp[KMAX];
+    for (uint j = 0u; j < KMAX; j += 1u) {{
+        uint k = (3u * j);
+        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+    }}
     uint iu = (uint)round(uv.{cu} * float(level));
     uint iv = (uint)round(uv.{cv} * float(level));
-    {eval_ret} result = {eval_name}(c.cp, params.{class}, 0u, iu, iv, level);
+    {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);
     DsOut o;
     o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
     o.normal = result.{normal};
     o.world = result.{position};
+#ifdef {capture}
+    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
+    // being patch out_base + c.patch_id, sample grid_index(iu, iv).
+    uint at = ((((params.out_base + c.patch_id) * {grid_len}(level)) + {grid_index}(iu, iv, level)) * 6u);
+    samples[at] = result.{position}.x;
+    samples[(at + 1u)] = result.{position}.y;
+    samples[(at + 2u)] = result.{position}.z;
+    samples[(at + 3u)] = result.{normal}.x;
+    samples[(at + 4u)] = result.{normal}.y;
+    samples[(at + 5u)] = result.{normal}.z;
+#endif
     return o;
 }}"#
         );

@@ -104,6 +104,10 @@ pub fn called(f: &Function) -> Vec<FnRef> {
                     stmts(a, out);
                     stmts(b, out);
                 }
+                Stmt::IfDef(_, a, b) => {
+                    stmts(a, out);
+                    stmts(b, out);
+                }
                 Stmt::For(_, a, b, body) => {
                     expr(a, out);
                     expr(b, out);

@@ -355,6 +355,8 @@ pub struct SchemeKernels {
                         self.line("}");
                     }
                 }
+                // No preprocessor: always the default branch.
+                Stmt::IfDef(_, _, b) => self.stmts(m, f, b),
                 Stmt::For(id, a, b, body) => {
                     let s = format!(
                         "for {} in ({})..({}) {{",

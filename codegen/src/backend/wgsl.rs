@@ -471,6 +471,8 @@ impl<'a> Writer<'a> {
                         self.line("}");
                     }
                 }
+                // No preprocessor: always the default branch.
+                Stmt::IfDef(_, _, b) => self.stmts(m, f, written, b),
                 Stmt::For(id, a, b, body) => {
                     let v = self.locals[id.0].clone();
                     let s = format!(

@@ -1,0 +1,311 @@
+//! What every GPU backend uploads for a mesh, backend-neutral: one byte
+//! buffer per binding of the ABI (`tessgen-codegen`'s `backend::abi`), the
+//! patches sorted by facet class, and each class's range. The wgpu path
+//! ([`crate::gpu`]) and the Vulkan tessellation harness ([`crate::vulkan`])
+//! both build their buffers from an [`Upload`], so they run the emitted
+//! shaders on the same data.
+
+use crate::cpu::{self, TessError};
+use crate::kernels::common::SchemeKernels;
+use crate::topology::Topology;
+use glam::{Mat4, Vec3};
+
+/// Binding numbers (crate `tessgen-codegen`'s `backend::abi::BINDINGS`).
+pub mod binding {
+    pub const POSITIONS: u32 = 0;
+    pub const VALENCE: u32 = 1;
+    pub const RING_OFFSETS: u32 = 2;
+    pub const RING: u32 = 3;
+    pub const VERTEX_OUT_OFFSETS: u32 = 4;
+    pub const VERTEX_OUT: u32 = 5;
+    pub const CORNER_VERTEX: u32 = 6;
+    pub const CORNER_SECTOR: u32 = 7;
+    pub const CONTROL_POINTS: u32 = 8;
+    pub const TABLE: u32 = 9;
+    pub const PARAMS: u32 = 10;
+    pub const PATCH_FACES: u32 = 11;
+    pub const SAMPLES: u32 = 12;
+    pub const NORMALS: u32 = 13;
+    pub const TAGS: u32 = 14;
+    pub const CREASE: u32 = 15;
+    pub const CORNER_SIDE: u32 = 16;
+    /// Number of bindings (0 ..= CORNER_SIDE).
+    pub const COUNT: u32 = 17;
+}
+
+/// Errors building an [`Upload`].
+#[derive(Debug, thiserror::Error)]
+pub enum UploadError {
+    #[error(transparent)]
+    Tess(#[from] TessError),
+    #[error("positions: expected {expected}, got {got}")]
+    PositionCount { expected: usize, got: usize },
+}
+
+/// One class's patches: a contiguous range of `patch_faces` and of the
+/// control-point buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClassRange {
+    pub class: u32,
+    /// First patch (index into `patch_faces`).
+    pub first: u32,
+    pub count: u32,
+    /// First control point (in points).
+    pub cp_base: u32,
+    /// Control points per patch.
+    pub points: u32,
+}
+
+/// One storage buffer's initial contents.
+#[derive(Clone, Debug)]
+pub struct UploadBuffer {
+    pub binding: u32,
+    pub label: &'static str,
+    pub bytes: Vec<u8>,
+    /// Read back by some caller (control points): needs copy-source usage.
+    pub read_back: bool,
+}
+
+/// The facet data of a quad mesh (topology, rings) or a triangle mesh
+/// (corner vertices, normals), ready for upload.
+#[derive(Clone, Debug)]
+pub struct Upload {
+    pub scheme: &'static SchemeKernels,
+    /// Face of each patch (patches sorted by class).
+    pub patch_faces: Vec<u32>,
+    pub classes: Vec<ClassRange>,
+    /// Vertices the vertex stage runs over (0 for triangle schemes).
+    pub num_vertices: u32,
+    /// Control-mesh positions uploaded.
+    pub num_positions: u32,
+    /// Storage buffers by binding (the table and Params are not here).
+    pub buffers: Vec<UploadBuffer>,
+}
+
+/// Size of the Params uniform block in bytes (`abi::PARAMS_SIZE`).
+pub const PARAMS_SIZE: u64 = 96;
+
+/// The Params block (`abi::PARAMS`): the matrix, then
+/// `first, count, class, cp_base, level, out_base, flags, pad1`.
+#[allow(clippy::too_many_arguments)]
+pub fn params_bytes(
+    view_proj: Mat4,
+    first: u32,
+    count: u32,
+    class: u32,
+    cp_base: u32,
+    level: u32,
+    out_base: u32,
+) -> Vec<u8> {
+    let mut b = Vec::with_capacity(PARAMS_SIZE as usize);
+    for x in view_proj.to_cols_array() {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    for x in [first, count, class, cp_base, level, out_base, 0, 0] {
+        b.extend_from_slice(&x.to_le_bytes());
+    }
+    b
+}
+
+pub fn u32_bytes(x: &[u32]) -> Vec<u8> {
+    // A zero-length storage binding is invalid; pad empty arrays to one element.
+    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 4]);
+    }
+    b
+}
+
+pub fn f32_bytes(x: &[f32]) -> Vec<u8> {
+    let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 4]);
+    }
+    b
+}
+
+pub fn vec3_bytes(x: &[Vec3]) -> Vec<u8> {
+    let mut b: Vec<u8> = x
+        .iter()
+        .flat_map(|v| v.to_array())
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    if b.is_empty() {
+        b.extend_from_slice(&[0; 12]);
+    }
+    b
+}
+
+/// Patches sorted by class; control points laid out class by class.
+pub fn class_layout(
+    scheme: &SchemeKernels,
+    face_class: &[u32],
+) -> (Vec<u32>, Vec<ClassRange>, u32) {
+    let mut patch_faces = Vec::with_capacity(face_class.len());
+    let mut classes = Vec::new();
+    let mut cp_base = 0u32;
+    for (c, ck) in scheme.classes.iter().enumerate() {
+        let first = patch_faces.len() as u32;
+        patch_faces.extend(
+            face_class
+                .iter()
+                .enumerate()
+                .filter(|(_, k)| **k == c as u32)
+                .map(|(f, _)| f as u32),
+        );
+        let count = patch_faces.len() as u32 - first;
+        classes.push(ClassRange {
+            class: c as u32,
+            first,
+            count,
+            cp_base,
+            points: ck.control_points,
+        });
+        cp_base += count * ck.control_points;
+    }
+    (patch_faces, classes, cp_base)
+}
+
+fn buf(binding: u32, label: &'static str, bytes: Vec<u8>) -> UploadBuffer {
+    UploadBuffer {
+        binding,
+        label,
+        bytes,
+        read_back: false,
+    }
+}
+
+impl Upload {
+    /// A quad mesh for a quad scheme: positions, topology, rings, corner
+    /// records, zeroed vertex-stage outputs and control points.
+    pub fn quad(
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme_name: &str,
+    ) -> Result<Upload, UploadError> {
+        let scheme = cpu::scheme(scheme_name)?;
+        if scheme.sides != 4 {
+            return Err(cpu::facet_error(scheme).into());
+        }
+        let face_class = cpu::face_classes(topo, scheme)?;
+        if positions.len() != topo.valence.len() {
+            return Err(UploadError::PositionCount {
+                expected: topo.valence.len(),
+                got: positions.len(),
+            });
+        }
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
+        let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
+        let mut total = 0u32;
+        for &n in &topo.valence {
+            vertex_out_offsets.push(total);
+            if n > 0 {
+                total += scheme.rows_per_n * n + scheme.rows_fixed;
+            }
+        }
+        vertex_out_offsets.push(total);
+        let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
+        Ok(Upload {
+            scheme,
+            num_vertices: topo.valence.len() as u32,
+            num_positions: positions.len() as u32,
+            buffers: vec![
+                buf(binding::POSITIONS, "positions", vec3_bytes(positions)),
+                buf(binding::VALENCE, "valence", u32_bytes(&topo.valence)),
+                buf(
+                    binding::RING_OFFSETS,
+                    "ring_offsets",
+                    u32_bytes(&topo.ring_offsets),
+                ),
+                buf(binding::RING, "ring", u32_bytes(&topo.ring)),
+                buf(
+                    binding::VERTEX_OUT_OFFSETS,
+                    "vertex_out_offsets",
+                    u32_bytes(&vertex_out_offsets),
+                ),
+                buf(
+                    binding::VERTEX_OUT,
+                    "vertex_out",
+                    vec3_bytes(&vec![Vec3::ZERO; total as usize]),
+                ),
+                buf(
+                    binding::CORNER_VERTEX,
+                    "corner_vertex",
+                    u32_bytes(&corner_vertex),
+                ),
+                buf(
+                    binding::CORNER_SECTOR,
+                    "corner_sector",
+                    u32_bytes(&corner_sector),
+                ),
+                UploadBuffer {
+                    read_back: true,
+                    ..buf(
+                        binding::CONTROL_POINTS,
+                        "control_points",
+                        vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
+                    )
+                },
+                buf(binding::PATCH_FACES, "patch_faces", u32_bytes(&patch_faces)),
+            ],
+            patch_faces,
+            classes,
+        })
+    }
+
+    /// A triangle mesh for a triangle scheme: corner vertices, positions,
+    /// unit normals and crease tags; no vertex stage runs.
+    pub fn tri(mesh: &crate::trimesh::TriMesh, scheme_name: &str) -> Result<Upload, UploadError> {
+        let scheme = cpu::scheme(scheme_name)?;
+        if scheme.sides != 3 {
+            return Err(cpu::facet_error(scheme).into());
+        }
+        let face_class = vec![0u32; mesh.triangles.len()];
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
+        let corner_vertex: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
+        Ok(Upload {
+            scheme,
+            // Triangle schemes have no vertex stage.
+            num_vertices: 0,
+            num_positions: mesh.positions.len() as u32,
+            buffers: vec![
+                buf(binding::POSITIONS, "positions", vec3_bytes(&mesh.positions)),
+                buf(binding::NORMALS, "normals", vec3_bytes(&mesh.normals)),
+                // Scalar-tagged PN's tags (neutral unless the mesh has a tag
+                // file); the other triangle schemes never bind them.
+                buf(binding::TAGS, "tags", f32_bytes(&mesh.crease_tags.tags)),
+                buf(
+                    binding::CREASE,
+                    "crease",
+                    vec3_bytes(&mesh.crease_tags.crease),
+                ),
+                buf(
+                    binding::CORNER_SIDE,
+                    "corner_side",
+                    f32_bytes(&mesh.crease_tags.corner_side),
+                ),
+                buf(
+                    binding::CORNER_VERTEX,
+                    "corner_vertex",
+                    u32_bytes(&corner_vertex),
+                ),
+                UploadBuffer {
+                    read_back: true,
+                    ..buf(
+                        binding::CONTROL_POINTS,
+                        "control_points",
+                        vec3_bytes(&vec![Vec3::ZERO; cp_total as usize]),
+                    )
+                },
+                buf(binding::PATCH_FACES, "patch_faces", u32_bytes(&patch_faces)),
+            ],
+            patch_faces,
+            classes,
+        })
+    }
+
+    /// Samples per patch at `level` (the scheme's `grid_len`).
+    pub fn grid_len(&self, level: u32) -> u64 {
+        (self.scheme.grid_len)(level) as u64
+    }
+}

@@ -1,0 +1,1359 @@
+//! The Vulkan tessellation harness: runs the emitted **GLSL** and **HLSL**
+//! tessellation shaders in a real Vulkan tessellation pipeline (Mesa's
+//! lavapipe on CI) and captures every evaluated sample, so their output can
+//! be welded and compared with the CPU exactly like the CPU and wgpu paths.
+//!
+//! * Shaders: the GLSL (`<scheme>.vert/.tesc/.tese`, `<scheme>_vertex_stage.comp`)
+//!   and HLSL (`<scheme>.hlsl`, entry points `vs_main`, `hs_main`, `ds_main`,
+//!   `vertex_stage_main`) that this crate's `build.rs` generates, compiled to
+//!   SPIR-V by `glslangValidator` (HLSL with `-D`) with `-DTESSGEN_CAPTURE`:
+//!   the evaluation stage then also writes its sample into the `samples`
+//!   buffer at `eval_main`'s layout.
+//! * Quad schemes run the vertex stage as a compute dispatch first; then, per
+//!   facet class, one draw of `count` patches (patch size 1, rasterizer
+//!   discard, a render pass without attachments) with
+//!   `Params { first, count, class, cp_base, level, out_base }`.
+//! * The data uploaded is [`crate::upload::Upload`], the same as the wgpu
+//!   path's.
+//!
+//! The Vulkan loader is opened at run time (`ash::Entry::load`), so a build
+//! with this feature needs no Vulkan SDK; running needs `libvulkan1` and a
+//! driver (`mesa-vulkan-drivers` for lavapipe) and `glslangValidator`
+//! (`glslang-tools`).
+
+use crate::cpu::{self, Tessellation};
+use crate::kernels::{self, common::SchemeKernels};
+use crate::topology::Topology;
+use crate::upload::{binding, params_bytes, ClassRange, Upload, UploadError, PARAMS_SIZE};
+use ash::vk;
+use glam::{Mat4, Vec3};
+use std::ffi::CStr;
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Which emitted shader language to run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Language {
+    #[default]
+    Glsl,
+    Hlsl,
+}
+
+impl Language {
+    pub const ALL: [Language; 2] = [Language::Glsl, Language::Hlsl];
+    pub fn name(self) -> &'static str {
+        match self {
+            Language::Glsl => "glsl",
+            Language::Hlsl => "hlsl",
+        }
+    }
+}
+
+/// Define that compiles the shared boundary path out of `eval` (a negative
+/// control: the watertightness check must then find cracks).
+pub const NO_BOUNDARY_PATH: &str = "TESSGEN_NO_BOUNDARY_PATH";
+/// Define that makes the shared edge evaluator form `l = 1 − r` in float
+/// (watertight.md Rule 2's forbidden form): a negative control that must
+/// open the weld at levels whose `i/level` is inexact.
+pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
+/// Define that makes the evaluation stage write its samples (always set by
+/// this harness).
+pub const CAPTURE: &str = "TESSGEN_CAPTURE";
+
+/// How to build the shaders.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    pub language: Language,
+    /// Extra preprocessor defines (e.g. [`NO_BOUNDARY_PATH`]).
+    pub defines: Vec<String>,
+}
+
+impl Options {
+    pub fn new(language: Language) -> Self {
+        Options {
+            language,
+            defines: Vec::new(),
+        }
+    }
+}
+
+/// Errors of the Vulkan harness.
+#[derive(Debug, thiserror::Error)]
+pub enum VkError {
+    #[error("cannot load the Vulkan loader (install libvulkan1, and mesa-vulkan-drivers for lavapipe): {0}")]
+    Loader(String),
+    #[error("Vulkan call {call} failed: {result}")]
+    Call {
+        call: &'static str,
+        result: vk::Result,
+    },
+    #[error("no Vulkan device supports tessellationShader and vertexPipelineStoresAndAtomics with a graphics+compute queue (install mesa-vulkan-drivers for lavapipe)")]
+    NoDevice,
+    #[error("no Vulkan device matches TESSGEN_VK_DEVICE={0:?}")]
+    DeviceNotFound(String),
+    #[error("glslangValidator could not be run ({0}); install glslang-tools")]
+    NoGlslang(String),
+    #[error("glslangValidator failed on {file} (stage {stage}):\n{log}")]
+    Compile {
+        file: String,
+        stage: &'static str,
+        log: String,
+    },
+    #[error("no {language} shader {file} for scheme `{scheme}` in this build")]
+    NoShader {
+        language: &'static str,
+        scheme: String,
+        file: String,
+    },
+    #[error("scheme `{scheme}`: {what} needs {needed}, the device allows {max}")]
+    Limit {
+        scheme: String,
+        what: &'static str,
+        needed: u64,
+        max: u64,
+    },
+    #[error("no Vulkan memory type for {0}")]
+    NoMemoryType(&'static str),
+    #[error("i/o: {0}")]
+    Io(String),
+    #[error(transparent)]
+    Tess(#[from] cpu::TessError),
+    #[error("positions: expected {expected}, got {got}")]
+    PositionCount { expected: usize, got: usize },
+}
+
+impl From<UploadError> for VkError {
+    fn from(e: UploadError) -> Self {
+        match e {
+            UploadError::Tess(e) => VkError::Tess(e),
+            UploadError::PositionCount { expected, got } => {
+                VkError::PositionCount { expected, got }
+            }
+        }
+    }
+}
+
+fn call(call: &'static str) -> impl FnOnce(vk::Result) -> VkError {
+    move |result| VkError::Call { call, result }
+}
+
+/// The device limits the harness checks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeviceLimits {
+    pub max_tessellation_patch_size: u32,
+    pub max_tessellation_generation_level: u32,
+    pub max_tessellation_control_per_patch_output_components: u32,
+    pub max_tessellation_evaluation_input_components: u32,
+    pub max_storage_buffer_range: u32,
+    pub max_image_dimension_2d: u32,
+    pub max_compute_work_group_count_x: u32,
+}
+
+/// A Vulkan instance, device and queue.
+pub struct Vulkan {
+    _entry: ash::Entry,
+    instance: ash::Instance,
+    device: ash::Device,
+    queue: vk::Queue,
+    memory: vk::PhysicalDeviceMemoryProperties,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    /// Device name and driver (e.g. `llvmpipe (LLVM 15.0.7, 256 bits)`).
+    pub name: String,
+    pub limits: DeviceLimits,
+}
+
+impl Vulkan {
+    /// The first device with tessellation shaders and vertex-pipeline stores
+    /// (or the one whose name contains `TESSGEN_VK_DEVICE`).
+    pub fn new() -> Result<Vulkan, VkError> {
+        // SAFETY: loading the system Vulkan loader; every handle created
+        // below is destroyed in Drop, in reverse order.
+        let entry = unsafe { ash::Entry::load() }.map_err(|e| VkError::Loader(e.to_string()))?;
+        let app = vk::ApplicationInfo::default()
+            .application_name(c"tessgen")
+            .api_version(vk::API_VERSION_1_1);
+        let ci = vk::InstanceCreateInfo::default().application_info(&app);
+        let instance =
+            unsafe { entry.create_instance(&ci, None) }.map_err(call("vkCreateInstance"))?;
+        match Self::with_instance(entry, instance.clone()) {
+            Ok(v) => Ok(v),
+            Err(e) => {
+                unsafe { instance.destroy_instance(None) };
+                Err(e)
+            }
+        }
+    }
+
+    fn with_instance(entry: ash::Entry, instance: ash::Instance) -> Result<Vulkan, VkError> {
+        let devices = unsafe { instance.enumerate_physical_devices() }
+            .map_err(call("vkEnumeratePhysicalDevices"))?;
+        let want = std::env::var("TESSGEN_VK_DEVICE").ok();
+        let mut chosen = None;
+        for pd in devices {
+            let props = unsafe { instance.get_physical_device_properties(pd) };
+            let name = props
+                .device_name_as_c_str()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            if let Some(w) = &want {
+                if !name.to_lowercase().contains(&w.to_lowercase()) {
+                    continue;
+                }
+            }
+            let f = unsafe { instance.get_physical_device_features(pd) };
+            if f.tessellation_shader == vk::FALSE
+                || f.vertex_pipeline_stores_and_atomics == vk::FALSE
+            {
+                continue;
+            }
+            let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+            let Some(family) = families.iter().position(|q| {
+                q.queue_flags
+                    .contains(vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE)
+            }) else {
+                continue;
+            };
+            chosen = Some((pd, props, name, family as u32));
+            break;
+        }
+        let Some((pd, props, name, family)) = chosen else {
+            return Err(match want {
+                Some(w) => VkError::DeviceNotFound(w),
+                None => VkError::NoDevice,
+            });
+        };
+        let features = vk::PhysicalDeviceFeatures {
+            tessellation_shader: vk::TRUE,
+            vertex_pipeline_stores_and_atomics: vk::TRUE,
+            ..Default::default()
+        };
+        let priorities = [1.0f32];
+        let queues = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(family)
+            .queue_priorities(&priorities)];
+        let dci = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queues)
+            .enabled_features(&features);
+        let device =
+            unsafe { instance.create_device(pd, &dci, None) }.map_err(call("vkCreateDevice"))?;
+        let queue = unsafe { device.get_device_queue(family, 0) };
+        let memory = unsafe { instance.get_physical_device_memory_properties(pd) };
+        let setup = || -> Result<(vk::CommandPool, vk::CommandBuffer, vk::Fence), VkError> {
+            let pool = unsafe {
+                device.create_command_pool(
+                    &vk::CommandPoolCreateInfo::default()
+                        .queue_family_index(family)
+                        .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER),
+                    None,
+                )
+            }
+            .map_err(call("vkCreateCommandPool"))?;
+            let cmd = unsafe {
+                device.allocate_command_buffers(
+                    &vk::CommandBufferAllocateInfo::default()
+                        .command_pool(pool)
+                        .level(vk::CommandBufferLevel::PRIMARY)
+                        .command_buffer_count(1),
+                )
+            }
+            .map_err(call("vkAllocateCommandBuffers"))?[0];
+            let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+                .map_err(call("vkCreateFence"))?;
+            Ok((pool, cmd, fence))
+        };
+        let (pool, cmd, fence) = match setup() {
+            Ok(x) => x,
+            Err(e) => {
+                unsafe { device.destroy_device(None) };
+                return Err(e);
+            }
+        };
+        let l = &props.limits;
+        let driver = format!(
+            "{name} (Vulkan {}.{}.{})",
+            vk::api_version_major(props.api_version),
+            vk::api_version_minor(props.api_version),
+            vk::api_version_patch(props.api_version)
+        );
+        Ok(Vulkan {
+            _entry: entry,
+            instance,
+            device,
+            queue,
+            memory,
+            pool,
+            cmd,
+            fence,
+            name: driver,
+            limits: DeviceLimits {
+                max_tessellation_patch_size: l.max_tessellation_patch_size,
+                max_tessellation_generation_level: l.max_tessellation_generation_level,
+                max_tessellation_control_per_patch_output_components: l
+                    .max_tessellation_control_per_patch_output_components,
+                max_tessellation_evaluation_input_components: l
+                    .max_tessellation_evaluation_input_components,
+                max_storage_buffer_range: l.max_storage_buffer_range,
+                max_image_dimension_2d: l.max_image_dimension2_d,
+                max_compute_work_group_count_x: l.max_compute_work_group_count[0],
+            },
+        })
+    }
+
+    fn memory_type(
+        &self,
+        bits: u32,
+        want: vk::MemoryPropertyFlags,
+        what: &'static str,
+    ) -> Result<u32, VkError> {
+        (0..self.memory.memory_type_count)
+            .find(|&i| {
+                bits & (1 << i) != 0
+                    && self.memory.memory_types[i as usize]
+                        .property_flags
+                        .contains(want)
+            })
+            .ok_or(VkError::NoMemoryType(what))
+    }
+
+    /// A host-visible, coherent, persistently mapped buffer.
+    fn buffer(
+        &self,
+        what: &'static str,
+        size: u64,
+        usage: vk::BufferUsageFlags,
+    ) -> Result<Buf, VkError> {
+        let size = size.max(16);
+        let d = &self.device;
+        let buffer = unsafe {
+            d.create_buffer(
+                &vk::BufferCreateInfo::default()
+                    .size(size)
+                    .usage(usage)
+                    .sharing_mode(vk::SharingMode::EXCLUSIVE),
+                None,
+            )
+        }
+        .map_err(call("vkCreateBuffer"))?;
+        let req = unsafe { d.get_buffer_memory_requirements(buffer) };
+        let ty = match self.memory_type(
+            req.memory_type_bits,
+            vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT,
+            what,
+        ) {
+            Ok(t) => t,
+            Err(e) => {
+                unsafe { d.destroy_buffer(buffer, None) };
+                return Err(e);
+            }
+        };
+        let memory = match unsafe {
+            d.allocate_memory(
+                &vk::MemoryAllocateInfo::default()
+                    .allocation_size(req.size)
+                    .memory_type_index(ty),
+                None,
+            )
+        } {
+            Ok(m) => m,
+            Err(e) => {
+                unsafe { d.destroy_buffer(buffer, None) };
+                return Err(call("vkAllocateMemory")(e));
+            }
+        };
+        let buf = Buf {
+            buffer,
+            memory,
+            size,
+            ptr: std::ptr::null_mut(),
+        };
+        let bound = unsafe { d.bind_buffer_memory(buffer, memory, 0) }
+            .map_err(call("vkBindBufferMemory"))
+            .and_then(|_| {
+                unsafe { d.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()) }
+                    .map_err(call("vkMapMemory"))
+            });
+        match bound {
+            Ok(ptr) => Ok(Buf {
+                ptr: ptr as *mut u8,
+                ..buf
+            }),
+            Err(e) => {
+                buf.destroy(d);
+                Err(e)
+            }
+        }
+    }
+
+    /// Record `f` into the command buffer, submit it and wait.
+    fn submit(&self, f: impl FnOnce(&ash::Device, vk::CommandBuffer)) -> Result<(), VkError> {
+        let d = &self.device;
+        unsafe {
+            d.reset_command_buffer(self.cmd, vk::CommandBufferResetFlags::empty())
+                .map_err(call("vkResetCommandBuffer"))?;
+            d.begin_command_buffer(
+                self.cmd,
+                &vk::CommandBufferBeginInfo::default()
+                    .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
+            )
+            .map_err(call("vkBeginCommandBuffer"))?;
+            // Earlier submissions' shader writes (vertex stage, uploads) are
+            // visible to everything recorded here.
+            let all = vk::MemoryBarrier::default()
+                .src_access_mask(
+                    vk::AccessFlags::SHADER_WRITE
+                        | vk::AccessFlags::TRANSFER_WRITE
+                        | vk::AccessFlags::HOST_WRITE,
+                )
+                .dst_access_mask(
+                    vk::AccessFlags::SHADER_READ
+                        | vk::AccessFlags::SHADER_WRITE
+                        | vk::AccessFlags::UNIFORM_READ
+                        | vk::AccessFlags::TRANSFER_READ
+                        | vk::AccessFlags::TRANSFER_WRITE,
+                );
+            d.cmd_pipeline_barrier(
+                self.cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS | vk::PipelineStageFlags::HOST,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::DependencyFlags::empty(),
+                &[all],
+                &[],
+                &[],
+            );
+            f(d, self.cmd);
+            let to_host = vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::HOST_READ);
+            d.cmd_pipeline_barrier(
+                self.cmd,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::PipelineStageFlags::HOST,
+                vk::DependencyFlags::empty(),
+                &[to_host],
+                &[],
+                &[],
+            );
+            d.end_command_buffer(self.cmd)
+                .map_err(call("vkEndCommandBuffer"))?;
+            let cmds = [self.cmd];
+            d.queue_submit(
+                self.queue,
+                &[vk::SubmitInfo::default().command_buffers(&cmds)],
+                self.fence,
+            )
+            .map_err(call("vkQueueSubmit"))?;
+            let waited = d
+                .wait_for_fences(&[self.fence], true, u64::MAX)
+                .map_err(call("vkWaitForFences"));
+            d.reset_fences(&[self.fence])
+                .map_err(call("vkResetFences"))?;
+            waited
+        }
+    }
+}
+
+impl Drop for Vulkan {
+    fn drop(&mut self) {
+        unsafe {
+            let _ = self.device.device_wait_idle();
+            self.device.destroy_fence(self.fence, None);
+            self.device.destroy_command_pool(self.pool, None);
+            self.device.destroy_device(None);
+            self.instance.destroy_instance(None);
+        }
+    }
+}
+
+/// A buffer with its memory, mapped.
+struct Buf {
+    buffer: vk::Buffer,
+    memory: vk::DeviceMemory,
+    size: u64,
+    ptr: *mut u8,
+}
+
+impl Buf {
+    fn write(&self, bytes: &[u8]) {
+        let n = bytes.len().min(self.size as usize);
+        // SAFETY: `ptr` maps the whole (host-coherent) allocation of at
+        // least `size` bytes; no submission is in flight while we write.
+        unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), self.ptr, n) };
+    }
+    fn read_f32(&self, floats: usize) -> Vec<f32> {
+        let n = floats.min(self.size as usize / 4);
+        // SAFETY: as in `write`; the fence wait made the device writes
+        // available and the barrier made them visible to the host.
+        let bytes = unsafe { std::slice::from_raw_parts(self.ptr, n * 4) };
+        bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    }
+    fn destroy(&self, d: &ash::Device) {
+        unsafe {
+            d.destroy_buffer(self.buffer, None);
+            d.free_memory(self.memory, None);
+        }
+    }
+}
+
+/// glslangValidator on one emitted shader, to SPIR-V words.
+fn compile(
+    source: &str,
+    file: &str,
+    stage: &'static str,
+    entry: Option<&str>,
+    defines: &[String],
+) -> Result<Vec<u32>, VkError> {
+    static SEQ: AtomicUsize = AtomicUsize::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "tessgen-vk-{}-{}",
+        std::process::id(),
+        SEQ.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).map_err(|e| VkError::Io(format!("{}: {e}", dir.display())))?;
+    let name = file.replace('/', "_");
+    let src: PathBuf = dir.join(&name);
+    let spv = dir.join(format!("{name}.{stage}.spv"));
+    let result = (|| {
+        std::fs::write(&src, source).map_err(|e| VkError::Io(format!("{}: {e}", src.display())))?;
+        let mut cmd = Command::new("glslangValidator");
+        cmd.args(["-V", "--target-env", "vulkan1.1", "-S", stage]);
+        if let Some(e) = entry {
+            // HLSL source, this entry point.
+            cmd.args(["-D", "-e", e]);
+        }
+        cmd.arg(format!("-D{CAPTURE}"));
+        for d in defines {
+            cmd.arg(format!("-D{d}"));
+        }
+        cmd.arg(&src).arg("-o").arg(&spv);
+        let out = cmd
+            .output()
+            .map_err(|e| VkError::NoGlslang(e.to_string()))?;
+        if !out.status.success() {
+            return Err(VkError::Compile {
+                file: file.to_string(),
+                stage,
+                log: format!(
+                    "{}{}",
+                    String::from_utf8_lossy(&out.stdout),
+                    String::from_utf8_lossy(&out.stderr)
+                ),
+            });
+        }
+        let bytes =
+            std::fs::read(&spv).map_err(|e| VkError::Io(format!("{}: {e}", spv.display())))?;
+        ash::util::read_spv(&mut std::io::Cursor::new(bytes))
+            .map_err(|e| VkError::Io(format!("{}: {e}", spv.display())))
+    })();
+    let _ = std::fs::remove_dir_all(&dir);
+    result
+}
+
+/// The per-patch output locations a scheme's control stage writes: the
+/// control points packed into `ceil(3·KMAX / 4)` `vec4`s, plus one for the
+/// patch index the HLSL hull passes on; against the device's
+/// `maxTessellationControlPerPatchOutputComponents / 4` locations (Vulkan's
+/// "Shader Input and Output Locations" table).
+pub fn per_patch_locations(scheme: &SchemeKernels) -> u32 {
+    let kmax = scheme
+        .classes
+        .iter()
+        .map(|c| c.control_points)
+        .max()
+        .unwrap_or(1);
+    (3 * kmax).div_ceil(4) + 1
+}
+
+/// Check that a scheme's tessellation pipeline fits the device.
+pub fn check_limits(scheme: &SchemeKernels, l: &DeviceLimits) -> Result<(), VkError> {
+    let locations = per_patch_locations(scheme) as u64;
+    let limit = |what, needed: u64, max: u64| {
+        if needed > max {
+            Err(VkError::Limit {
+                scheme: scheme.name.to_string(),
+                what,
+                needed,
+                max,
+            })
+        } else {
+            Ok(())
+        }
+    };
+    limit(
+        "patch size (control points per input patch)",
+        1,
+        l.max_tessellation_patch_size as u64,
+    )?;
+    limit(
+        "per-patch output locations of the control stage (maxTessellationControlPerPatchOutputComponents / 4)",
+        locations,
+        l.max_tessellation_control_per_patch_output_components as u64 / 4,
+    )?;
+    limit(
+        "input locations of the evaluation stage (maxTessellationEvaluationInputComponents / 4)",
+        locations,
+        l.max_tessellation_evaluation_input_components as u64 / 4,
+    )
+}
+
+/// A control mesh uploaded for one scheme, with its tessellation pipeline.
+pub struct VkMesh<'v> {
+    vk: &'v Vulkan,
+    pub scheme: &'static SchemeKernels,
+    pub options: Options,
+    pub classes: Vec<ClassRange>,
+    /// Face of each patch (patches sorted by class).
+    pub patch_faces: Vec<u32>,
+    num_vertices: u32,
+    /// Storage buffers by binding (the samples buffer is made per evaluation).
+    buffers: Vec<(u32, Buf)>,
+    dummy: Option<Buf>,
+    params: Option<Buf>,
+    image: vk::Image,
+    image_memory: vk::DeviceMemory,
+    view: vk::ImageView,
+    sampler: vk::Sampler,
+    set_layout: vk::DescriptorSetLayout,
+    pool: vk::DescriptorPool,
+    set: vk::DescriptorSet,
+    layout: vk::PipelineLayout,
+    render_pass: vk::RenderPass,
+    framebuffer: vk::Framebuffer,
+    modules: Vec<vk::ShaderModule>,
+    vertex_pipeline: vk::Pipeline,
+    draw_pipeline: vk::Pipeline,
+}
+
+impl<'v> VkMesh<'v> {
+    /// A quad mesh for a quad scheme.
+    pub fn new(
+        vk: &'v Vulkan,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme: &str,
+        options: &Options,
+    ) -> Result<Self, VkError> {
+        Self::build(vk, Upload::quad(topo, positions, scheme)?, options)
+    }
+
+    /// A triangle mesh for a triangle scheme.
+    pub fn new_tri(
+        vk: &'v Vulkan,
+        mesh: &crate::trimesh::TriMesh,
+        scheme: &str,
+        options: &Options,
+    ) -> Result<Self, VkError> {
+        Self::build(vk, Upload::tri(mesh, scheme)?, options)
+    }
+
+    fn empty(vk: &'v Vulkan, upload: &Upload, options: &Options) -> Self {
+        VkMesh {
+            vk,
+            scheme: upload.scheme,
+            options: options.clone(),
+            classes: upload.classes.clone(),
+            patch_faces: upload.patch_faces.clone(),
+            num_vertices: upload.num_vertices,
+            buffers: Vec::new(),
+            dummy: None,
+            params: None,
+            image: vk::Image::null(),
+            image_memory: vk::DeviceMemory::null(),
+            view: vk::ImageView::null(),
+            sampler: vk::Sampler::null(),
+            set_layout: vk::DescriptorSetLayout::null(),
+            pool: vk::DescriptorPool::null(),
+            set: vk::DescriptorSet::null(),
+            layout: vk::PipelineLayout::null(),
+            render_pass: vk::RenderPass::null(),
+            framebuffer: vk::Framebuffer::null(),
+            modules: Vec::new(),
+            vertex_pipeline: vk::Pipeline::null(),
+            draw_pipeline: vk::Pipeline::null(),
+        }
+    }
+
+    fn build(vk: &'v Vulkan, upload: Upload, options: &Options) -> Result<Self, VkError> {
+        check_limits(upload.scheme, &vk.limits)?;
+        let max = vk.limits.max_storage_buffer_range as u64;
+        for b in &upload.buffers {
+            if b.bytes.len() as u64 > max {
+                return Err(VkError::Limit {
+                    scheme: upload.scheme.name.into(),
+                    what: "bytes in one storage buffer (maxStorageBufferRange)",
+                    needed: b.bytes.len() as u64,
+                    max,
+                });
+            }
+        }
+        // Every handle goes into `mesh` as soon as it exists, so an error
+        // part-way drops (and destroys) what was made.
+        let mut mesh = Self::empty(vk, &upload, options);
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER
+            | vk::BufferUsageFlags::TRANSFER_SRC
+            | vk::BufferUsageFlags::TRANSFER_DST;
+        for b in &upload.buffers {
+            let buf = vk.buffer(b.label, b.bytes.len() as u64, storage)?;
+            buf.write(&b.bytes);
+            mesh.buffers.push((b.binding, buf));
+        }
+        mesh.dummy = Some(vk.buffer("unused bindings", 16, storage)?);
+        mesh.params =
+            Some(vk.buffer("params", PARAMS_SIZE, vk::BufferUsageFlags::UNIFORM_BUFFER)?);
+        mesh.table()?;
+        mesh.descriptors()?;
+        mesh.pipelines()?;
+        mesh.construct()?;
+        Ok(mesh)
+    }
+
+    /// The stencil table as an `R32_SFLOAT` image (x = ring slot, y = row).
+    fn table(&mut self) -> Result<(), VkError> {
+        let vk = self.vk;
+        let d = &vk.device;
+        let table = kernels::table();
+        let width = kernels::common::TABLE_WIDTH;
+        let height = (table.len() as u32 / width).max(1);
+        let max = vk.limits.max_image_dimension_2d;
+        if width.max(height) > max {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "stencil table texels along one side (maxImageDimension2D)",
+                needed: width.max(height) as u64,
+                max: max as u64,
+            });
+        }
+        let extent = vk::Extent3D {
+            width,
+            height,
+            depth: 1,
+        };
+        self.image = unsafe {
+            d.create_image(
+                &vk::ImageCreateInfo::default()
+                    .image_type(vk::ImageType::TYPE_2D)
+                    .format(vk::Format::R32_SFLOAT)
+                    .extent(extent)
+                    .mip_levels(1)
+                    .array_layers(1)
+                    .samples(vk::SampleCountFlags::TYPE_1)
+                    .tiling(vk::ImageTiling::OPTIMAL)
+                    .usage(vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST)
+                    .initial_layout(vk::ImageLayout::UNDEFINED),
+                None,
+            )
+        }
+        .map_err(call("vkCreateImage"))?;
+        let req = unsafe { d.get_image_memory_requirements(self.image) };
+        let ty = vk
+            .memory_type(
+                req.memory_type_bits,
+                vk::MemoryPropertyFlags::DEVICE_LOCAL,
+                "the stencil table",
+            )
+            .or_else(|_| {
+                vk.memory_type(
+                    req.memory_type_bits,
+                    vk::MemoryPropertyFlags::empty(),
+                    "the stencil table",
+                )
+            })?;
+        self.image_memory = unsafe {
+            d.allocate_memory(
+                &vk::MemoryAllocateInfo::default()
+                    .allocation_size(req.size)
+                    .memory_type_index(ty),
+                None,
+            )
+        }
+        .map_err(call("vkAllocateMemory"))?;
+        unsafe { d.bind_image_memory(self.image, self.image_memory, 0) }
+            .map_err(call("vkBindImageMemory"))?;
+        let bytes: Vec<u8> = table.iter().flat_map(|w| w.to_le_bytes()).collect();
+        let staging = vk.buffer(
+            "stencil table staging",
+            bytes.len() as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+        )?;
+        staging.write(&bytes);
+        let range = vk::ImageSubresourceRange {
+            aspect_mask: vk::ImageAspectFlags::COLOR,
+            base_mip_level: 0,
+            level_count: 1,
+            base_array_layer: 0,
+            layer_count: 1,
+        };
+        let image = self.image;
+        let copied = vk.submit(|d, cb| unsafe {
+            let to_dst = vk::ImageMemoryBarrier::default()
+                .old_layout(vk::ImageLayout::UNDEFINED)
+                .new_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+                .dst_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(image)
+                .subresource_range(range);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::TOP_OF_PIPE,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[to_dst],
+            );
+            let region = vk::BufferImageCopy::default()
+                .image_subresource(vk::ImageSubresourceLayers {
+                    aspect_mask: vk::ImageAspectFlags::COLOR,
+                    mip_level: 0,
+                    base_array_layer: 0,
+                    layer_count: 1,
+                })
+                .image_extent(extent);
+            d.cmd_copy_buffer_to_image(
+                cb,
+                staging.buffer,
+                image,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+            );
+            let to_read = vk::ImageMemoryBarrier::default()
+                .old_layout(vk::ImageLayout::TRANSFER_DST_OPTIMAL)
+                .new_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)
+                .src_access_mask(vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::SHADER_READ)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .image(image)
+                .subresource_range(range);
+            d.cmd_pipeline_barrier(
+                cb,
+                vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::ALL_COMMANDS,
+                vk::DependencyFlags::empty(),
+                &[],
+                &[],
+                &[to_read],
+            );
+        });
+        staging.destroy(d);
+        copied?;
+        self.view = unsafe {
+            d.create_image_view(
+                &vk::ImageViewCreateInfo::default()
+                    .image(self.image)
+                    .view_type(vk::ImageViewType::TYPE_2D)
+                    .format(vk::Format::R32_SFLOAT)
+                    .subresource_range(range),
+                None,
+            )
+        }
+        .map_err(call("vkCreateImageView"))?;
+        self.sampler = unsafe {
+            d.create_sampler(
+                &vk::SamplerCreateInfo::default()
+                    .mag_filter(vk::Filter::NEAREST)
+                    .min_filter(vk::Filter::NEAREST)
+                    .address_mode_u(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+                    .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE),
+                None,
+            )
+        }
+        .map_err(call("vkCreateSampler"))?;
+        Ok(())
+    }
+
+    /// Descriptor type of a binding as the emitted language declares it:
+    /// GLSL's table is a `sampler2D`, HLSL's a `Texture2D` (`.Load`).
+    fn descriptor_type(&self, b: u32) -> vk::DescriptorType {
+        match (b, self.options.language) {
+            (binding::TABLE, Language::Glsl) => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            (binding::TABLE, Language::Hlsl) => vk::DescriptorType::SAMPLED_IMAGE,
+            (binding::PARAMS, _) => vk::DescriptorType::UNIFORM_BUFFER,
+            _ => vk::DescriptorType::STORAGE_BUFFER,
+        }
+    }
+
+    /// One set with every ABI binding, visible to every stage.
+    fn descriptors(&mut self) -> Result<(), VkError> {
+        let d = &self.vk.device;
+        let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..binding::COUNT)
+            .map(|b| {
+                vk::DescriptorSetLayoutBinding::default()
+                    .binding(b)
+                    .descriptor_type(self.descriptor_type(b))
+                    .descriptor_count(1)
+                    .stage_flags(vk::ShaderStageFlags::ALL)
+            })
+            .collect();
+        self.set_layout = unsafe {
+            d.create_descriptor_set_layout(
+                &vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings),
+                None,
+            )
+        }
+        .map_err(call("vkCreateDescriptorSetLayout"))?;
+        let sizes = [
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::STORAGE_BUFFER,
+                descriptor_count: binding::COUNT,
+            },
+            vk::DescriptorPoolSize {
+                ty: vk::DescriptorType::UNIFORM_BUFFER,
+                descriptor_count: 1,
+            },
+            vk::DescriptorPoolSize {
+                ty: self.descriptor_type(binding::TABLE),
+                descriptor_count: 1,
+            },
+        ];
+        self.pool = unsafe {
+            d.create_descriptor_pool(
+                &vk::DescriptorPoolCreateInfo::default()
+                    .max_sets(1)
+                    .pool_sizes(&sizes),
+                None,
+            )
+        }
+        .map_err(call("vkCreateDescriptorPool"))?;
+        let layouts = [self.set_layout];
+        self.set = unsafe {
+            d.allocate_descriptor_sets(
+                &vk::DescriptorSetAllocateInfo::default()
+                    .descriptor_pool(self.pool)
+                    .set_layouts(&layouts),
+            )
+        }
+        .map_err(call("vkAllocateDescriptorSets"))?[0];
+        self.layout = unsafe {
+            d.create_pipeline_layout(
+                &vk::PipelineLayoutCreateInfo::default().set_layouts(&layouts),
+                None,
+            )
+        }
+        .map_err(call("vkCreatePipelineLayout"))?;
+        for b in 0..binding::COUNT {
+            if b == binding::SAMPLES {
+                continue;
+            }
+            if b == binding::TABLE {
+                let info = [vk::DescriptorImageInfo::default()
+                    .sampler(self.sampler)
+                    .image_view(self.view)
+                    .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
+                let w = vk::WriteDescriptorSet::default()
+                    .dst_set(self.set)
+                    .dst_binding(b)
+                    .descriptor_type(self.descriptor_type(b))
+                    .image_info(&info);
+                unsafe { d.update_descriptor_sets(&[w], &[]) };
+                continue;
+            }
+            let buf = if b == binding::PARAMS {
+                self.params.as_ref()
+            } else {
+                self.buffers
+                    .iter()
+                    .find(|(k, _)| *k == b)
+                    .map(|(_, buf)| buf)
+                    .or(self.dummy.as_ref())
+            };
+            if let Some(buf) = buf {
+                self.write_buffer(b, buf);
+            }
+        }
+        Ok(())
+    }
+
+    fn write_buffer(&self, b: u32, buf: &Buf) {
+        let info = [vk::DescriptorBufferInfo::default()
+            .buffer(buf.buffer)
+            .offset(0)
+            .range(vk::WHOLE_SIZE)];
+        let w = vk::WriteDescriptorSet::default()
+            .dst_set(self.set)
+            .dst_binding(b)
+            .descriptor_type(self.descriptor_type(b))
+            .buffer_info(&info);
+        unsafe { self.vk.device.update_descriptor_sets(&[w], &[]) };
+    }
+
+    /// Source, file name and entry point of a stage of the emitted shaders.
+    fn shader(
+        &self,
+        stage: &'static str,
+    ) -> Result<(String, &'static str, Option<&'static str>), VkError> {
+        let s = self.scheme.name;
+        let (file, entry) = match self.options.language {
+            Language::Glsl => (
+                match stage {
+                    "comp" => format!("glsl/{s}_vertex_stage.comp"),
+                    other => format!("glsl/{s}.{other}"),
+                },
+                None,
+            ),
+            Language::Hlsl => (
+                format!("hlsl/{s}.hlsl"),
+                Some(match stage {
+                    "vert" => "vs_main",
+                    "tesc" => "hs_main",
+                    "tese" => "ds_main",
+                    _ => "vertex_stage_main",
+                }),
+            ),
+        };
+        let source = kernels::shader(&file).ok_or_else(|| VkError::NoShader {
+            language: self.options.language.name(),
+            scheme: s.into(),
+            file: file.clone(),
+        })?;
+        Ok((file, source, entry))
+    }
+
+    fn module(
+        &mut self,
+        stage: &'static str,
+    ) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
+        let (file, source, entry) = self.shader(stage)?;
+        let words = compile(source, &file, stage, entry, &self.options.defines)?;
+        let m = unsafe {
+            self.vk
+                .device
+                .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&words), None)
+        }
+        .map_err(call("vkCreateShaderModule"))?;
+        self.modules.push(m);
+        let name: &'static CStr = match entry {
+            None => c"main",
+            Some("vs_main") => c"vs_main",
+            Some("hs_main") => c"hs_main",
+            Some("ds_main") => c"ds_main",
+            Some(_) => c"vertex_stage_main",
+        };
+        Ok((m, name))
+    }
+
+    fn pipelines(&mut self) -> Result<(), VkError> {
+        if self.num_vertices > 0 {
+            let (m, name) = self.module("comp")?;
+            let stage = vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::COMPUTE)
+                .module(m)
+                .name(name);
+            let ci = vk::ComputePipelineCreateInfo::default()
+                .stage(stage)
+                .layout(self.layout);
+            self.vertex_pipeline = unsafe {
+                self.vk
+                    .device
+                    .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
+            }
+            .map_err(|(_, e)| call("vkCreateComputePipelines")(e))?[0];
+        }
+        let (vert, vn) = self.module("vert")?;
+        let (tesc, cn) = self.module("tesc")?;
+        let (tese, en) = self.module("tese")?;
+        let d = &self.vk.device;
+        let sub =
+            [vk::SubpassDescription::default()
+                .pipeline_bind_point(vk::PipelineBindPoint::GRAPHICS)];
+        self.render_pass = unsafe {
+            d.create_render_pass(&vk::RenderPassCreateInfo::default().subpasses(&sub), None)
+        }
+        .map_err(call("vkCreateRenderPass"))?;
+        self.framebuffer = unsafe {
+            d.create_framebuffer(
+                &vk::FramebufferCreateInfo::default()
+                    .render_pass(self.render_pass)
+                    .width(1)
+                    .height(1)
+                    .layers(1),
+                None,
+            )
+        }
+        .map_err(call("vkCreateFramebuffer"))?;
+        let stages = [
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::VERTEX)
+                .module(vert)
+                .name(vn),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::TESSELLATION_CONTROL)
+                .module(tesc)
+                .name(cn),
+            vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::TESSELLATION_EVALUATION)
+                .module(tese)
+                .name(en),
+        ];
+        let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
+        let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+            .topology(vk::PrimitiveTopology::PATCH_LIST);
+        let tess = vk::PipelineTessellationStateCreateInfo::default().patch_control_points(1);
+        let raster = vk::PipelineRasterizationStateCreateInfo::default()
+            .rasterizer_discard_enable(true)
+            .polygon_mode(vk::PolygonMode::FILL)
+            .cull_mode(vk::CullModeFlags::NONE)
+            .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+            .line_width(1.0);
+        let ci = vk::GraphicsPipelineCreateInfo::default()
+            .stages(&stages)
+            .vertex_input_state(&vertex_input)
+            .input_assembly_state(&assembly)
+            .tessellation_state(&tess)
+            .rasterization_state(&raster)
+            .layout(self.layout)
+            .render_pass(self.render_pass)
+            .subpass(0);
+        self.draw_pipeline =
+            unsafe { d.create_graphics_pipelines(vk::PipelineCache::null(), &[ci], None) }
+                .map_err(|(_, e)| call("vkCreateGraphicsPipelines")(e))?[0];
+        Ok(())
+    }
+
+    fn set_params(&self, p: [u32; 6]) {
+        if let Some(b) = &self.params {
+            b.write(&params_bytes(
+                Mat4::IDENTITY,
+                p[0],
+                p[1],
+                p[2],
+                p[3],
+                p[4],
+                p[5],
+            ));
+        }
+    }
+
+    /// Run the vertex stage (quad schemes); the control stage builds each
+    /// patch's control points inside every draw.
+    pub fn construct(&self) -> Result<(), VkError> {
+        let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
+        let mut first = 0;
+        while first < self.num_vertices {
+            let count = per.min(self.num_vertices - first);
+            self.set_params([first, count, 0, 0, 1, 0]);
+            let (pipe, layout, set) = (self.vertex_pipeline, self.layout, self.set);
+            self.vk.submit(|d, cb| unsafe {
+                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
+                d.cmd_bind_descriptor_sets(
+                    cb,
+                    vk::PipelineBindPoint::COMPUTE,
+                    layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                d.cmd_dispatch(cb, count.div_ceil(64), 1, 1);
+            })?;
+            first += count;
+        }
+        Ok(())
+    }
+
+    /// Tessellate every patch at `level` through the hardware tessellator and
+    /// read the captured samples back in face order: the same layout as
+    /// [`cpu::evaluate`].
+    pub fn evaluate(&self, level: u32) -> Result<Tessellation, VkError> {
+        if level == 0 || level > cpu::MAX_LEVEL {
+            return Err(cpu::TessError::Level(level).into());
+        }
+        let max_level = self.vk.limits.max_tessellation_generation_level;
+        if level > max_level {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "tessellation level (maxTessellationGenerationLevel)",
+                needed: level as u64,
+                max: max_level as u64,
+            });
+        }
+        let spp = (self.scheme.grid_len)(level) as u64;
+        let per_patch = spp * 24;
+        // Patches per readback chunk: within one storage binding and 256 MiB.
+        let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20);
+        if per_patch > cap {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "bytes of samples of one patch (maxStorageBufferRange)",
+                needed: per_patch,
+                max: cap,
+            });
+        }
+        let total = self.patch_faces.len() as u64;
+        let chunk = (cap / per_patch).min(total.max(1));
+        let samples = self.vk.buffer(
+            "samples",
+            chunk * per_patch,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let result = self.evaluate_into(level, spp, chunk, &samples);
+        samples.destroy(&self.vk.device);
+        result
+    }
+
+    fn evaluate_into(
+        &self,
+        level: u32,
+        spp: u64,
+        chunk: u64,
+        samples: &Buf,
+    ) -> Result<Tessellation, VkError> {
+        self.write_buffer(binding::SAMPLES, samples);
+        let faces = self.patch_faces.len();
+        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
+        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        let nan: Vec<u8> = std::iter::repeat_n(f32::NAN.to_le_bytes(), (chunk * spp * 6) as usize)
+            .flatten()
+            .collect();
+        let mut p0 = 0u64;
+        while p0 < faces as u64 {
+            let n = chunk.min(faces as u64 - p0);
+            // Unwritten samples stay NaN, so a missed write fails parity.
+            samples.write(&nan);
+            for c in &self.classes {
+                let lo = (c.first as u64).max(p0);
+                let hi = ((c.first + c.count) as u64).min(p0 + n);
+                if lo >= hi {
+                    continue;
+                }
+                let (first, count) = (lo as u32, (hi - lo) as u32);
+                self.set_params([
+                    first,
+                    count,
+                    c.class,
+                    c.cp_base + (first - c.first) * c.points,
+                    level,
+                    (lo - p0) as u32,
+                ]);
+                let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
+                let (rp, fb) = (self.render_pass, self.framebuffer);
+                self.vk.submit(|d, cb| unsafe {
+                    d.cmd_begin_render_pass(
+                        cb,
+                        &vk::RenderPassBeginInfo::default()
+                            .render_pass(rp)
+                            .framebuffer(fb)
+                            .render_area(vk::Rect2D {
+                                offset: vk::Offset2D { x: 0, y: 0 },
+                                extent: vk::Extent2D {
+                                    width: 1,
+                                    height: 1,
+                                },
+                            }),
+                        vk::SubpassContents::INLINE,
+                    );
+                    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
+                    d.cmd_bind_descriptor_sets(
+                        cb,
+                        vk::PipelineBindPoint::GRAPHICS,
+                        layout,
+                        0,
+                        &[set],
+                        &[],
+                    );
+                    // Patch size 1: one vertex per patch.
+                    d.cmd_draw(cb, count, 1, 0, 0);
+                    d.cmd_end_render_pass(cb);
+                })?;
+            }
+            let floats = samples.read_f32((n * spp * 6) as usize);
+            for (i, s) in floats.chunks_exact(6).enumerate() {
+                let patch = p0 + i as u64 / spp;
+                let face = self.patch_faces[patch as usize] as usize;
+                let at = face * spp as usize + (i as u64 % spp) as usize;
+                positions[at] = Vec3::new(s[0], s[1], s[2]);
+                normals[at] = Vec3::new(s[3], s[4], s[5]);
+            }
+            p0 += n;
+        }
+        Ok(Tessellation {
+            level,
+            faces,
+            sides: self.scheme.sides,
+            positions,
+            normals,
+        })
+    }
+}
+
+impl Drop for VkMesh<'_> {
+    fn drop(&mut self) {
+        let d = &self.vk.device;
+        unsafe {
+            let _ = d.device_wait_idle();
+            d.destroy_pipeline(self.draw_pipeline, None);
+            d.destroy_pipeline(self.vertex_pipeline, None);
+            for m in &self.modules {
+                d.destroy_shader_module(*m, None);
+            }
+            d.destroy_framebuffer(self.framebuffer, None);
+            d.destroy_render_pass(self.render_pass, None);
+            d.destroy_pipeline_layout(self.layout, None);
+            d.destroy_descriptor_pool(self.pool, None);
+            d.destroy_descriptor_set_layout(self.set_layout, None);
+            d.destroy_sampler(self.sampler, None);
+            d.destroy_image_view(self.view, None);
+            d.destroy_image(self.image, None);
+            d.free_memory(self.image_memory, None);
+        }
+        for (_, b) in &self.buffers {
+            b.destroy(d);
+        }
+        for b in [&self.dummy, &self.params].into_iter().flatten() {
+            b.destroy(d);
+        }
+    }
+}
+
+/// Like [`cpu::tessellate_any`] through the Vulkan tessellation pipeline:
+/// quad schemes through [`Topology`], triangle schemes through
+/// [`crate::trimesh::TriMesh`].
+pub fn tessellate_any(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+    options: &Options,
+) -> Result<Tessellation, VkError> {
+    tessellate_tagged(mesh, scheme, level, split_quads, None, options)
+}
+
+/// [`tessellate_any`] with `stpn`'s crease tags (see [`cpu::tessellate_tagged`]).
+pub fn tessellate_tagged(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+    tags: Option<&crate::tags::TagFile>,
+    options: &Options,
+) -> Result<Tessellation, VkError> {
+    let kernels = cpu::scheme(scheme)?;
+    if tags.is_some() && kernels.name != "stpn" {
+        return Err(cpu::TessError::TagsUnused {
+            scheme: kernels.name.into(),
+        }
+        .into());
+    }
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let vk = Vulkan::new()?;
+    if kernels.sides == 4 {
+        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::from_array(*p))
+            .collect();
+        let m = VkMesh::new(&vk, &topo, &positions, kernels.name, options)?;
+        return m.evaluate(level);
+    }
+    let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
+    let m = VkMesh::new_tri(&vk, &tri, kernels.name, options)?;
+    m.evaluate(level)
+}
