@@ -906,3 +906,28 @@ fn dot_in_a_quad_scheme() {
     let text = scheme("        w = p * dot(p, p);", BICUBIC_OK);
     expect_err(&text, "dot", &["only available in `facet tri` schemes"]);
 }
+
+/// Crease-tag inputs (scalar-tagged PN): scalars where a point is needed,
+/// the wrong number of arguments, and use in a quad scheme are errors at
+/// the offending call.
+#[test]
+fn crease_tag_inputs_are_typed() {
+    let text = tri_scheme(&TRI_OK.replace("out n[i] = N(i);", "out n[i] = sharpness(i);"));
+    expect_err(&text, "sharpness(i)", &["a number"]);
+    let text = tri_scheme(&TRI_OK.replace(
+        "out n[i] = N(i);",
+        "out n[i] = normalize(N(i) + Delta(i, 1));",
+    ));
+    expect_err(
+        &text,
+        "Delta(i, 1)",
+        &["`Delta(corner)` takes one argument"],
+    );
+    let text = tri_scheme(&TRI_OK.replace(
+        "out n[i] = N(i);",
+        "out n[i] = normalize(N(i) + side(i) * tension(i) * Delta(i));",
+    ));
+    Scheme::from_source(&text, MAX).unwrap_or_else(|e| panic!("{e}"));
+    let text = scheme("        w = p * side(0);", BICUBIC_OK);
+    expect_err(&text, "side(0)", &["`side`"]);
+}
