@@ -1338,7 +1338,7 @@ impl<'v> VkMesh<'v> {
             let hi = ((c.first + c.count) as u64).min(p0 + n);
             let mut at = lo;
             while at < hi {
-                let next = hi.min(at + per_draw.max(1));
+                let next = hi.min(at.saturating_add(per_draw.max(1)));
                 self.draw(level, c, p0, at, next)?;
                 at = next;
             }
