@@ -1731,7 +1731,10 @@ fn eval_domain_fn(eval: usize, surfaces_at: &[usize]) -> Function {
     let args = vec![l(cp), l(x), l(y), l(z)];
     let mut chain: Vec<Stmt> = vec![Stmt::Assign(
         sample,
-        call(FnRef::Local(*surfaces_at.last().unwrap_or(&0)), args.clone()),
+        call(
+            FnRef::Local(*surfaces_at.last().unwrap_or(&0)),
+            args.clone(),
+        ),
     )];
     for k in (0..surfaces_at.len().saturating_sub(1)).rev() {
         chain = vec![Stmt::If(

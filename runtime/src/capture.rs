@@ -42,7 +42,9 @@ pub struct TriangleCapture {
 /// A capture that does not fit the mesh (a harness or driver bug).
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum CaptureError {
-    #[error("captured triangle {triangle}: patch index {patch} is outside the {patches} patches drawn")]
+    #[error(
+        "captured triangle {triangle}: patch index {patch} is outside the {patches} patches drawn"
+    )]
     Patch {
         triangle: usize,
         patch: u32,
@@ -76,7 +78,10 @@ impl TriangleCapture {
         faces: usize,
     ) -> Result<TriangleCapture, CaptureError> {
         // Per face: domain bits → (domain, position, normal), triangles.
-        type Acc = (HashMap<[u32; 3], ([f32; 3], Vec3, Vec3)>, Vec<[[u32; 3]; 3]>);
+        type Acc = (
+            HashMap<[u32; 3], ([f32; 3], Vec3, Vec3)>,
+            Vec<[[u32; 3]; 3]>,
+        );
         let mut acc: Vec<Acc> = vec![Default::default(); faces];
         for (t, tri) in raw.chunks_exact(3 * VERTEX_FLOATS).enumerate() {
             let vs: Vec<&[f32]> = tri.chunks_exact(VERTEX_FLOATS).collect();
@@ -91,13 +96,11 @@ impl TriangleCapture {
                     });
                 }
             }
-            let face = *patch_faces
-                .get(patch as usize)
-                .ok_or(CaptureError::Patch {
-                    triangle: t,
-                    patch,
-                    patches: patch_faces.len(),
-                })? as usize;
+            let face = *patch_faces.get(patch as usize).ok_or(CaptureError::Patch {
+                triangle: t,
+                patch,
+                patches: patch_faces.len(),
+            })? as usize;
             let (verts, tris) = acc.get_mut(face).ok_or(CaptureError::Patch {
                 triangle: t,
                 patch,

@@ -7,8 +7,11 @@
 //!   and HLSL (`<scheme>.hlsl`, entry points `vs_main`, `hs_main`, `ds_main`,
 //!   `vertex_stage_main`) that this crate's `build.rs` generates, compiled to
 //!   SPIR-V by `glslangValidator` (HLSL with `-D`) with `-DTESSGEN_CAPTURE`:
-//!   the evaluation stage then also writes its sample into the `samples`
-//!   buffer at `eval_main`'s layout.
+//!   for quad schemes the evaluation stage then also writes its sample into
+//!   the `samples` buffer at `eval_main`'s layout; for triangle schemes (whose
+//!   hardware inner vertices are not grid points) it exports its domain point
+//!   and patch, and a harness geometry shader records every emitted triangle
+//!   ([`VkMesh::evaluate_triangles`], [`crate::capture`]).
 //! * Quad schemes run the vertex stage as a compute dispatch first; then, per
 //!   facet class, one draw of `count` patches (patch size 1, rasterizer
 //!   discard, a render pass without attachments) with
@@ -589,7 +592,7 @@ pub fn vertices_per_patch(level: u32) -> u64 {
         .filter(|&a| a > 0)
         .map(|a| 3 * a)
         .sum();
-    rings + u64::from(level % 2 == 0)
+    rings + u64::from(level.is_multiple_of(2))
 }
 
 /// Triangle patches per draw of the capture: lavapipe (Mesa's draw module)
@@ -1122,7 +1125,11 @@ impl<'v> VkMesh<'v> {
         stage: &'static str,
     ) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
         let (file, source, entry) = if stage == "geom" {
-            ("harness/capture_triangles.geom".to_string(), CAPTURE_GEOMETRY_SHADER, None)
+            (
+                "harness/capture_triangles.geom".to_string(),
+                CAPTURE_GEOMETRY_SHADER,
+                None,
+            )
         } else {
             self.shader(stage)?
         };
@@ -1349,47 +1356,38 @@ impl<'v> VkMesh<'v> {
     /// One draw of the patches `lo .. hi` of class range `c`, the readback
     /// chunk starting at patch `p0`.
     fn draw(&self, level: u32, c: &ClassRange, p0: u64, lo: u64, hi: u64) -> Result<(), VkError> {
-        {
-            let (first, count) = (lo as u32, (hi - lo) as u32);
-            self.set_params([
-                first,
-                count,
-                c.class,
-                c.cp_base + (first - c.first) * c.points,
-                level,
-                (lo - p0) as u32,
-            ]);
-            let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
-            let (rp, fb) = (self.render_pass, self.framebuffer);
-            self.vk.submit(|d, cb| unsafe {
-                d.cmd_begin_render_pass(
-                    cb,
-                    &vk::RenderPassBeginInfo::default()
-                        .render_pass(rp)
-                        .framebuffer(fb)
-                        .render_area(vk::Rect2D {
-                            offset: vk::Offset2D { x: 0, y: 0 },
-                            extent: vk::Extent2D {
-                                width: 1,
-                                height: 1,
-                            },
-                        }),
-                    vk::SubpassContents::INLINE,
-                );
-                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
-                d.cmd_bind_descriptor_sets(
-                    cb,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    layout,
-                    0,
-                    &[set],
-                    &[],
-                );
-                // Patch size 1: one vertex per patch.
-                d.cmd_draw(cb, count, 1, 0, 0);
-                d.cmd_end_render_pass(cb);
-            })?;
-        }
+        let (first, count) = (lo as u32, (hi - lo) as u32);
+        self.set_params([
+            first,
+            count,
+            c.class,
+            c.cp_base + (first - c.first) * c.points,
+            level,
+            (lo - p0) as u32,
+        ]);
+        let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
+        let (rp, fb) = (self.render_pass, self.framebuffer);
+        self.vk.submit(|d, cb| unsafe {
+            d.cmd_begin_render_pass(
+                cb,
+                &vk::RenderPassBeginInfo::default()
+                    .render_pass(rp)
+                    .framebuffer(fb)
+                    .render_area(vk::Rect2D {
+                        offset: vk::Offset2D { x: 0, y: 0 },
+                        extent: vk::Extent2D {
+                            width: 1,
+                            height: 1,
+                        },
+                    }),
+                vk::SubpassContents::INLINE,
+            );
+            d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
+            d.cmd_bind_descriptor_sets(cb, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
+            // Patch size 1: one vertex per patch.
+            d.cmd_draw(cb, count, 1, 0, 0);
+            d.cmd_end_render_pass(cb);
+        })?;
         Ok(())
     }
 

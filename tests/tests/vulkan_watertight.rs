@@ -108,7 +108,10 @@ fn run(c: &Case, level: u32) -> Result<(weld::WeldReport, f64), String> {
         let reference = cpu::evaluate(&c.patches, level).map_err(|e| e.to_string())?;
         return Ok((weld::weld(&t), parity(&t, &reference, c.diag)));
     }
-    let cap = c.mesh.evaluate_triangles(level).map_err(|e| e.to_string())?;
+    let cap = c
+        .mesh
+        .evaluate_triangles(level)
+        .map_err(|e| e.to_string())?;
     let per_patch = vulkan::triangles_per_patch(level);
     let mut worst = 0.0f64;
     for (face, p) in cap.patches.iter().enumerate() {
@@ -122,7 +125,11 @@ fn run(c: &Case, level: u32) -> Result<(weld::WeldReport, f64), String> {
             let r = cpu::eval_domain(&c.patches, face, *d, level)
                 .ok_or_else(|| format!("face {face}: no eval_domain"))?;
             let e = ((*pos - r.position).length() / c.diag) as f64;
-            worst = if e.is_nan() { f64::INFINITY } else { worst.max(e) };
+            worst = if e.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(e)
+            };
         }
     }
     Ok((cap.weld(), worst))

@@ -619,7 +619,9 @@ impl<'a> Writer<'a> {
                 // Triangles: the hardware's inner vertices are not grid
                 // points, so a capture harness records the output triangles
                 // (a geometry shader) and needs their domain point and patch.
-                self.line("// Capture: the domain point and the patch (params.first + gl_PrimitiveID) of");
+                self.line(
+                    "// Capture: the domain point and the patch (params.first + gl_PrimitiveID) of",
+                );
                 self.line("// every vertex, for a harness that records the output triangles.");
                 self.line("layout(location = 2) out vec3 te_domain;");
                 self.line("layout(location = 3) flat out uint te_patch;");
