@@ -433,7 +433,7 @@ fn vulkan_tessellate(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     tags: Option<&TagFile>,
-) -> Result<tessgen_runtime::Tessellation, String> {
+) -> Result<tessgen_runtime::vulkan::VkOutput, String> {
     use tessgen_runtime::vulkan::{self, Language, Options};
     let language = if args.backend == Backend::Hlsl {
         Language::Hlsl
@@ -451,16 +451,29 @@ fn vulkan_tessellate(
     .map_err(|e| e.to_string())
 }
 
+/// Without the `vulkan` feature there is no output type to name.
+#[cfg(not(feature = "vulkan"))]
+enum VkOutput {}
+
 #[cfg(not(feature = "vulkan"))]
 fn vulkan_tessellate(
     _mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     _tags: Option<&TagFile>,
-) -> Result<tessgen_runtime::Tessellation, String> {
+) -> Result<VkOutput, String> {
     Err(format!(
         "--backend {} needs tessgen built with the `vulkan` feature",
         args.backend.name()
     ))
+}
+
+/// A backend's tessellation: the grid (cpu, wgpu) or the Vulkan pipeline's output.
+enum Output {
+    Grid(tessgen_runtime::Tessellation),
+    #[cfg(feature = "vulkan")]
+    Vulkan(tessgen_runtime::vulkan::VkOutput),
+    #[cfg(not(feature = "vulkan"))]
+    Vulkan(VkOutput),
 }
 
 fn tessellate(args: &TessellateArgs) -> CmdResult {
@@ -480,34 +493,58 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     };
     let (scheme, level, split) = (&args.scheme, args.level, args.split_quads);
     let start = Instant::now();
-    let tessellation = match args.backend {
+    let out = match args.backend {
         Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+            .map(Output::Grid)
             .map_err(|e| e.to_string()),
         Backend::Wgpu => {
             tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+                .map(Output::Grid)
                 .map_err(|e| e.to_string())
         }
-        Backend::Glsl | Backend::Hlsl => vulkan_tessellate(&mesh, args, tags.as_ref()),
+        Backend::Glsl | Backend::Hlsl => {
+            vulkan_tessellate(&mesh, args, tags.as_ref()).map(Output::Vulkan)
+        }
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
-    let text = obj::to_obj(&tessellation);
+    let (text, summary, r) = match &out {
+        Output::Grid(t) => (
+            obj::to_obj(t),
+            format!(
+                "{} faces × {} samples = {} samples",
+                t.faces,
+                t.grid_len(),
+                t.positions.len()
+            ),
+            args.check_watertight.then(|| weld::weld(t)),
+        ),
+        #[cfg(feature = "vulkan")]
+        Output::Vulkan(v) => {
+            // Triangle schemes: the tessellator's own triangles (its inner
+            // vertices are not a grid), in the same OBJ conventions.
+            let (patches, vertices, triangles) = v.counts();
+            (
+                v.to_obj(),
+                format!("{patches} patches, {vertices} vertices, {triangles} triangles"),
+                args.check_watertight.then(|| v.weld()),
+            )
+        }
+        #[cfg(not(feature = "vulkan"))]
+        Output::Vulkan(v) => match *v {},
+    };
     std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
-        "tessgen: {} faces × {} samples = {} samples ({} level {}, {} backend) in {:.2} ms → {}",
-        tessellation.faces,
-        tessellation.grid_len(),
-        tessellation.positions.len(),
+        "tessgen: {summary} ({} level {}, {} backend) in {:.2} ms → {}",
         args.scheme,
         args.level,
         args.backend.name(),
         elapsed.as_secs_f64() * 1e3,
         args.out.display()
     );
-    if !args.check_watertight {
+    let Some(r) = r else {
         return Ok(ExitCode::SUCCESS);
-    }
-    let r = weld::weld(&tessellation);
+    };
     let input_euler = MeshStats::of(&mesh).euler_characteristic;
     println!(
         "weld: {} vertices, {} edges, {} triangles, euler {} (input mesh {})",

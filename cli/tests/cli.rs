@@ -372,6 +372,43 @@ fn tessellate_wgpu_backend_writes_the_same_format() {
     }
 }
 
+/// Triangle schemes on the hardware tessellator at a level whose inner
+/// rings are not the barycentric lattice: the OBJ holds the tessellator's
+/// own triangles (per patch `g`, `v`, `vn`, `f` as for every backend), and
+/// welds closed.
+#[test]
+fn tessellate_triangle_scheme_on_the_hardware_tessellator() {
+    let tmp = TempDir::new("tess-tri-hw");
+    let cube = mesh("catmark_cube.obj");
+    for backend in ["glsl", "hlsl"] {
+        let out = tmp.path().join(format!("{backend}.obj"));
+        let o = tessgen([
+            "tessellate".as_ref(),
+            cube.as_os_str(),
+            "--scheme".as_ref(),
+            "pn".as_ref(),
+            "--split-quads".as_ref(),
+            "--level".as_ref(),
+            "7".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ]);
+        assert_ok(&o);
+        assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let count = |p: &str| text.lines().filter(|l| l.starts_with(p)).count();
+        // 12 patches; level 7: rings of 7, 5, 3, 1 segments per side,
+        // 3·(7+5+3+1) = 48 vertices and 1.5·49 − 0.5 = 73 triangles each.
+        assert_eq!(count("g patch_"), 12, "{backend}");
+        assert_eq!(count("v "), 12 * 48, "{backend}");
+        assert_eq!(count("vn "), 12 * 48, "{backend}");
+        assert_eq!(count("f "), 12 * 73, "{backend}");
+    }
+}
+
 /// `--scheme stpn --tags FILE`: the creased torus welds closed on every
 /// backend; tags for another scheme, and a bad tag line, are errors that
 /// name the file and line.

@@ -216,21 +216,34 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         ConstValue::U32Array(curves),
     );
     let mut surfaces = Vec::new();
+    // Triangle forms: the surface at float barycentric weights, per class.
+    let mut surfaces_at = Vec::new();
     for pe in &patches {
-        let idx = m.functions.len();
-        m.functions.push(match pe.form {
+        let f = match pe.form {
             Form::Bicubic => bicubic_surface(pe.class),
             Form::CPatch => cpatch_surface(pe.class),
             Form::Acc => acc_surface(pe.class),
             Form::Gregory => gregory_surface(pe.class),
-            Form::TriCubic => tri_cubic_surface(pe.class),
-        });
-        surfaces.push(idx);
+            Form::TriCubic => {
+                let at = m.functions.len();
+                m.functions.push(tri_cubic_surface_at(pe.class));
+                surfaces_at.push(at);
+                tri_cubic_surface(pe.class, at)
+            }
+        };
+        surfaces.push(m.functions.len());
+        m.functions.push(f);
     }
     let sides = s.facet.sides() as u32;
     let eval = m.functions.len();
     m.functions
         .push(eval_fn(&patches, &surfaces, curve_const, sides));
+    let eval_domain = if sides == 3 && surfaces_at.len() == patches.len() {
+        m.functions.push(eval_domain_fn(eval, &surfaces_at));
+        Some(m.functions.len() - 1)
+    } else {
+        None
+    };
     let grid = [
         m.functions.len(),
         m.functions.len() + 1,
@@ -245,6 +258,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             vertex_stage,
             patches,
             eval,
+            eval_domain,
             sides,
             grid,
             grid_index,
@@ -348,13 +362,15 @@ fn grid_fns(sides: u32) -> Vec<Function> {
 }
 
 /// Cubic Bézier triangle + quadratic normal field (pn.md §2) at integer
-/// barycentric coordinates `(level − iu − iv, iu, iv)` of corners 0, 1, 2.
-fn tri_cubic_surface(class: Class) -> Function {
+/// barycentric coordinates `(level − iu − iv, iu, iv)` of corners 0, 1, 2:
+/// the weights are formed from the integers here, then the float-weight
+/// surface ([`tri_cubic_surface_at`]) does the arithmetic, so the grid path
+/// and the tessellator's interior path share one operation order.
+fn tri_cubic_surface(class: Class, at: usize) -> Function {
     let mut f = Function::new(
         format!("{}_surface", class.name()),
         "Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 \
-         (weights formed from integers): three de Casteljau steps over the 10-point net; normal = \
-         normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.",
+         (weights formed from integers), evaluated by the float-weight surface.",
     );
     let (cp, iu, iv, level) = surface_params(&mut f);
     let nf = let_f32(&mut f, "nf", to_f32(l(level)));
@@ -367,6 +383,31 @@ fn tri_cubic_surface(class: Class) -> Function {
         let_f32(&mut f, "w1", div(to_f32(l(iu)), l(nf))),
         let_f32(&mut f, "w2", div(to_f32(l(iv)), l(nf))),
     ];
+    f.body.push(Stmt::Return(call(
+        FnRef::Local(at),
+        vec![l(cp), l(w[0]), l(w[1]), l(w[2])],
+    )));
+    f
+}
+
+/// Cubic Bézier triangle + quadratic normal field (pn.md §2) at float
+/// barycentric weights `(w0, w1, w2)` of corners 0, 1, 2: the integer grid
+/// path calls it with weights formed from integers, the tessellation
+/// evaluation stages with the hardware's raw domain point inside the patch.
+fn tri_cubic_surface_at(class: Class) -> Function {
+    let mut f = Function::new(
+        format!("{}_surface_at", class.name()),
+        "Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de \
+         Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i \
+         w_{i+1}), the factor-free quadratic normal field of pn.md §2.",
+    );
+    let cp = f.param("cp_base", Ty::U32);
+    let w = [
+        f.param("w0", Ty::F32),
+        f.param("w1", Ty::F32),
+        f.param("w2", Ty::F32),
+    ];
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
     let g = Form::TriCubic;
     // Net b[(e0, e1, e2)] with exponents of (w0, w1, w2) summing to 3.
     let mut net: BTreeMap<[u32; 3], LocalId> = BTreeMap::new();
@@ -1617,6 +1658,105 @@ fn eval_fn(patches: &[PatchEntry], surfaces: &[usize], curve_const: usize, sides
         vec![],
         vec![Stmt::If(on_boundary, boundary, vec![])],
     ));
+    f.body.push(Stmt::Return(l(sample)));
+    f
+}
+
+/// `eval_domain(class, cp_base, x, y, z, level)`: the tessellation
+/// evaluation stages' evaluation of a triangle patch at the hardware's
+/// barycentric domain point `(x, y, z)` of corners 0, 1, 2.
+///
+/// On the patch boundary (a coordinate exactly 0) the point is on the outer
+/// ring, which `equal_spacing` / `integer` partitioning at an integer level
+/// places at exactly `i/level` (fixed point, so the zero is exact); there the
+/// integer grid point `(round(y·level), round(z·level))` goes through `eval`
+/// and its shared edge evaluator, the same bits as the neighbour patch and as
+/// the CPU/WGSL grid. Strictly inside, the hardware pattern is not the
+/// barycentric lattice (inner ring k of a level-N triangle has N − 2k
+/// segments per side, the lattice row at that depth N − 3k), so rounding
+/// would move the vertex; the surface is evaluated at the raw point instead.
+/// Interior points are private to the patch, so this costs no
+/// watertightness.
+fn eval_domain_fn(eval: usize, surfaces_at: &[usize]) -> Function {
+    let mut f = Function::new(
+        "eval_domain",
+        "Position and normal at the tessellator's barycentric domain point (x, y, z) of corners \
+         0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the \
+         tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), \
+         round(z·level)) goes through eval and the shared edge evaluator, so both patches of an \
+         edge compute the same bits. Strictly inside, the hardware's inner rings are not the \
+         barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), \
+         so the surface is evaluated at the raw point.",
+    );
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let x = f.param("x", Ty::F32);
+    let y = f.param("y", Ty::F32);
+    let z = f.param("z", Ty::F32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
+    let round_to_u32 = |c: LocalId| {
+        Expr::Call(
+            Builtin::U32FromF32,
+            vec![Expr::Call(
+                Builtin::Round,
+                vec![mul(l(c), to_f32(l(level)))],
+            )],
+        )
+    };
+    let on_boundary = bin(
+        BinOp::Or,
+        bin(
+            BinOp::Or,
+            bin(BinOp::Eq, l(x), f32c(0.0)),
+            bin(BinOp::Eq, l(y), f32c(0.0)),
+        ),
+        bin(BinOp::Eq, l(z), f32c(0.0)),
+    );
+    f.body.push(Stmt::If(
+        on_boundary,
+        vec![
+            Stmt::Let(iu, round_to_u32(y)),
+            Stmt::Let(iv, round_to_u32(z)),
+            Stmt::Return(call(
+                FnRef::Local(eval),
+                vec![l(class), l(cp), l(iu), l(iv), l(level)],
+            )),
+        ],
+        vec![],
+    ));
+    let args = vec![l(cp), l(x), l(y), l(z)];
+    let mut chain: Vec<Stmt> = vec![Stmt::Assign(
+        sample,
+        call(
+            FnRef::Local(*surfaces_at.last().unwrap_or(&0)),
+            args.clone(),
+        ),
+    )];
+    for k in (0..surfaces_at.len().saturating_sub(1)).rev() {
+        chain = vec![Stmt::If(
+            bin(BinOp::Eq, l(class), u(k as u32)),
+            vec![Stmt::Assign(
+                sample,
+                call(FnRef::Local(surfaces_at[k]), args.clone()),
+            )],
+            chain,
+        )];
+    }
+    f.body.push(Stmt::Var(
+        sample,
+        Expr::Make(
+            plan::common::SAMPLE,
+            vec![
+                Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+                Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
+            ],
+        ),
+    ));
+    f.body.extend(chain);
     f.body.push(Stmt::Return(l(sample)));
     f
 }

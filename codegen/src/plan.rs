@@ -126,6 +126,11 @@ pub enum Builtin {
     Cross,
     /// `vec3(x, y, z)` from three f32.
     Vec3,
+    /// Nearest integer of an f32 (as f32); only used on values within
+    /// rounding error of an integer, where every language's tie rule agrees.
+    Round,
+    /// `u32` from a non-negative integral `f32`.
+    U32FromF32,
 }
 
 /// Index of a local in [`Function::locals`].
@@ -397,6 +402,11 @@ pub struct Entries {
     pub patches: Vec<PatchEntry>,
     /// `eval(class, cp_base, iu, iv, level) -> Sample`.
     pub eval: usize,
+    /// Triangle schemes: `eval_domain(class, cp_base, x, y, z, level) ->
+    /// Sample` at the tessellator's barycentric domain point: the integer
+    /// grid path through `eval` on the patch boundary, the surface at the
+    /// raw point inside (the hardware's inner rings are not the lattice).
+    pub eval_domain: Option<usize>,
     /// Corners per facet: 4 (quad domain) or 3 (triangle domain).
     pub sides: u32,
     /// `grid_len(level)`, `grid_iu(s, level)`, `grid_iv(s, level)`: the

@@ -70,9 +70,10 @@ layout(location = 0) out vec3 te_normal;
 layout(location = 1) out vec3 te_position;
 
 #ifdef TESSGEN_CAPTURE
-// binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
-layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
-
+// Capture: the domain point and the patch (params.first + gl_PrimitiveID) of
+// every vertex, for a harness that records the output triangles.
+layout(location = 2) out vec3 te_domain;
+layout(location = 3) flat out uint te_patch;
 #endif
 
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
@@ -106,12 +107,8 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float nf = float(level);
-    float w0 = (float(((level - iu) - iv)) / nf);
-    float w1 = (float(iu) / nf);
-    float w2 = (float(iv) / nf);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+Sample triangle_surface_at(uint cp_base, float w0, float w1, float w2) {
     vec3 b0 = load_tcs_cp((cp_base + 0u));
     vec3 bn0 = load_tcs_cp((cp_base + 1u));
     vec3 bp0 = load_tcs_cp((cp_base + 2u));
@@ -133,6 +130,15 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
     vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
     return Sample(s0_000, tessgen_normalize(((((((load_tcs_cp((cp_base + 3u)) * (w0 * w0)) + (load_tcs_cp((cp_base + 4u)) * (w0 * w1))) + (load_tcs_cp((cp_base + 8u)) * (w1 * w1))) + (load_tcs_cp((cp_base + 9u)) * (w1 * w2))) + (load_tcs_cp((cp_base + 13u)) * (w2 * w2))) + (load_tcs_cp((cp_base + 14u)) * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at(cp_base, w0, w1, w2);
 }
 
 // Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -163,37 +169,32 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     return sample_;
 }
 
-// Samples of one triangle patch at `level`: (level+1)(level+2)/2.
-uint grid_len(uint level) {
-    return (((level + 1u) * (level + 2u)) / 2u);
-}
-
-// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
-uint grid_index(uint iu, uint iv, uint level) {
-    return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
+// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+Sample eval_domain(uint class_, uint cp_base, float x, float y, float z, uint level) {
+    if (((x == 0.0) || (y == 0.0)) || (z == 0.0)) {
+        uint iu = uint(round((y * float(level))));
+        uint iv = uint(round((z * float(level))));
+        return eval(class_, cp_base, iu, iv, level);
+    }
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    sample_ = triangle_surface_at(cp_base, x, y, z);
+    return sample_;
 }
 
 void main() {
-    // The grid point as integers: equal_spacing at an integer level puts vertex i
-    // at i/level, so rounding recovers i exactly. eval and the shared edge evaluator
-    // form every weight from these integers (watertight.md Rules 2 and 3), so the
-    // two patches of an edge compute the same bits. eval takes barycentric
-    // (level − iu − iv, iu, iv) of corners (0, 1, 2): iu from y, iv from z.
-    uint iu = uint(round((gl_TessCoord.y * float(params.level))));
-    uint iv = uint(round((gl_TessCoord.z * float(params.level))));
-    Sample result = eval(params.class_, 0u, iu, iv, params.level);
+    // Triangles: eval_domain takes the raw barycentric gl_TessCoord (x, y, z) of
+    // corners (0, 1, 2). On the outer ring (a coordinate exactly 0; equal_spacing at
+    // an integer level puts vertex i at i/level in fixed point) it rounds to the
+    // integer grid point and takes the shared edge evaluator, so the two patches of
+    // an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the
+    // hardware's inner rings (ring k: level − 2k segments per side) are not the
+    // barycentric lattice, so it evaluates the surface at gl_TessCoord itself.
+    Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, params.level);
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
 #ifdef TESSGEN_CAPTURE
-    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
-    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
+    te_domain = gl_TessCoord;
+    te_patch = (params.first + uint(gl_PrimitiveID));
 #endif
 }

@@ -92,12 +92,8 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float nf = float(level);
-    float w0 = (float(((level - iu) - iv)) / nf);
-    float w1 = (float(iu) / nf);
-    float w2 = (float(iv) / nf);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+Sample triangle_surface_at(uint cp_base, float w0, float w1, float w2) {
     vec3 b0 = load_control_points((cp_base + 0u));
     vec3 bn0 = load_control_points((cp_base + 1u));
     vec3 bp0 = load_control_points((cp_base + 2u));
@@ -119,6 +115,15 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
     vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
     return Sample(s0_000, tessgen_normalize(((((((load_control_points((cp_base + 3u)) * (w0 * w0)) + (load_control_points((cp_base + 4u)) * (w0 * w1))) + (load_control_points((cp_base + 8u)) * (w1 * w1))) + (load_control_points((cp_base + 9u)) * (w1 * w2))) + (load_control_points((cp_base + 13u)) * (w2 * w2))) + (load_control_points((cp_base + 14u)) * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at(cp_base, w0, w1, w2);
 }
 
 // Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.

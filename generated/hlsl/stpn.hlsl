@@ -321,12 +321,8 @@ void triangle_patch(inout float3 cp_out[KMAX], uint face, uint cp_base) {
     cp_out[(cp_base + 14u)] = ((sharp_2 + sharp_0) - (((4.0f * dot(d_2, (sharp_2 + sharp_0))) / dot(d_2, d_2)) * d_2));
 }
 
-// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-Sample triangle_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint level) {
-    float nf = float(level);
-    float w0 = (float(((level - iu) - iv)) / nf);
-    float w1 = (float(iu) / nf);
-    float w2 = (float(iv) / nf);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+Sample triangle_surface_at(in float3 cp[KMAX], uint cp_base, float w0, float w1, float w2) {
     float3 b0 = cp[(cp_base + 0u)];
     float3 bn0 = cp[(cp_base + 1u)];
     float3 bp0 = cp[(cp_base + 2u)];
@@ -348,6 +344,15 @@ Sample triangle_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint
     float3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     float3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
     return make_Sample(s0_000, tessgen_normalize(((((((cp[(cp_base + 3u)] * (w0 * w0)) + (cp[(cp_base + 4u)] * (w0 * w1))) + (cp[(cp_base + 8u)] * (w1 * w1))) + (cp[(cp_base + 9u)] * (w1 * w2))) + (cp[(cp_base + 13u)] * (w2 * w2))) + (cp[(cp_base + 14u)] * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+Sample triangle_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at(cp, cp_base, w0, w1, w2);
 }
 
 // Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -375,6 +380,18 @@ Sample eval(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uin
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif
+    return sample_;
+}
+
+// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+Sample eval_domain(in float3 cp[KMAX], uint class_, uint cp_base, float x, float y, float z, uint level) {
+    if ((((x == 0.0f) || (y == 0.0f)) || (z == 0.0f))) {
+        uint iu = uint(round((y * float(level))));
+        uint iv = uint(round((z * float(level))));
+        return eval(cp, class_, cp_base, iu, iv, level);
+    }
+    Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+    sample_ = triangle_surface_at(cp, cp_base, x, y, z);
     return sample_;
 }
 
@@ -564,12 +581,21 @@ struct DsOut {
     float4 position : SV_Position;
     float3 normal : NORMAL;
     float3 world : WORLD_POSITION;
+#ifdef TESSGEN_CAPTURE
+    // Capture: the domain point and the patch of every vertex, for a harness
+    // that records the output triangles (inner vertices are not grid points).
+    float3 domain : TESSGEN_DOMAIN;
+    nointerpolation uint patch_index : TESSGEN_PATCH;
+#endif
 };
 
 // Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing
-// corners (0, 1, 2); eval takes (level − iu − iv, iu, iv), so iu comes from y and
-// iv from z. The tessellator emits exact fixed-point i/level, and the Plan forms
-// every weight from integers, so rounding recovers them.
+// corners (0, 1, 2), and eval_domain takes it raw. On the outer ring (a
+// coordinate exactly 0: the tessellator emits exact fixed-point i/level there)
+// it rounds to the integer grid point and takes the shared edge evaluator, so
+// both patches of an edge compute the same bits (watertight.md Rules 2 and 3).
+// Inside, the hardware's inner rings (ring k: level − 2k segments per side) are
+// not the barycentric lattice, so the surface is evaluated at the raw point.
 [domain("tri")]
 DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
     uint level = params.level;
@@ -578,23 +604,14 @@ DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<Hs
         uint k = (3u * j);
         cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
     }
-    uint iu = (uint)round(uv.y * float(level));
-    uint iv = (uint)round(uv.z * float(level));
-    Sample result = eval(cp, params.class_, 0u, iu, iv, level);
+    Sample result = eval_domain(cp, params.class_, 0u, uv.x, uv.y, uv.z, level);
     DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.normal = result.normal;
     o.world = result.position;
 #ifdef TESSGEN_CAPTURE
-    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
-    // being patch out_base + c.patch_id, sample grid_index(iu, iv).
-    uint at = ((((params.out_base + c.patch_id) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
-    samples[at] = result.position.x;
-    samples[(at + 1u)] = result.position.y;
-    samples[(at + 2u)] = result.position.z;
-    samples[(at + 3u)] = result.normal.x;
-    samples[(at + 4u)] = result.normal.y;
-    samples[(at + 5u)] = result.normal.z;
+    o.domain = uv;
+    o.patch_index = (params.first + c.patch_id);
 #endif
     return o;
 }

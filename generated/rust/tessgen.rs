@@ -72,6 +72,10 @@ pub mod common {
         pub classes: &'static [ClassKernels],
         /// `(cp, class, cp_base, iu, iv, level)`
         pub eval: fn(&[Vec3], u32, u32, u32, u32, u32) -> Sample,
+        /// Triangle schemes: `(cp, class, cp_base, x, y, z, level)` at a
+        /// hardware tessellator's barycentric domain point (what the GLSL/HLSL
+        /// evaluation stages run), for parity checks of captured vertices.
+        pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
         /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
         /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
         pub sides: u32,
@@ -288,6 +292,7 @@ pub mod regular {
             ClassKernels { class: "ordinary", form: "bicubic", control_points: 16, patch: ordinary_patch },
         ],
         eval: eval,
+        eval_domain: None,
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -653,6 +658,7 @@ pub mod pccm {
             ClassKernels { class: "extraordinary", form: "cpatch", control_points: 24, patch: extraordinary_patch },
         ],
         eval: eval,
+        eval_domain: None,
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -970,6 +976,7 @@ pub mod acc {
             ClassKernels { class: "extraordinary", form: "acc", control_points: 40, patch: extraordinary_patch },
         ],
         eval: eval,
+        eval_domain: None,
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1312,6 +1319,7 @@ pub mod gregory {
             ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
         ],
         eval: eval,
+        eval_domain: None,
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1654,6 +1662,7 @@ pub mod gregory_osd {
             ClassKernels { class: "extraordinary", form: "gregory", control_points: 20, patch: extraordinary_patch },
         ],
         eval: eval,
+        eval_domain: None,
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1743,12 +1752,8 @@ pub mod pn {
         out[((cp_base + 14u32)) as usize] = ((nrm_2 + nrm_0) - (((4.0f32 * d_2.dot((nrm_2 + nrm_0))) / d_2.dot(d_2)) * d_2));
     }
     
-    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
-        let nf: f32 = (level as f32);
-        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
-        let w1: f32 = ((iu as f32) / nf);
-        let w2: f32 = ((iv as f32) / nf);
+    /// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface_at(cp: &[Vec3], cp_base: u32, w0: f32, w1: f32, w2: f32) -> Sample {
         let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
         let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
         let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
@@ -1770,6 +1775,15 @@ pub mod pn {
         let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
         let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
         return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
     /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -1795,6 +1809,18 @@ pub mod pn {
             let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
             sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
         }
+        return sample;
+    }
+    
+    /// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+    pub fn eval_domain(cp: &[Vec3], class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval(cp, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface_at(cp, cp_base, x, y, z);
         return sample;
     }
     
@@ -1844,6 +1870,7 @@ pub mod pn {
             ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
         ],
         eval: eval,
+        eval_domain: Some(eval_domain),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1976,12 +2003,8 @@ pub mod stpn {
         out[((cp_base + 14u32)) as usize] = ((sharp_2 + sharp_0) - (((4.0f32 * d_2.dot((sharp_2 + sharp_0))) / d_2.dot(d_2)) * d_2));
     }
     
-    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
-        let nf: f32 = (level as f32);
-        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
-        let w1: f32 = ((iu as f32) / nf);
-        let w2: f32 = ((iv as f32) / nf);
+    /// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface_at(cp: &[Vec3], cp_base: u32, w0: f32, w1: f32, w2: f32) -> Sample {
         let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
         let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
         let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
@@ -2003,6 +2026,15 @@ pub mod stpn {
         let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
         let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
         return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
     /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -2028,6 +2060,18 @@ pub mod stpn {
             let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
             sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
         }
+        return sample;
+    }
+    
+    /// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+    pub fn eval_domain(cp: &[Vec3], class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval(cp, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface_at(cp, cp_base, x, y, z);
         return sample;
     }
     
@@ -2077,6 +2121,7 @@ pub mod stpn {
             ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
         ],
         eval: eval,
+        eval_domain: Some(eval_domain),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2160,12 +2205,8 @@ pub mod phong {
         out[((cp_base + 14u32)) as usize] = (nrm_2 + nrm_0);
     }
     
-    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
-        let nf: f32 = (level as f32);
-        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
-        let w1: f32 = ((iu as f32) / nf);
-        let w2: f32 = ((iv as f32) / nf);
+    /// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+    pub fn triangle_surface_at(cp: &[Vec3], cp_base: u32, w0: f32, w1: f32, w2: f32) -> Sample {
         let b0: Vec3 = cp[((cp_base + 0u32)) as usize];
         let bn0: Vec3 = cp[((cp_base + 1u32)) as usize];
         let bp0: Vec3 = cp[((cp_base + 2u32)) as usize];
@@ -2187,6 +2228,15 @@ pub mod phong {
         let s1_001: Vec3 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
         let s0_000: Vec3 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
         return Sample { position: s0_000, normal: tessgen_normalize(((((((cp[((cp_base + 3u32)) as usize] * (w0 * w0)) + (cp[((cp_base + 4u32)) as usize] * (w0 * w1))) + (cp[((cp_base + 8u32)) as usize] * (w1 * w1))) + (cp[((cp_base + 9u32)) as usize] * (w1 * w2))) + (cp[((cp_base + 13u32)) as usize] * (w2 * w2))) + (cp[((cp_base + 14u32)) as usize] * (w2 * w0)))) };
+    }
+    
+    /// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+    pub fn triangle_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let nf: f32 = (level as f32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / nf);
+        let w1: f32 = ((iu as f32) / nf);
+        let w2: f32 = ((iv as f32) / nf);
+        return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
     /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -2212,6 +2262,18 @@ pub mod phong {
             let b3: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
             sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
         }
+        return sample;
+    }
+    
+    /// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+    pub fn eval_domain(cp: &[Vec3], class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval(cp, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+        sample = triangle_surface_at(cp, cp_base, x, y, z);
         return sample;
     }
     
@@ -2261,6 +2323,7 @@ pub mod phong {
             ClassKernels { class: "triangle", form: "tri_cubic", control_points: 16, patch: triangle_patch },
         ],
         eval: eval,
+        eval_domain: Some(eval_domain),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,

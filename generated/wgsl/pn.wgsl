@@ -257,12 +257,8 @@ fn triangle_patch(face: u32, cp_base: u32) {
     store_control_points((cp_base + 14u), ((nrm_2 + nrm_0) - (((4.0f * dot(d_2, (nrm_2 + nrm_0))) / dot(d_2, d_2)) * d_2)));
 }
 
-// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers): three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-fn triangle_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
-    let nf: f32 = f32(level);
-    let w0: f32 = (f32(((level - iu) - iv)) / nf);
-    let w1: f32 = (f32(iu) / nf);
-    let w2: f32 = (f32(iv) / nf);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
+fn triangle_surface_at(cp_base: u32, w0: f32, w1: f32, w2: f32) -> Sample {
     let b0: vec3<f32> = load_control_points_ro((cp_base + 0u));
     let bn0: vec3<f32> = load_control_points_ro((cp_base + 1u));
     let bp0: vec3<f32> = load_control_points_ro((cp_base + 2u));
@@ -284,6 +280,15 @@ fn triangle_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let s1_001: vec3<f32> = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     let s0_000: vec3<f32> = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
     return Sample(s0_000, tessgen_normalize(((((((load_control_points_ro((cp_base + 3u)) * (w0 * w0)) + (load_control_points_ro((cp_base + 4u)) * (w0 * w1))) + (load_control_points_ro((cp_base + 8u)) * (w1 * w1))) + (load_control_points_ro((cp_base + 9u)) * (w1 * w2))) + (load_control_points_ro((cp_base + 13u)) * (w2 * w2))) + (load_control_points_ro((cp_base + 14u)) * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
+fn triangle_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+    let nf: f32 = f32(level);
+    let w0: f32 = (f32(((level - iu) - iv)) / nf);
+    let w1: f32 = (f32(iu) / nf);
+    let w2: f32 = (f32(iv) / nf);
+    return triangle_surface_at(cp_base, w0, w1, w2);
 }
 
 // Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
@@ -309,6 +314,18 @@ fn eval(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let b3: vec3<f32> = load_control_points_ro((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
+    return sample;
+}
+
+// Position and normal at the tessellator's barycentric domain point (x, y, z) of corners 0, 1, 2. On the patch boundary (a coordinate exactly 0: the outer ring, where the tessellator puts vertex i at exactly i/level) the integer grid point (round(y·level), round(z·level)) goes through eval and the shared edge evaluator, so both patches of an edge compute the same bits. Strictly inside, the hardware's inner rings are not the barycentric lattice (inner ring k of a level-N triangle has N − 2k segments per side), so the surface is evaluated at the raw point.
+fn eval_domain(class_: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+    if (((x == 0.0f) || (y == 0.0f)) || (z == 0.0f)) {
+        let iu: u32 = u32(round((y * f32(level))));
+        let iv: u32 = u32(round((z * f32(level))));
+        return eval(class_, cp_base, iu, iv, level);
+    }
+    var sample: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
+    sample = triangle_surface_at(cp_base, x, y, z);
     return sample;
 }
 

@@ -263,6 +263,19 @@ impl Tessellation {
     }
 }
 
+/// Face `face`'s patch at a hardware tessellator's barycentric domain point
+/// `(x, y, z)` of corners 0, 1, 2, through the generated `eval_domain` (what
+/// the GLSL/HLSL evaluation stages of triangle schemes run): the integer
+/// grid path on the patch boundary, the surface at the raw point inside.
+/// `None` for quad schemes or a face out of range.
+pub fn eval_domain(patches: &Patches, face: usize, domain: [f32; 3], level: u32) -> Option<Sample> {
+    let f = patches.scheme.eval_domain?;
+    let class = *patches.face_class.get(face)?;
+    let cp = &patches.control_points
+        [*patches.cp_offsets.get(face)? as usize..*patches.cp_offsets.get(face + 1)? as usize];
+    Some(f(cp, class, 0, domain[0], domain[1], domain[2], level))
+}
+
 /// Evaluate every patch on a `level × level` grid.
 pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
     if level == 0 || level > MAX_LEVEL {

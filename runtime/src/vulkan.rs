@@ -7,8 +7,11 @@
 //!   and HLSL (`<scheme>.hlsl`, entry points `vs_main`, `hs_main`, `ds_main`,
 //!   `vertex_stage_main`) that this crate's `build.rs` generates, compiled to
 //!   SPIR-V by `glslangValidator` (HLSL with `-D`) with `-DTESSGEN_CAPTURE`:
-//!   the evaluation stage then also writes its sample into the `samples`
-//!   buffer at `eval_main`'s layout.
+//!   for quad schemes the evaluation stage then also writes its sample into
+//!   the `samples` buffer at `eval_main`'s layout; for triangle schemes (whose
+//!   hardware inner vertices are not grid points) it exports its domain point
+//!   and patch, and a harness geometry shader records every emitted triangle
+//!   ([`VkMesh::evaluate_triangles`], [`crate::capture`]).
 //! * Quad schemes run the vertex stage as a compute dispatch first; then, per
 //!   facet class, one draw of `count` patches (patch size 1, rasterizer
 //!   discard, a render pass without attachments) with
@@ -21,6 +24,7 @@
 //! driver (`mesa-vulkan-drivers` for lavapipe) and `glslangValidator`
 //! (`glslang-tools`).
 
+use crate::capture::{CaptureError, TriangleCapture, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::topology::Topology;
@@ -121,6 +125,21 @@ pub enum VkError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    #[error("scheme `{scheme}` has a triangle domain: the hardware's inner vertices are not grid points, so capture its triangles with evaluate_triangles")]
+    TriangleDomain { scheme: String },
+    #[error("scheme `{scheme}` has a quad domain: evaluate_triangles is for triangle schemes")]
+    QuadDomain { scheme: String },
+    #[error("the Vulkan device has no geometryShader, which the triangle capture needs")]
+    NoGeometryShader,
+    #[error("level {level}: the tessellator emitted {emitted} triangles for {patches} patches, more than the {capacity} the capture holds")]
+    CaptureOverflow {
+        level: u32,
+        patches: u64,
+        emitted: u64,
+        capacity: u64,
+    },
+    #[error(transparent)]
+    Capture(#[from] CaptureError),
 }
 
 impl From<UploadError> for VkError {
@@ -163,6 +182,8 @@ pub struct Vulkan {
     /// Device name and driver (e.g. `llvmpipe (LLVM 15.0.7, 256 bits)`).
     pub name: String,
     pub limits: DeviceLimits,
+    /// Whether `geometryShader` is enabled (the triangle capture needs it).
+    pub geometry_shader: bool,
 }
 
 impl Vulkan {
@@ -216,10 +237,10 @@ impl Vulkan {
             }) else {
                 continue;
             };
-            chosen = Some((pd, props, name, family as u32));
+            chosen = Some((pd, props, name, family as u32, f.geometry_shader));
             break;
         }
-        let Some((pd, props, name, family)) = chosen else {
+        let Some((pd, props, name, family, geometry_shader)) = chosen else {
             return Err(match want {
                 Some(w) => VkError::DeviceNotFound(w),
                 None => VkError::NoDevice,
@@ -228,6 +249,7 @@ impl Vulkan {
         let features = vk::PhysicalDeviceFeatures {
             tessellation_shader: vk::TRUE,
             vertex_pipeline_stores_and_atomics: vk::TRUE,
+            geometry_shader,
             ..Default::default()
         };
         let priorities = [1.0f32];
@@ -288,6 +310,7 @@ impl Vulkan {
             cmd,
             fence,
             name: driver,
+            geometry_shader: geometry_shader == vk::TRUE,
             limits: DeviceLimits {
                 max_tessellation_patch_size: l.max_tessellation_patch_size,
                 max_tessellation_generation_level: l.max_tessellation_generation_level,
@@ -498,6 +521,88 @@ impl Buf {
             d.free_memory(self.memory, None);
         }
     }
+}
+
+/// The harness's geometry shader for triangle schemes (not a generated
+/// file): it receives every triangle the tessellator emitted, with the
+/// evaluation stage's outputs at the locations both emitted languages write
+/// (GLSL `te_normal` 0, `te_position` 1, and with `-DTESSGEN_CAPTURE`
+/// `te_domain` 2, `te_patch` 3; HLSL `DsOut` in declaration order), and
+/// appends it to the capture buffer (binding 12): a `u32` triangle counter
+/// bumped atomically, the capacity, then `VERTEX_FLOATS` floats per vertex.
+/// A triangle past the capacity is counted but not written, so the host
+/// can tell an overflow from a full buffer.
+const CAPTURE_GEOMETRY_SHADER: &str = r#"#version 450
+layout(triangles) in;
+layout(points, max_vertices = 1) out;
+
+layout(location = 0) in vec3 te_normal[];
+layout(location = 1) in vec3 te_position[];
+layout(location = 2) in vec3 te_domain[];
+layout(location = 3) flat in uint te_patch[];
+
+layout(std430, set = 0, binding = 12) buffer Capture {
+    uint triangles;
+    uint capacity;
+    uint pad0;
+    uint pad1;
+    float data[];
+};
+
+void main() {
+    uint t = atomicAdd(triangles, 1u);
+    if (t >= capacity) {
+        return;
+    }
+    for (uint k = 0u; k < 3u; k += 1u) {
+        uint o = (3u * t + k) * 10u;
+        data[o + 0u] = te_position[k].x;
+        data[o + 1u] = te_position[k].y;
+        data[o + 2u] = te_position[k].z;
+        data[o + 3u] = te_normal[k].x;
+        data[o + 4u] = te_normal[k].y;
+        data[o + 5u] = te_normal[k].z;
+        data[o + 6u] = te_domain[k].x;
+        data[o + 7u] = te_domain[k].y;
+        data[o + 8u] = te_domain[k].z;
+        data[o + 9u] = uintBitsToFloat(te_patch[k]);
+    }
+}
+"#;
+
+/// Bytes before the captured vertices in the capture buffer (counter,
+/// capacity, padding).
+const CAPTURE_HEADER: u64 = 16;
+
+/// An upper bound on the triangles the tessellator emits for one triangle
+/// patch at `level` with equal factors: ring by ring `6a − 6` for a ring
+/// of `a` segments per side (`a = level, level − 2, …`), plus 1 for an odd
+/// level's centre triangle: `1.5·level²` (even), `1.5·level² − 0.5` (odd).
+pub fn triangles_per_patch(level: u32) -> u64 {
+    let n = level as u64;
+    (3 * n * n).div_ceil(2)
+}
+
+/// Distinct vertices the tessellator emits for one triangle patch at
+/// `level` with equal factors: `3a` per ring of `a` segments per side
+/// (`a = level, level − 2, … > 0`), plus the centre point of an even level.
+pub fn vertices_per_patch(level: u32) -> u64 {
+    let rings: u64 = (0..=level / 2)
+        .map(|k| level.saturating_sub(2 * k) as u64)
+        .filter(|&a| a > 0)
+        .map(|a| 3 * a)
+        .sum();
+    rings + u64::from(level.is_multiple_of(2))
+}
+
+/// Triangle patches per draw of the capture: lavapipe (Mesa's draw module)
+/// numbers the tessellated vertices of one draw that feed a geometry shader
+/// with 16-bit indices, so past 65 536 vertices a triangle picks up vertices
+/// of an earlier patch (seen at level 64 from patch 20 on: 3169 vertices per
+/// patch). Draws stay below that; a triangle whose vertices name different
+/// patches is still reported ([`CaptureError::MixedPatches`]).
+fn patches_per_draw(level: u32) -> u64 {
+    (u16::MAX as u64 / vertices_per_patch(level).max(1)).max(1)
 }
 
 /// glslangValidator on one emitted shader, to SPIR-V words.
@@ -1019,7 +1124,15 @@ impl<'v> VkMesh<'v> {
         &mut self,
         stage: &'static str,
     ) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
-        let (file, source, entry) = self.shader(stage)?;
+        let (file, source, entry) = if stage == "geom" {
+            (
+                "harness/capture_triangles.geom".to_string(),
+                CAPTURE_GEOMETRY_SHADER,
+                None,
+            )
+        } else {
+            self.shader(stage)?
+        };
         let words = compile(source, &file, stage, entry, &self.options.defines)?;
         let m = unsafe {
             self.vk
@@ -1058,6 +1171,16 @@ impl<'v> VkMesh<'v> {
         let (vert, vn) = self.module("vert")?;
         let (tesc, cn) = self.module("tesc")?;
         let (tese, en) = self.module("tese")?;
+        // Triangle schemes: the harness's geometry shader records the
+        // tessellator's output triangles (see CAPTURE_GEOMETRY_SHADER).
+        let geom = if self.scheme.sides == 3 {
+            if !self.vk.geometry_shader {
+                return Err(VkError::NoGeometryShader);
+            }
+            Some(self.module("geom")?)
+        } else {
+            None
+        };
         let d = &self.vk.device;
         let sub =
             [vk::SubpassDescription::default()
@@ -1077,7 +1200,7 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreateFramebuffer"))?;
-        let stages = [
+        let mut stages = vec![
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
                 .module(vert)
@@ -1091,6 +1214,14 @@ impl<'v> VkMesh<'v> {
                 .module(tese)
                 .name(en),
         ];
+        if let Some((gm, gn)) = geom {
+            stages.push(
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::GEOMETRY)
+                    .module(gm)
+                    .name(gn),
+            );
+        }
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
             .topology(vk::PrimitiveTopology::PATCH_LIST);
@@ -1160,18 +1291,12 @@ impl<'v> VkMesh<'v> {
     /// read the captured samples back in face order: the same layout as
     /// [`cpu::evaluate`].
     pub fn evaluate(&self, level: u32) -> Result<Tessellation, VkError> {
-        if level == 0 || level > cpu::MAX_LEVEL {
-            return Err(cpu::TessError::Level(level).into());
-        }
-        let max_level = self.vk.limits.max_tessellation_generation_level;
-        if level > max_level {
-            return Err(VkError::Limit {
+        if self.scheme.sides == 3 {
+            return Err(VkError::TriangleDomain {
                 scheme: self.scheme.name.into(),
-                what: "tessellation level (maxTessellationGenerationLevel)",
-                needed: level as u64,
-                max: max_level as u64,
             });
         }
+        self.check_level(level)?;
         let spp = (self.scheme.grid_len)(level) as u64;
         let per_patch = spp * 24;
         // Patches per readback chunk: within one storage binding and 256 MiB.
@@ -1196,6 +1321,145 @@ impl<'v> VkMesh<'v> {
         result
     }
 
+    fn check_level(&self, level: u32) -> Result<(), VkError> {
+        if level == 0 || level > cpu::MAX_LEVEL {
+            return Err(cpu::TessError::Level(level).into());
+        }
+        let max_level = self.vk.limits.max_tessellation_generation_level;
+        if level > max_level {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "tessellation level (maxTessellationGenerationLevel)",
+                needed: level as u64,
+                max: max_level as u64,
+            });
+        }
+        Ok(())
+    }
+
+    /// Draws of the patches `p0 .. p0 + n`: per facet class, at most
+    /// `per_draw` patches each.
+    fn draw_chunk(&self, level: u32, p0: u64, n: u64, per_draw: u64) -> Result<(), VkError> {
+        for c in &self.classes {
+            let lo = (c.first as u64).max(p0);
+            let hi = ((c.first + c.count) as u64).min(p0 + n);
+            let mut at = lo;
+            while at < hi {
+                let next = hi.min(at.saturating_add(per_draw.max(1)));
+                self.draw(level, c, p0, at, next)?;
+                at = next;
+            }
+        }
+        Ok(())
+    }
+
+    /// One draw of the patches `lo .. hi` of class range `c`, the readback
+    /// chunk starting at patch `p0`.
+    fn draw(&self, level: u32, c: &ClassRange, p0: u64, lo: u64, hi: u64) -> Result<(), VkError> {
+        let (first, count) = (lo as u32, (hi - lo) as u32);
+        self.set_params([
+            first,
+            count,
+            c.class,
+            c.cp_base + (first - c.first) * c.points,
+            level,
+            (lo - p0) as u32,
+        ]);
+        let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
+        let (rp, fb) = (self.render_pass, self.framebuffer);
+        self.vk.submit(|d, cb| unsafe {
+            d.cmd_begin_render_pass(
+                cb,
+                &vk::RenderPassBeginInfo::default()
+                    .render_pass(rp)
+                    .framebuffer(fb)
+                    .render_area(vk::Rect2D {
+                        offset: vk::Offset2D { x: 0, y: 0 },
+                        extent: vk::Extent2D {
+                            width: 1,
+                            height: 1,
+                        },
+                    }),
+                vk::SubpassContents::INLINE,
+            );
+            d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
+            d.cmd_bind_descriptor_sets(cb, vk::PipelineBindPoint::GRAPHICS, layout, 0, &[set], &[]);
+            // Patch size 1: one vertex per patch.
+            d.cmd_draw(cb, count, 1, 0, 0);
+            d.cmd_end_render_pass(cb);
+        })?;
+        Ok(())
+    }
+
+    /// Triangle schemes: tessellate every patch at `level` through the
+    /// hardware tessellator and capture the triangles it emitted (position,
+    /// normal, raw domain point, patch of every vertex) with the harness's
+    /// geometry shader, grouped per face of the triangle mesh. The
+    /// tessellator's inner vertices are not the barycentric lattice, so this
+    /// is not a grid like [`Self::evaluate`]'s.
+    pub fn evaluate_triangles(&self, level: u32) -> Result<TriangleCapture, VkError> {
+        if self.scheme.sides != 3 {
+            return Err(VkError::QuadDomain {
+                scheme: self.scheme.name.into(),
+            });
+        }
+        self.check_level(level)?;
+        let per_patch_tris = triangles_per_patch(level);
+        let per_patch = per_patch_tris * 3 * VERTEX_FLOATS as u64 * 4;
+        let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20) - CAPTURE_HEADER;
+        if per_patch > cap {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "bytes of captured triangles of one patch (maxStorageBufferRange)",
+                needed: per_patch,
+                max: cap,
+            });
+        }
+        let total = self.patch_faces.len() as u64;
+        let chunk = (cap / per_patch).min(total.max(1));
+        let buf = self.vk.buffer(
+            "captured triangles",
+            CAPTURE_HEADER + chunk * per_patch,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let result = (|| {
+            self.write_buffer(binding::SAMPLES, &buf);
+            let mut raw = Vec::new();
+            let mut p0 = 0u64;
+            while p0 < total {
+                let n = chunk.min(total - p0);
+                let capacity = n * per_patch_tris;
+                let mut header = Vec::with_capacity(16);
+                for w in [0u32, capacity as u32, 0, 0] {
+                    header.extend_from_slice(&w.to_le_bytes());
+                }
+                buf.write(&header);
+                self.draw_chunk(level, p0, n, patches_per_draw(level))?;
+                let head = buf.read_f32(4);
+                let emitted = head[0].to_bits() as u64;
+                if emitted > capacity {
+                    return Err(VkError::CaptureOverflow {
+                        level,
+                        patches: n,
+                        emitted,
+                        capacity,
+                    });
+                }
+                let floats = buf.read_f32(4 + emitted as usize * 3 * VERTEX_FLOATS);
+                raw.extend_from_slice(&floats[4..]);
+                p0 += n;
+            }
+            Ok(TriangleCapture::from_raw(
+                level,
+                &raw,
+                &self.patch_faces,
+                self.patch_faces.len(),
+            )?)
+        })();
+        buf.destroy(&self.vk.device);
+        result
+    }
+
     fn evaluate_into(
         &self,
         level: u32,
@@ -1215,52 +1479,7 @@ impl<'v> VkMesh<'v> {
             let n = chunk.min(faces as u64 - p0);
             // Unwritten samples stay NaN, so a missed write fails parity.
             samples.write(&nan);
-            for c in &self.classes {
-                let lo = (c.first as u64).max(p0);
-                let hi = ((c.first + c.count) as u64).min(p0 + n);
-                if lo >= hi {
-                    continue;
-                }
-                let (first, count) = (lo as u32, (hi - lo) as u32);
-                self.set_params([
-                    first,
-                    count,
-                    c.class,
-                    c.cp_base + (first - c.first) * c.points,
-                    level,
-                    (lo - p0) as u32,
-                ]);
-                let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
-                let (rp, fb) = (self.render_pass, self.framebuffer);
-                self.vk.submit(|d, cb| unsafe {
-                    d.cmd_begin_render_pass(
-                        cb,
-                        &vk::RenderPassBeginInfo::default()
-                            .render_pass(rp)
-                            .framebuffer(fb)
-                            .render_area(vk::Rect2D {
-                                offset: vk::Offset2D { x: 0, y: 0 },
-                                extent: vk::Extent2D {
-                                    width: 1,
-                                    height: 1,
-                                },
-                            }),
-                        vk::SubpassContents::INLINE,
-                    );
-                    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
-                    d.cmd_bind_descriptor_sets(
-                        cb,
-                        vk::PipelineBindPoint::GRAPHICS,
-                        layout,
-                        0,
-                        &[set],
-                        &[],
-                    );
-                    // Patch size 1: one vertex per patch.
-                    d.cmd_draw(cb, count, 1, 0, 0);
-                    d.cmd_end_render_pass(cb);
-                })?;
-            }
+            self.draw_chunk(level, p0, n, u64::MAX)?;
             let floats = samples.read_f32((n * spp * 6) as usize);
             for (i, s) in floats.chunks_exact(6).enumerate() {
                 let patch = p0 + i as u64 / spp;
@@ -1310,6 +1529,43 @@ impl Drop for VkMesh<'_> {
     }
 }
 
+/// What the Vulkan pipeline produced: quad schemes a grid per patch (the
+/// tessellator's quad pattern is the integer grid), triangle schemes the
+/// triangles the tessellator emitted (its inner rings are not a grid).
+#[derive(Clone, Debug, PartialEq)]
+pub enum VkOutput {
+    Grid(Tessellation),
+    Triangles(TriangleCapture),
+}
+
+impl VkOutput {
+    /// OBJ text: [`crate::obj::to_obj`] or [`TriangleCapture::to_obj`].
+    pub fn to_obj(&self) -> String {
+        match self {
+            VkOutput::Grid(t) => crate::obj::to_obj(t),
+            VkOutput::Triangles(c) => c.to_obj(),
+        }
+    }
+    /// Exact-bit weld of the output (see [`crate::weld`]).
+    pub fn weld(&self) -> crate::weld::WeldReport {
+        match self {
+            VkOutput::Grid(t) => crate::weld::weld(t),
+            VkOutput::Triangles(c) => c.weld(),
+        }
+    }
+    /// `(patches, vertices, triangles)` for a summary line.
+    pub fn counts(&self) -> (usize, usize, usize) {
+        match self {
+            VkOutput::Grid(t) => (
+                t.faces,
+                t.positions.len(),
+                t.faces * t.local_triangles().len(),
+            ),
+            VkOutput::Triangles(c) => (c.patches.len(), c.vertex_count(), c.triangle_count()),
+        }
+    }
+}
+
 /// Like [`cpu::tessellate_any`] through the Vulkan tessellation pipeline:
 /// quad schemes through [`Topology`], triangle schemes through
 /// [`crate::trimesh::TriMesh`].
@@ -1319,7 +1575,7 @@ pub fn tessellate_any(
     level: u32,
     split_quads: bool,
     options: &Options,
-) -> Result<Tessellation, VkError> {
+) -> Result<VkOutput, VkError> {
     tessellate_tagged(mesh, scheme, level, split_quads, None, options)
 }
 
@@ -1331,7 +1587,7 @@ pub fn tessellate_tagged(
     split_quads: bool,
     tags: Option<&crate::tags::TagFile>,
     options: &Options,
-) -> Result<Tessellation, VkError> {
+) -> Result<VkOutput, VkError> {
     let kernels = cpu::scheme(scheme)?;
     if tags.is_some() && kernels.name != "stpn" {
         return Err(cpu::TessError::TagsUnused {
@@ -1351,9 +1607,9 @@ pub fn tessellate_tagged(
             .map(|p| Vec3::from_array(*p))
             .collect();
         let m = VkMesh::new(&vk, &topo, &positions, kernels.name, options)?;
-        return m.evaluate(level);
+        return m.evaluate(level).map(VkOutput::Grid);
     }
     let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
     let m = VkMesh::new_tri(&vk, &tri, kernels.name, options)?;
-    m.evaluate(level)
+    m.evaluate_triangles(level).map(VkOutput::Triangles)
 }

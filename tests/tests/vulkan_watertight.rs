@@ -1,17 +1,21 @@
 //! The emitted GLSL and HLSL tessellation shaders, run for real: the Vulkan
 //! harness (`tessgen_runtime::vulkan`) compiles them with glslangValidator,
 //! draws every patch through the hardware tessellator (Mesa's lavapipe in
-//! CI), captures each evaluated sample from the evaluation stage and hands
-//! back the same `Tessellation` as the CPU. For every built-in scheme, both
-//! languages, the closed shared meshes (triangle schemes: their triangle
-//! splits) and levels {1, 2, 3, 7, 8, 16, 33, 64}:
+//! CI) and captures its output. For every built-in scheme, both languages,
+//! the closed shared meshes (triangle schemes: their triangle splits) and
+//! levels {1, 2, 3, 7, 8, 16, 33, 64} (the 434-quad mesh up to 16):
 //!
 //! * exact-bit welding gives 0 open edges (a closed 2-manifold), and
 //! * every captured position is within 1e-5 × bounding-box diagonal of the
-//!   CPU tessellation.
+//!   CPU: quad schemes capture the grid from the evaluation stage and compare
+//!   it with the CPU grid; triangle schemes capture the triangles the
+//!   tessellator emitted (a harness geometry shader; its inner rings are not
+//!   the barycentric lattice) and compare each vertex with the CPU's
+//!   `eval_domain` at the same barycentric point.
 //!
-//! Negative control: with the shared boundary path compiled out
-//! (`-DTESSGEN_NO_BOUNDARY_PATH`) the same check finds open edges.
+//! Negative controls: with the shared edge evaluator's weights formed
+//! asymmetrically (`-DTESSGEN_ASYMMETRIC_EDGE_WEIGHTS`) the same check finds
+//! open edges; without the boundary path it is reported.
 //!
 //! Every row prints as `| scheme | backend | mesh | level | open edges | max
 //! |Δp| / diag |` (run with `--nocapture`) for docs/watertight.md.
@@ -26,18 +30,8 @@ const LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16, 33, 64];
 /// The 434-quad mesh stops at level 16 to keep the matrix within CI time.
 const BIG_LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16];
 
-/// Triangle schemes: the hardware triangle tessellator's inner rings are
-/// the barycentric lattice only up to level 3 (inner ring k of a level-N
-/// triangle has N − 2k segments per side, the lattice row N − 3k), so the
-/// emitted tese's integer reconstruction (and a grid-ordered capture) holds
-/// for these levels only; the outer ring, where watertightness is decided,
-/// is on the lattice at every level.
-const TRI_LEVELS: &[u32] = &[1, 2, 3];
-
-fn levels_for(mesh: &str, sides: u32) -> &'static [u32] {
-    if sides == 3 {
-        TRI_LEVELS
-    } else if mesh == "catmark_righthanded" {
+fn levels_for(mesh: &str) -> &'static [u32] {
+    if mesh == "catmark_righthanded" {
         BIG_LEVELS
     } else {
         LEVELS
@@ -105,6 +99,42 @@ fn case<'v>(vk: &'v Vulkan, scheme: &str, name: &str, options: &Options) -> Opti
     }
 }
 
+/// Welded output and max |captured − CPU| / diagonal of `c` at `level`:
+/// quads the grid against the CPU grid, triangles the tessellator's own
+/// triangles against `cpu::eval_domain` at each captured domain point.
+fn run(c: &Case, level: u32) -> Result<(weld::WeldReport, f64), String> {
+    if c.mesh.scheme.sides == 4 {
+        let t = c.mesh.evaluate(level).map_err(|e| e.to_string())?;
+        let reference = cpu::evaluate(&c.patches, level).map_err(|e| e.to_string())?;
+        return Ok((weld::weld(&t), parity(&t, &reference, c.diag)));
+    }
+    let cap = c
+        .mesh
+        .evaluate_triangles(level)
+        .map_err(|e| e.to_string())?;
+    let per_patch = vulkan::triangles_per_patch(level);
+    let mut worst = 0.0f64;
+    for (face, p) in cap.patches.iter().enumerate() {
+        if p.triangles.len() as u64 > per_patch {
+            return Err(format!(
+                "face {face}: {} triangles, more than {per_patch}",
+                p.triangles.len()
+            ));
+        }
+        for (d, pos) in p.domain.iter().zip(&p.positions) {
+            let r = cpu::eval_domain(&c.patches, face, *d, level)
+                .ok_or_else(|| format!("face {face}: no eval_domain"))?;
+            let e = ((*pos - r.position).length() / c.diag) as f64;
+            worst = if e.is_nan() {
+                f64::INFINITY
+            } else {
+                worst.max(e)
+            };
+        }
+    }
+    Ok((cap.weld(), worst))
+}
+
 /// Max |captured − CPU| / diagonal over all samples (NaN counts as ∞).
 fn parity(t: &Tessellation, c: &Tessellation, diag: f32) -> f64 {
     assert_eq!(t.positions.len(), c.positions.len());
@@ -138,14 +168,9 @@ fn matrix(language: Language) {
             } else {
                 ""
             };
-            for &level in levels_for(name, c.mesh.scheme.sides) {
-                let t = c
-                    .mesh
-                    .evaluate(level)
-                    .unwrap_or_else(|e| panic!("{scheme} {name} level {level}: {e}"));
-                let reference = cpu::evaluate(&c.patches, level).expect("cpu");
-                let p = parity(&t, &reference, c.diag);
-                let r = weld::weld(&t);
+            for &level in levels_for(name) {
+                let (r, p) =
+                    run(&c, level).unwrap_or_else(|e| panic!("{scheme} {name} level {level}: {e}"));
                 println!(
                     "| {scheme} | {} | {name}{split} | {level} | {} | {p:.1e} |",
                     language.name(),
@@ -182,8 +207,8 @@ fn hlsl_domain_shaders_are_watertight_and_match_the_cpu() {
     matrix(Language::Hlsl);
 }
 
-/// Open edges of every scheme at levels 3, 7, 33 (triangle schemes: 3, see
-/// [`TRI_LEVELS`]) on two closed meshes with
+/// Open edges of every scheme at levels 3, 7, 33 (triangle schemes: 3, 7)
+/// on two closed meshes with
 /// `define` set, per language: `(scheme, language, mesh, level, open edges)`.
 fn negative_rows(define: &str) -> Vec<(String, Language, String, u32, usize)> {
     let vk = device();
@@ -199,13 +224,12 @@ fn negative_rows(define: &str) -> Vec<(String, Language, String, u32, usize)> {
                     continue;
                 };
                 let levels: &[u32] = if c.mesh.scheme.sides == 3 {
-                    &[3]
+                    &[3, 7]
                 } else {
                     &[3, 7, 33]
                 };
                 for &level in levels {
-                    let t = c.mesh.evaluate(level).expect("evaluate");
-                    let r = weld::weld(&t);
+                    let (r, _) = run(&c, level).expect("evaluate");
                     println!(
                         "| {define} | {scheme} | {} | {name} | {level} | {} |",
                         language.name(),

@@ -391,11 +391,14 @@ impl<'a> Writer<'a> {
                 .iter()
                 .map(|p| FnRef::Local(p.function))
                 .collect(),
-            Stage::Tese => vec![
-                FnRef::Local(self.entries.eval),
-                FnRef::Local(self.entries.grid[0]),
-                FnRef::Local(self.entries.grid_index),
-            ],
+            Stage::Tese => match self.entries.eval_domain {
+                Some(d) => vec![FnRef::Local(d)],
+                None => vec![
+                    FnRef::Local(self.entries.eval),
+                    FnRef::Local(self.entries.grid[0]),
+                    FnRef::Local(self.entries.grid_index),
+                ],
+            },
             Stage::CompEval => std::iter::once(self.entries.eval)
                 .chain(self.entries.grid)
                 .map(FnRef::Local)
@@ -610,10 +613,20 @@ impl<'a> Writer<'a> {
             self.line("layout(location = 0) out vec3 te_normal;");
             self.line("layout(location = 1) out vec3 te_position;");
             self.line("");
-            // Capture builds bind the samples buffer (written from this stage).
             self.out
                 .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
-            if let Some(b) = abi::BINDINGS.iter().find(|b| b.name == "samples") {
+            if self.entries.sides == 3 {
+                // Triangles: the hardware's inner vertices are not grid
+                // points, so a capture harness records the output triangles
+                // (a geometry shader) and needs their domain point and patch.
+                self.line(
+                    "// Capture: the domain point and the patch (params.first + gl_PrimitiveID) of",
+                );
+                self.line("// every vertex, for a harness that records the output triangles.");
+                self.line("layout(location = 2) out vec3 te_domain;");
+                self.line("layout(location = 3) flat out uint te_patch;");
+            } else if let Some(b) = abi::BINDINGS.iter().find(|b| b.name == "samples") {
+                // Capture builds bind the samples buffer (written from this stage).
                 self.binding(b, true);
             }
             self.out.push_str("#endif\n");
@@ -765,6 +778,31 @@ impl<'a> Writer<'a> {
                 }
             }
             Stage::Tese => {
+                if let Some(d) = self.entries.eval_domain {
+                    self.line("// Triangles: eval_domain takes the raw barycentric gl_TessCoord (x, y, z) of");
+                    self.line("// corners (0, 1, 2). On the outer ring (a coordinate exactly 0; equal_spacing at");
+                    self.line("// an integer level puts vertex i at i/level in fixed point) it rounds to the");
+                    self.line("// integer grid point and takes the shared edge evaluator, so the two patches of");
+                    self.line("// an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the");
+                    self.line("// hardware's inner rings (ring k: level − 2k segments per side) are not the");
+                    self.line("// barycentric lattice, so it evaluates the surface at gl_TessCoord itself.");
+                    self.line(&format!(
+                        "{} result = {}({class}, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, {level});",
+                        self.ty(&Ty::Struct(common::SAMPLE)),
+                        self.fn_name(FnRef::Local(d))
+                    ));
+                    self.line("te_normal = result.normal;");
+                    self.line("te_position = result.position;");
+                    self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
+                    self.out
+                        .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+                    self.line("te_domain = gl_TessCoord;");
+                    self.line(&format!("te_patch = ({first} + uint(gl_PrimitiveID));"));
+                    self.out.push_str("#endif\n");
+                    self.indent -= 1;
+                    self.line("}");
+                    return;
+                }
                 self.line("// The grid point as integers: equal_spacing at an integer level puts vertex i");
                 self.line("// at i/level, so rounding recovers i exactly. eval and the shared edge evaluator");
                 self.line("// form every weight from these integers (watertight.md Rules 2 and 3), so the");
@@ -1046,6 +1084,8 @@ impl<'a> Writer<'a> {
                     Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("vec3({}, {}, {})", a[0], a[1], a[2]),
+                    Builtin::Round => format!("round({})", a[0]),
+                    Builtin::U32FromF32 => format!("uint({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {

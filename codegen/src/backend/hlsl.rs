@@ -685,6 +685,8 @@ impl<'a> Writer<'a> {
                     Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("float3({}, {}, {})", a[0], a[1], a[2]),
+                    Builtin::Round => format!("round({})", a[0]),
+                    Builtin::U32FromF32 => format!("uint({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -939,15 +941,54 @@ impl<'a> Writer<'a> {
             .collect();
         let domain_doc = if tri {
             "// Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing\n\
-             // corners (0, 1, 2); eval takes (level − iu − iv, iu, iv), so iu comes from y and\n\
-             // iv from z. The tessellator emits exact fixed-point i/level, and the Plan forms\n\
-             // every weight from integers, so rounding recovers them."
+             // corners (0, 1, 2), and eval_domain takes it raw. On the outer ring (a\n\
+             // coordinate exactly 0: the tessellator emits exact fixed-point i/level there)\n\
+             // it rounds to the integer grid point and takes the shared edge evaluator, so\n\
+             // both patches of an edge compute the same bits (watertight.md Rules 2 and 3).\n\
+             // Inside, the hardware's inner rings (ring k: level − 2k segments per side) are\n\
+             // not the barycentric lattice, so the surface is evaluated at the raw point."
         } else {
             "// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,\n\
              // v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator\n\
              // emits exact fixed-point i/level, and the Plan forms every weight from\n\
              // integers (the shared edge evaluator takes i and level: watertight.md\n\
              // Rules 2 and 3), so the integer coordinates are recovered by rounding."
+        };
+        let (ds_out_capture, evaluate, capture_body) = match self.entries.eval_domain {
+            Some(d) => (
+                format!(
+                    "#ifdef {capture}\n    \
+                     // Capture: the domain point and the patch of every vertex, for a harness\n    \
+                     // that records the output triangles (inner vertices are not grid points).\n    \
+                     float3 domain : TESSGEN_DOMAIN;\n    \
+                     nointerpolation uint patch_index : TESSGEN_PATCH;\n\
+                     #endif\n"
+                ),
+                format!(
+                    "    {eval_ret} result = {}(cp, params.{class}, 0u, uv.x, uv.y, uv.z, level);",
+                    ident(&self.module.functions[d].name)
+                ),
+                "    o.domain = uv;\n    o.patch_index = (params.first + c.patch_id);".to_string(),
+            ),
+            None => (
+                String::new(),
+                format!(
+                    "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
+                     uint iv = (uint)round(uv.{cv} * float(level));\n    \
+                     {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
+                ),
+                format!(
+                    "    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw\n    \
+                     // being patch out_base + c.patch_id, sample grid_index(iu, iv).\n    \
+                     uint at = ((((params.out_base + c.patch_id) * {grid_len}(level)) + {grid_index}(iu, iv, level)) * 6u);\n    \
+                     samples[at] = result.{position}.x;\n    \
+                     samples[(at + 1u)] = result.{position}.y;\n    \
+                     samples[(at + 2u)] = result.{position}.z;\n    \
+                     samples[(at + 3u)] = result.{normal}.x;\n    \
+                     samples[(at + 4u)] = result.{normal}.y;\n    \
+                     samples[(at + 5u)] = result.{normal}.z;"
+                ),
+            ),
         };
         let text = format!(
             r#"// ---- tessellation pipeline: {VS_MAIN} -> {HS_MAIN} -> {DS_MAIN} ----
@@ -1026,7 +1067,7 @@ struct DsOut {{
     float4 position : SV_Position;
     float3 normal : NORMAL;
     float3 world : WORLD_POSITION;
-}};
+{ds_out_capture}}};
 
 {domain_doc}
 [domain("{domain}")]
@@ -1037,23 +1078,13 @@ DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch
         uint k = (3u * j);
         cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
     }}
-    uint iu = (uint)round(uv.{cu} * float(level));
-    uint iv = (uint)round(uv.{cv} * float(level));
-    {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);
+{evaluate}
     DsOut o;
     o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
     o.normal = result.{normal};
     o.world = result.{position};
 #ifdef {capture}
-    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
-    // being patch out_base + c.patch_id, sample grid_index(iu, iv).
-    uint at = ((((params.out_base + c.patch_id) * {grid_len}(level)) + {grid_index}(iu, iv, level)) * 6u);
-    samples[at] = result.{position}.x;
-    samples[(at + 1u)] = result.{position}.y;
-    samples[(at + 2u)] = result.{position}.z;
-    samples[(at + 3u)] = result.{normal}.x;
-    samples[(at + 4u)] = result.{normal}.y;
-    samples[(at + 5u)] = result.{normal}.z;
+{capture_body}
 #endif
     return o;
 }}"#

@@ -209,6 +209,10 @@ pub struct SchemeKernels {
     pub classes: &'static [ClassKernels],
     /// `(cp, class, cp_base, iu, iv, level)`
     pub eval: fn(&[Vec3], u32, u32, u32, u32, u32) -> Sample,
+    /// Triangle schemes: `(cp, class, cp_base, x, y, z, level)` at a
+    /// hardware tessellator's barycentric domain point (what the GLSL/HLSL
+    /// evaluation stages run), for parity checks of captured vertices.
+    pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
     /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
     /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
     pub sides: u32,
@@ -263,6 +267,10 @@ pub struct SchemeKernels {
         }
         self.line("    ],");
         self.line(&format!("    eval: {},", m.functions[e.eval].name));
+        match e.eval_domain {
+            Some(d) => self.line(&format!("    eval_domain: Some({}),", m.functions[d].name)),
+            None => self.line("    eval_domain: None,"),
+        }
         self.line(&format!("    sides: {},", e.sides));
         for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {
             self.line(&format!("    {field}: {},", m.functions[g].name));
@@ -417,6 +425,8 @@ pub struct SchemeKernels {
                     Builtin::Dot => format!("{}.dot({})", a[0], a[1]),
                     Builtin::Cross => format!("{}.cross({})", a[0], a[1]),
                     Builtin::Vec3 => format!("Vec3::new({}, {}, {})", a[0], a[1], a[2]),
+                    Builtin::Round => format!("{}.round_ties_even()", a[0]),
+                    Builtin::U32FromF32 => format!("({} as u32)", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {

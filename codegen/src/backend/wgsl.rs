@@ -534,6 +534,8 @@ impl<'a> Writer<'a> {
                     Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("vec3<f32>({}, {}, {})", a[0], a[1], a[2]),
+                    Builtin::Round => format!("round({})", a[0]),
+                    Builtin::U32FromF32 => format!("u32({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {

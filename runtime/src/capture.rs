@@ -1,0 +1,259 @@
+//! A hardware tessellator's output captured as triangles.
+//!
+//! For a quad domain the tessellator's vertices are exactly the integer
+//! grid `(i, j)/level`, so a capture can be indexed like the CPU
+//! [`crate::Tessellation`]. For a triangle domain they are not: inner ring
+//! `k` of a level-`N` triangle has `N − 2k` segments per side (the
+//! barycentric lattice row at that depth has `N − 3k`), so the Vulkan
+//! harness records the triangles the tessellator actually emitted
+//! ([`TriangleCapture`]): per vertex the position, normal, raw domain point
+//! and patch. Welding that soup by exact position bits is the
+//! watertightness check; evaluating the CPU surface at each captured domain
+//! point is the parity check.
+
+use crate::weld::{weld_triangles, WeldReport};
+use glam::Vec3;
+use std::collections::HashMap;
+use std::fmt::Write;
+
+/// Floats per captured vertex: position xyz, normal xyz, domain xyz, patch
+/// (its u32 bits).
+pub const VERTEX_FLOATS: usize = 10;
+
+/// One patch's captured vertices (each distinct domain point once, sorted by
+/// its coordinates) and triangles (local indices, as the tessellator wound
+/// them, sorted).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CapturedPatch {
+    /// Barycentric `(x, y, z)` of corners 0, 1, 2, as the tessellator gave it.
+    pub domain: Vec<[f32; 3]>,
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Every patch's captured triangles, in face order of the triangle mesh.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleCapture {
+    pub level: u32,
+    pub patches: Vec<CapturedPatch>,
+}
+
+/// A capture that does not fit the mesh (a harness or driver bug).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum CaptureError {
+    #[error(
+        "captured triangle {triangle}: patch index {patch} is outside the {patches} patches drawn"
+    )]
+    Patch {
+        triangle: usize,
+        patch: u32,
+        patches: usize,
+    },
+    #[error("captured triangle {triangle}: its vertices name different patches ({a} and {b}); raw vertices {raw:?}")]
+    MixedPatches {
+        triangle: usize,
+        a: u32,
+        b: u32,
+        raw: Vec<f32>,
+    },
+    #[error("captured triangle {triangle}: domain point {domain:?} is not finite")]
+    Domain { triangle: usize, domain: [f32; 3] },
+    #[error("patch of face {face}: no triangle was captured")]
+    Empty { face: usize },
+}
+
+fn bits(d: [f32; 3]) -> [u32; 3] {
+    d.map(f32::to_bits)
+}
+
+impl TriangleCapture {
+    /// Group a raw capture (`VERTEX_FLOATS` floats per vertex, three vertices
+    /// per triangle, in any order) by patch. `patch_faces[p]` is the face of
+    /// patch `p`; `faces` the number of faces (every face must get triangles).
+    pub fn from_raw(
+        level: u32,
+        raw: &[f32],
+        patch_faces: &[u32],
+        faces: usize,
+    ) -> Result<TriangleCapture, CaptureError> {
+        // Per face: domain bits → (domain, position, normal), triangles.
+        type Acc = (
+            HashMap<[u32; 3], ([f32; 3], Vec3, Vec3)>,
+            Vec<[[u32; 3]; 3]>,
+        );
+        let mut acc: Vec<Acc> = vec![Default::default(); faces];
+        for (t, tri) in raw.chunks_exact(3 * VERTEX_FLOATS).enumerate() {
+            let vs: Vec<&[f32]> = tri.chunks_exact(VERTEX_FLOATS).collect();
+            let patch = vs[0][9].to_bits();
+            for v in &vs[1..] {
+                if v[9].to_bits() != patch {
+                    return Err(CaptureError::MixedPatches {
+                        triangle: t,
+                        a: patch,
+                        b: v[9].to_bits(),
+                        raw: tri.to_vec(),
+                    });
+                }
+            }
+            let face = *patch_faces.get(patch as usize).ok_or(CaptureError::Patch {
+                triangle: t,
+                patch,
+                patches: patch_faces.len(),
+            })? as usize;
+            let (verts, tris) = acc.get_mut(face).ok_or(CaptureError::Patch {
+                triangle: t,
+                patch,
+                patches: patch_faces.len(),
+            })?;
+            let mut key = [[0u32; 3]; 3];
+            for (k, v) in vs.iter().enumerate() {
+                let domain = [v[6], v[7], v[8]];
+                if !domain.iter().all(|x| x.is_finite()) {
+                    return Err(CaptureError::Domain {
+                        triangle: t,
+                        domain,
+                    });
+                }
+                key[k] = bits(domain);
+                verts.entry(key[k]).or_insert((
+                    domain,
+                    Vec3::new(v[0], v[1], v[2]),
+                    Vec3::new(v[3], v[4], v[5]),
+                ));
+            }
+            tris.push(key);
+        }
+        let mut patches = Vec::with_capacity(faces);
+        for (face, (verts, tris)) in acc.into_iter().enumerate() {
+            if tris.is_empty() {
+                return Err(CaptureError::Empty { face });
+            }
+            // Deterministic order: by (z, y, x) of the domain point (the
+            // coordinates are non-negative, so their bits sort like them).
+            let mut keys: Vec<[u32; 3]> = verts.keys().copied().collect();
+            keys.sort_by_key(|k| [k[2], k[1], k[0]]);
+            let index: HashMap<[u32; 3], u32> = keys
+                .iter()
+                .enumerate()
+                .map(|(i, k)| (*k, i as u32))
+                .collect();
+            let mut p = CapturedPatch::default();
+            for k in &keys {
+                let (d, pos, n) = verts[k];
+                p.domain.push(d);
+                p.positions.push(pos);
+                p.normals.push(n);
+            }
+            p.triangles = tris.iter().map(|t| t.map(|k| index[&k])).collect();
+            p.triangles.sort();
+            patches.push(p);
+        }
+        Ok(TriangleCapture { level, patches })
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.patches.iter().map(|p| p.positions.len()).sum()
+    }
+
+    pub fn triangle_count(&self) -> usize {
+        self.patches.iter().map(|p| p.triangles.len()).sum()
+    }
+
+    /// Weld every captured triangle by exact position bits (see
+    /// [`crate::weld`]): 0 open edges means the hardware's output is a
+    /// closed surface.
+    pub fn weld(&self) -> WeldReport {
+        let soup: Vec<Vec3> = self
+            .patches
+            .iter()
+            .flat_map(|p| {
+                p.triangles
+                    .iter()
+                    .flat_map(move |t| t.map(|k| p.positions[k as usize]))
+            })
+            .collect();
+        weld_triangles(&soup, 3, &[[0, 1, 2]])
+    }
+
+    /// OBJ text in the layout of [`crate::obj`]: per patch `g patch_<k>`
+    /// (the `k`-th triangle of the triangle mesh), its `v` and `vn` lines
+    /// (the captured vertices, sorted by domain point) and its triangles
+    /// `f a//a b//b c//c` as the tessellator emitted them.
+    pub fn to_obj(&self) -> String {
+        let mut s = String::with_capacity(self.vertex_count() * 64);
+        let _ = writeln!(
+            s,
+            "# tessgen {} level {} triangle patches (hardware tessellator pattern)",
+            env!("CARGO_PKG_VERSION"),
+            self.level
+        );
+        let mut base = 1usize;
+        for (f, p) in self.patches.iter().enumerate() {
+            let _ = writeln!(s, "g patch_{f}");
+            for v in &p.positions {
+                let _ = writeln!(s, "v {:?} {:?} {:?}", v.x, v.y, v.z);
+            }
+            for n in &p.normals {
+                let _ = writeln!(s, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
+            }
+            for t in &p.triangles {
+                let [a, b, c] = t.map(|k| base + k as usize);
+                let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+            }
+            base += p.positions.len();
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vertex(p: [f32; 3], d: [f32; 3], patch: u32) -> Vec<f32> {
+        let mut v = vec![p[0], p[1], p[2], 0.0, 0.0, 1.0, d[0], d[1], d[2]];
+        v.push(f32::from_bits(patch));
+        v
+    }
+
+    /// Two patches sharing an edge, captured in scrambled order: grouped per
+    /// face, shared vertices once, and the pair welds to a disc (4 open edges).
+    #[test]
+    fn groups_by_patch_and_welds() {
+        let tri = |ps: [[f32; 3]; 3], patch| -> Vec<f32> {
+            let ds = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+            (0..3).flat_map(|k| vertex(ps[k], ds[k], patch)).collect()
+        };
+        let mut raw = tri([[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]], 0);
+        raw.extend(tri([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 1));
+        // patch 0 is face 1, patch 1 is face 0
+        let c = TriangleCapture::from_raw(1, &raw, &[1, 0], 2).expect("capture");
+        assert_eq!(c.patches[0].positions[0], Vec3::ZERO);
+        assert_eq!(c.vertex_count(), 6);
+        assert_eq!(c.triangle_count(), 2);
+        let r = c.weld();
+        assert_eq!(r.open_edges, 4);
+        assert_eq!(r.vertices, 4);
+        assert!(c.to_obj().contains("g patch_1"));
+    }
+
+    #[test]
+    fn typed_errors() {
+        let raw: Vec<f32> = (0..3)
+            .flat_map(|_| vertex([0.0; 3], [0.0, 0.5, 0.5], 7))
+            .collect();
+        assert_eq!(
+            TriangleCapture::from_raw(1, &raw, &[0], 1),
+            Err(CaptureError::Patch {
+                triangle: 0,
+                patch: 7,
+                patches: 1
+            })
+        );
+        assert_eq!(
+            TriangleCapture::from_raw(1, &[], &[0], 1),
+            Err(CaptureError::Empty { face: 0 })
+        );
+    }
+}
