@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | `glsl/<scheme>.vert` | vertex | pass-through for the tessellation pipeline (one patch vertex per patch, no inputs) |
 //! | `glsl/<scheme>.tesc` | tessellation control | the class's patch function, once per patch, into `patch out tcs_cp[]` |
-//! | `glsl/<scheme>.tese` | tessellation evaluation | `eval` at the integer grid point of `gl_TessCoord` |
+//! | `glsl/<scheme>.tese` | tessellation evaluation | quads: `eval` at the integer grid point of `gl_TessCoord`; triangles: `eval_domain` at `gl_TessCoord` (grid point on the boundary, raw point inside) |
 //! | `glsl/<scheme>_vertex_stage.comp` | compute | `vertex_stage_main` |
 //! | `glsl/<scheme>_patch.comp` | compute | `patch_main` |
 //! | `glsl/<scheme>_eval.comp` | compute | `eval_main` |
@@ -507,11 +507,12 @@ impl<'a> Writer<'a> {
             self.line(&format!("// {h}"));
         }
         self.line("//");
-        self.line(&format!(
-            "// Scheme `{}`. {}",
-            self.module.name,
+        let about = if self.stage == Stage::Tese && self.entries.eval_domain.is_some() {
+            "Tessellation evaluation: position and normal at gl_TessCoord (the integer grid point on the patch boundary)."
+        } else {
             self.stage.about()
-        ));
+        };
+        self.line(&format!("// Scheme `{}`. {about}", self.module.name));
         self.line("");
         self.line("#version 450");
         if self.stage == Stage::Vert {
