@@ -179,16 +179,17 @@ void main() {
     // form every weight from these integers (watertight.md Rules 2 and 3), so the
     // two patches of an edge compute the same bits. eval takes barycentric
     // (level − iu − iv, iu, iv) of corners (0, 1, 2): iu from y, iv from z.
-    uint iu = uint(round((gl_TessCoord.y * float(params.level))));
-    uint iv = uint(round((gl_TessCoord.z * float(params.level))));
-    Sample result = eval(params.class_, 0u, iu, iv, params.level);
+    uint level = params.level;
+    uint iu = uint(round((gl_TessCoord.y * float(level))));
+    uint iv = uint(round((gl_TessCoord.z * float(level))));
+    Sample result = eval(params.class_, 0u, iu, iv, level);
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
-#ifdef TESSGEN_CAPTURE
+#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
     // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
     // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;
     samples[(o + 2u)] = result.position.z;

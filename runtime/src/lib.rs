@@ -17,6 +17,7 @@
 //! ```
 
 pub mod accuracy;
+pub mod adaptive;
 pub mod cpu;
 #[cfg(feature = "gpu")]
 pub mod gpu;

@@ -21,10 +21,14 @@
 //! driver (`mesa-vulkan-drivers` for lavapipe) and `glslangValidator`
 //! (`glslang-tools`).
 
+use crate::adaptive::{self, Adaptive, Metric};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::topology::Topology;
-use crate::upload::{binding, params_bytes, ClassRange, Upload, UploadError, PARAMS_SIZE};
+use crate::upload::{
+    binding, f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
+    PARAMS_SIZE,
+};
 use ash::vk;
 use glam::{Mat4, Vec3};
 use std::ffi::CStr;
@@ -62,11 +66,14 @@ pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
 pub const CAPTURE: &str = "TESSGEN_CAPTURE";
 
 /// How to build the shaders.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Options {
     pub language: Language,
     /// Extra preprocessor defines (e.g. [`NO_BOUNDARY_PATH`]).
     pub defines: Vec<String>,
+    /// Adaptive tessellation (quad schemes): per-edge factors, captured as
+    /// triangles by [`VkMesh::evaluate_adaptive`].
+    pub adaptive: Option<Adaptive>,
 }
 
 impl Options {
@@ -74,9 +81,49 @@ impl Options {
         Options {
             language,
             defines: Vec::new(),
+            adaptive: None,
+        }
+    }
+
+    /// Every define the shaders are compiled with, besides [`CAPTURE`].
+    fn all_defines(&self) -> Vec<String> {
+        let mut d = self.defines.clone();
+        if let Some(a) = &self.adaptive {
+            d.extend(a.defines());
+        }
+        d
+    }
+}
+
+/// The harness's capture of adaptive draws: a geometry shader after the
+/// emitted evaluation stage appends every tessellated triangle (the
+/// evaluation stage's world position, location 1: GLSL `te_position`,
+/// HLSL `DsOut.world`) to the `triangles` buffer. Fractional and adaptive
+/// patterns are not a grid, so samples cannot be indexed by (iu, iv); the
+/// triangles are what an exact weld needs. Emits nothing (rasterizer
+/// discard).
+const CAPTURE_GEOM: &str = r#"#version 450
+layout(triangles) in;
+layout(points, max_vertices = 1) out;
+layout(location = 1) in vec3 te_position[];
+layout(std430, set = 0, binding = 20) buffer Triangles {
+    uint count;
+    uint capacity;
+    uint pad0;
+    uint pad1;
+    float tri[];
+};
+void main() {
+    uint k = atomicAdd(count, 1u);
+    if (k < capacity) {
+        for (uint i = 0u; i < 3u; i++) {
+            tri[9u * k + 3u * i + 0u] = te_position[i].x;
+            tri[9u * k + 3u * i + 1u] = te_position[i].y;
+            tri[9u * k + 3u * i + 2u] = te_position[i].z;
         }
     }
 }
+"#;
 
 /// Errors of the Vulkan harness.
 #[derive(Debug, thiserror::Error)]
@@ -121,6 +168,16 @@ pub enum VkError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    #[error("scheme `{0}`: adaptive tessellation is implemented for quad schemes only")]
+    AdaptiveNeedsQuads(String),
+    #[error("explicit edge factors: the mesh has {expected} edges, {got} factors were given")]
+    EdgeFactorCount { expected: usize, got: usize },
+    #[error("adaptive draws need VkMesh::evaluate_adaptive (the samples are not a grid)")]
+    AdaptiveNotGrid,
+    #[error("the Vulkan device has no geometryShader (the adaptive triangle capture needs it)")]
+    NoGeometryShader,
+    #[error("adaptive capture: {written} triangles did not fit the {capacity} reserved")]
+    TriangleOverflow { written: u64, capacity: u64 },
 }
 
 impl From<UploadError> for VkError {
@@ -163,6 +220,8 @@ pub struct Vulkan {
     /// Device name and driver (e.g. `llvmpipe (LLVM 15.0.7, 256 bits)`).
     pub name: String,
     pub limits: DeviceLimits,
+    /// The device has (and this instance enabled) geometry shaders.
+    pub geometry_shader: bool,
 }
 
 impl Vulkan {
@@ -225,9 +284,12 @@ impl Vulkan {
                 None => VkError::NoDevice,
             });
         };
+        let geometry = unsafe { instance.get_physical_device_features(pd) }.geometry_shader;
         let features = vk::PhysicalDeviceFeatures {
             tessellation_shader: vk::TRUE,
             vertex_pipeline_stores_and_atomics: vk::TRUE,
+            // The adaptive triangle capture, where the device has it.
+            geometry_shader: geometry,
             ..Default::default()
         };
         let priorities = [1.0f32];
@@ -288,6 +350,7 @@ impl Vulkan {
             cmd,
             fence,
             name: driver,
+            geometry_shader: geometry == vk::TRUE,
             limits: DeviceLimits {
                 max_tessellation_patch_size: l.max_tessellation_patch_size,
                 max_tessellation_generation_level: l.max_tessellation_generation_level,
@@ -638,7 +701,45 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
-        Self::build(vk, Upload::quad(topo, positions, scheme)?, options)
+        let mut upload = Upload::quad(topo, positions, scheme)?;
+        if let Some(a) = &options.adaptive {
+            if upload.scheme.sides != 4 {
+                return Err(VkError::AdaptiveNeedsQuads(upload.scheme.name.into()));
+            }
+            if !vk.geometry_shader {
+                return Err(VkError::NoGeometryShader);
+            }
+            let (mut ids, mut edges) = adaptive::edge_ids(topo);
+            if let Metric::PerFaceEdge(_) = &a.metric {
+                // Negative control: every face edge its own id.
+                edges = ids.len() as u32;
+                ids = (0..edges).collect();
+            }
+            if let Metric::Buffer(f) | Metric::PerFaceEdge(f) = &a.metric {
+                if f.len() != edges as usize {
+                    return Err(VkError::EdgeFactorCount {
+                        expected: edges as usize,
+                        got: f.len(),
+                    });
+                }
+            }
+            let buf = |binding, label, bytes| UploadBuffer {
+                binding,
+                label,
+                bytes,
+                read_back: false,
+            };
+            upload.buffers.extend([
+                buf(binding::FACE_EDGES, "face_edges", u32_bytes(&ids)),
+                buf(
+                    binding::EDGE_FACTORS,
+                    "edge_factors",
+                    f32_bytes(a.edge_factors()),
+                ),
+                buf(binding::ADAPTIVE, "adaptive", f32_bytes(&a.params())),
+            ]);
+        }
+        Self::build(vk, upload, options)
     }
 
     /// A triangle mesh for a triangle scheme.
@@ -648,6 +749,9 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
+        if options.adaptive.is_some() {
+            return Err(VkError::AdaptiveNeedsQuads(scheme.into()));
+        }
         Self::build(vk, Upload::tri(mesh, scheme)?, options)
     }
 
@@ -1020,7 +1124,7 @@ impl<'v> VkMesh<'v> {
         stage: &'static str,
     ) -> Result<(vk::ShaderModule, &'static CStr), VkError> {
         let (file, source, entry) = self.shader(stage)?;
-        let words = compile(source, &file, stage, entry, &self.options.defines)?;
+        let words = compile(source, &file, stage, entry, &self.options.all_defines())?;
         let m = unsafe {
             self.vk
                 .device
@@ -1058,6 +1162,19 @@ impl<'v> VkMesh<'v> {
         let (vert, vn) = self.module("vert")?;
         let (tesc, cn) = self.module("tesc")?;
         let (tese, en) = self.module("tese")?;
+        let geom = if self.options.adaptive.is_some() {
+            let words = compile(CAPTURE_GEOM, "harness_capture.geom", "geom", None, &[])?;
+            let m = unsafe {
+                self.vk
+                    .device
+                    .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&words), None)
+            }
+            .map_err(call("vkCreateShaderModule"))?;
+            self.modules.push(m);
+            Some(m)
+        } else {
+            None
+        };
         let d = &self.vk.device;
         let sub =
             [vk::SubpassDescription::default()
@@ -1077,7 +1194,7 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreateFramebuffer"))?;
-        let stages = [
+        let mut stages = vec![
             vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::VERTEX)
                 .module(vert)
@@ -1091,6 +1208,14 @@ impl<'v> VkMesh<'v> {
                 .module(tese)
                 .name(en),
         ];
+        if let Some(g) = geom {
+            stages.push(
+                vk::PipelineShaderStageCreateInfo::default()
+                    .stage(vk::ShaderStageFlags::GEOMETRY)
+                    .module(g)
+                    .name(c"main"),
+            );
+        }
         let vertex_input = vk::PipelineVertexInputStateCreateInfo::default();
         let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
             .topology(vk::PrimitiveTopology::PATCH_LIST);
@@ -1160,6 +1285,9 @@ impl<'v> VkMesh<'v> {
     /// read the captured samples back in face order: the same layout as
     /// [`cpu::evaluate`].
     pub fn evaluate(&self, level: u32) -> Result<Tessellation, VkError> {
+        if self.options.adaptive.is_some() {
+            return Err(VkError::AdaptiveNotGrid);
+        }
         if level == 0 || level > cpu::MAX_LEVEL {
             return Err(cpu::TessError::Level(level).into());
         }
@@ -1194,6 +1322,98 @@ impl<'v> VkMesh<'v> {
         let result = self.evaluate_into(level, spp, chunk, &samples);
         samples.destroy(&self.vk.device);
         result
+    }
+
+    /// Run an adaptive draw ([`Options::adaptive`]) and read back every
+    /// tessellated triangle (world positions, in no particular order), for
+    /// an exact weld with [`crate::weld::weld_triangles`].
+    pub fn evaluate_adaptive(&self) -> Result<Vec<[Vec3; 3]>, VkError> {
+        let Some(a) = &self.options.adaptive else {
+            return Err(VkError::AdaptiveNotGrid);
+        };
+        // At most 2·(ceil(max) + 2)² triangles per quad patch (the inside
+        // factor is at most the largest edge factor, a fractional pattern
+        // adds one transition ring).
+        let m = a.max.max(1.0).ceil() as u64 + 2;
+        let capacity = (self.patch_faces.len() as u64 * 2 * m * m).max(1);
+        let bytes = 16 + capacity * 36;
+        let cap = self.vk.limits.max_storage_buffer_range as u64;
+        if bytes > cap {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "bytes of captured triangles (maxStorageBufferRange)",
+                needed: bytes,
+                max: cap,
+            });
+        }
+        let tris = self
+            .vk
+            .buffer("triangles", bytes, vk::BufferUsageFlags::STORAGE_BUFFER)?;
+        let result = self.draw_adaptive(&tris, capacity);
+        tris.destroy(&self.vk.device);
+        result
+    }
+
+    fn draw_adaptive(&self, tris: &Buf, capacity: u64) -> Result<Vec<[Vec3; 3]>, VkError> {
+        let mut header = u32_bytes(&[0, capacity as u32, 0, 0]);
+        header.extend(f32_bytes(&[]));
+        tris.write(&header[..16]);
+        self.write_buffer(binding::TRIANGLES, tris);
+        if let Some(d) = &self.dummy {
+            self.write_buffer(binding::SAMPLES, d);
+        }
+        for c in &self.classes {
+            if c.count == 0 {
+                continue;
+            }
+            self.set_params([c.first, c.count, c.class, c.cp_base, 1, 0]);
+            let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
+            let (rp, fb) = (self.render_pass, self.framebuffer);
+            let count = c.count;
+            self.vk.submit(|d, cb| unsafe {
+                d.cmd_begin_render_pass(
+                    cb,
+                    &vk::RenderPassBeginInfo::default()
+                        .render_pass(rp)
+                        .framebuffer(fb)
+                        .render_area(vk::Rect2D {
+                            offset: vk::Offset2D { x: 0, y: 0 },
+                            extent: vk::Extent2D {
+                                width: 1,
+                                height: 1,
+                            },
+                        }),
+                    vk::SubpassContents::INLINE,
+                );
+                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
+                d.cmd_bind_descriptor_sets(
+                    cb,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                d.cmd_draw(cb, count, 1, 0, 0);
+                d.cmd_end_render_pass(cb);
+            })?;
+        }
+        let head = tris.read_f32(4);
+        let written = head[0].to_bits() as u64;
+        if written > capacity {
+            return Err(VkError::TriangleOverflow { written, capacity });
+        }
+        let floats = tris.read_f32(4 + written as usize * 9);
+        Ok(floats[4..]
+            .chunks_exact(9)
+            .map(|t| {
+                [
+                    Vec3::new(t[0], t[1], t[2]),
+                    Vec3::new(t[3], t[4], t[5]),
+                    Vec3::new(t[6], t[7], t[8]),
+                ]
+            })
+            .collect())
     }
 
     fn evaluate_into(
