@@ -570,7 +570,7 @@ fn vulkan_adaptive(
             Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
         }
         Some(AdaptiveArg::Distance(k)) => Metric::Distance { eye, scale: k },
-        Some(AdaptiveArg::Screen(px)) | None => Metric::Screen {
+        Some(AdaptiveArg::Screen(_)) | None => Metric::Screen {
             view_proj: tessgen_runtime::render::Camera {
                 eye,
                 target: center,

@@ -78,8 +78,6 @@ void store_tcs_cp(uint i, vec3 v) {
     tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
 }
 
-}
-
 vec3 load_positions(uint i) {
     return vec3(positions[(3u * i)], positions[((3u * i) + 1u)], positions[((3u * i) + 2u)]);
 }

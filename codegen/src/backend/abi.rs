@@ -68,7 +68,7 @@ pub const BINDINGS: &[Binding] = &[
 pub const ADAPTIVE: &[(u32, u32, &str)] = &[
     (0, 16, "view_proj, column-major (element (row r, column c) at 4c + r): the screen-space metric projects both edge end points with it"),
     (16, 3, "eye position (distance metric)"),
-    (19, 1, "distance metric scale k: factor = k · |b − a| / |(a + b)/2 − eye|"),
+    (19, 1, "distance metric scale k: factor = k · ‖b − a‖ / ‖(a + b)/2 − eye‖"),
     (20, 2, "viewport width, height in pixels (screen-space metric)"),
     (22, 1, "target pixels per segment (screen-space metric): factor = projected length / this"),
     (23, 1, "smallest factor (clamp; NaN becomes this)"),

@@ -627,9 +627,9 @@ impl<'a> Writer<'a> {
                 self.line("vec3 load_tcs_cp(uint i) {");
                 self.line("    uint c = (3u * i);");
                 self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
+                self.line("}");
+                self.line("");
             }
-            self.line("}");
-            self.line("");
         }
         if self.stage == Stage::Tese {
             self.line("layout(location = 0) out vec3 te_normal;");
