@@ -166,3 +166,169 @@ pub fn random_factors(edges: u32, seed: u64, lo: f32, hi: f32) -> Vec<f32> {
         })
         .collect()
 }
+
+// ---- CPU: power-of-two buckets with snapped transitions ----
+
+/// Errors of the CPU adaptive tessellator.
+#[derive(Debug, thiserror::Error)]
+pub enum AdaptiveError {
+    #[error(transparent)]
+    Tess(#[from] crate::cpu::TessError),
+    #[error("explicit edge factors: the mesh has {expected} edges, {got} factors were given")]
+    EdgeFactorCount { expected: usize, got: usize },
+    #[error("largest adaptive level must be a power of two in 1..={max}, got {got}", max = crate::cpu::MAX_LEVEL)]
+    MaxLevel { got: u32 },
+    #[error("edge {edge}: factor {factor} is not a finite number")]
+    BadFactor { edge: usize, factor: f32 },
+}
+
+/// The power-of-two level of an edge: the smallest `2^k ≥ factor`, clamped
+/// to `1..=max_level` (a power of two). A function of the factor alone, so
+/// of the edge alone.
+pub fn edge_level(factor: f32, max_level: u32) -> u32 {
+    let mut l = 1u32;
+    while (l as f32) < factor && l < max_level {
+        l *= 2;
+    }
+    l
+}
+
+/// A tessellation with one power-of-two level per patch (its *bucket*: the
+/// largest level of its four edges) and one level per edge.
+///
+/// Face `f` is an `(levels[f] + 1)²` grid in the usual order (`iv·(L+1) + iu`)
+/// from `offsets[f]`. Its interior samples are at `(iu, iv)/L`; a boundary
+/// sample `i` of edge `k`, whose own level is `L_e = edge_levels[4f + k] ≤ L`,
+/// is *snapped* to the edge's coarser point `⌊i / (L / L_e)⌋` and evaluated
+/// there through the shared edge evaluator at level `L_e` — exactly the
+/// points the neighbour produces for that edge, whatever its bucket. Fine
+/// boundary triangles whose two boundary corners snapped to one point are
+/// degenerate (skipped by the weld); the rest stitch the levels without
+/// T-junctions. On a GPU each bucket is one instanced draw of its level's
+/// grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AdaptiveTessellation {
+    pub levels: Vec<u32>,
+    pub edge_levels: Vec<u32>,
+    pub offsets: Vec<usize>,
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+}
+
+impl AdaptiveTessellation {
+    /// Every face's grid triangles as world positions (a triangle soup for
+    /// [`crate::weld::weld_triangles`] or OBJ output).
+    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
+        let mut out = Vec::new();
+        for (f, &l) in self.levels.iter().enumerate() {
+            let base = self.offsets[f];
+            for t in crate::weld::grid_triangles(l) {
+                out.push(t.map(|k| self.positions[base + k as usize]));
+            }
+        }
+        out
+    }
+
+    /// Faces per bucket level, ascending: one instanced draw each.
+    pub fn buckets(&self) -> std::collections::BTreeMap<u32, Vec<u32>> {
+        let mut b: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+        for (f, &l) in self.levels.iter().enumerate() {
+            b.entry(l).or_default().push(f as u32);
+        }
+        b
+    }
+}
+
+/// The grid point `(iu, iv)` of a face at bucket level `level`, with its
+/// boundary samples snapped to the edges' own levels: `(iu', iv', level')`
+/// to evaluate. Edge k is `v = 0, u = 1, v = 1, u = 0` for k = 0..3.
+pub fn snap(iu: u32, iv: u32, level: u32, edge_levels: [u32; 4]) -> (u32, u32, u32) {
+    let s = |k: usize| level / edge_levels[k];
+    if iv == 0 {
+        let le = edge_levels[0];
+        (iu / s(0), 0, le)
+    } else if iu == level {
+        let le = edge_levels[1];
+        (le, iv / s(1), le)
+    } else if iv == level {
+        let le = edge_levels[2];
+        (iu / s(2), le, le)
+    } else if iu == 0 {
+        let le = edge_levels[3];
+        (0, iv / s(3), le)
+    } else {
+        (iu, iv, level)
+    }
+}
+
+/// CPU adaptive tessellation of constructed quad patches: `factors` per
+/// global edge id ([`edge_ids`]), each edge's level [`edge_level`], each
+/// patch's bucket the largest of its edges, boundary samples [`snap`]ped.
+pub fn evaluate_cpu(
+    patches: &crate::cpu::Patches,
+    topo: &Topology,
+    factors: &[f32],
+    max_level: u32,
+) -> Result<AdaptiveTessellation, AdaptiveError> {
+    let kernels = patches.scheme;
+    if kernels.sides != 4 {
+        return Err(crate::cpu::facet_error(kernels).into());
+    }
+    if !max_level.is_power_of_two() || max_level > crate::cpu::MAX_LEVEL {
+        return Err(AdaptiveError::MaxLevel { got: max_level });
+    }
+    let (ids, edges) = edge_ids(topo);
+    if factors.len() != edges as usize {
+        return Err(AdaptiveError::EdgeFactorCount {
+            expected: edges as usize,
+            got: factors.len(),
+        });
+    }
+    if let Some((edge, &factor)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
+        return Err(AdaptiveError::BadFactor { edge, factor });
+    }
+    let faces = patches.face_class.len();
+    let edge_levels: Vec<u32> = ids
+        .iter()
+        .map(|&e| edge_level(factors[e as usize], max_level))
+        .collect();
+    let levels: Vec<u32> = (0..faces)
+        .map(|f| {
+            edge_levels[4 * f..4 * f + 4]
+                .iter()
+                .copied()
+                .max()
+                .unwrap_or(1)
+        })
+        .collect();
+    let mut offsets = Vec::with_capacity(faces + 1);
+    let mut total = 0usize;
+    for &l in &levels {
+        offsets.push(total);
+        total += ((l + 1) * (l + 1)) as usize;
+    }
+    offsets.push(total);
+    let mut positions = vec![Vec3::ZERO; total];
+    let mut normals = vec![Vec3::ZERO; total];
+    for f in 0..faces {
+        let cp = &patches.control_points
+            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+        let class = patches.face_class[f];
+        let l = levels[f];
+        let el = [0, 1, 2, 3].map(|k| edge_levels[4 * f + k]);
+        for s in 0..(l + 1) * (l + 1) {
+            let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
+            let (u, v, lv) = snap(iu, iv, l, el);
+            let r = (kernels.eval)(cp, class, 0, u, v, lv);
+            positions[offsets[f] + s as usize] = r.position;
+            normals[offsets[f] + s as usize] = r.normal;
+        }
+    }
+    Ok(AdaptiveTessellation {
+        levels,
+        edge_levels,
+        offsets,
+        positions,
+        normals,
+    })
+}
