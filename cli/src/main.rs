@@ -487,7 +487,12 @@ fn inspect(args: &InspectArgs) -> CmdResult {
 /// triangle), welded exactly with `--check-watertight`.
 fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> CmdResult {
     let start = Instant::now();
-    let tris = vulkan_adaptive(mesh, args).map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let tris = if args.backend == Backend::Cpu {
+        cpu_adaptive(mesh, args)
+    } else {
+        vulkan_adaptive(mesh, args)
+    }
+    .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
     let mut text = String::new();
     for t in &tris {
@@ -533,6 +538,45 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
     }
 }
 
+/// `--backend cpu --adaptive random:…`: power-of-two edge levels, patches
+/// bucketed by their largest edge level, boundary samples snapped onto the
+/// edges' own points (`adaptive::evaluate_cpu`); `--max-factor` rounded down
+/// to a power of two.
+fn cpu_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    use tessgen_runtime::adaptive;
+    let Some(AdaptiveArg::Random { seed, lo, hi }) = args.adaptive.clone() else {
+        return Err(
+            "--backend cpu supports --adaptive random:SEED[:LO:HI] only (distance and screen run on glsl/hlsl)"
+                .into(),
+        );
+    };
+    if args.partitioning != Partitioning::Integer {
+        return Err(
+            "--backend cpu snaps to power-of-two levels: --partitioning integer only".into(),
+        );
+    }
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let positions: Vec<glam::Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| glam::Vec3::from_array(*p))
+        .collect();
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    let patches = cpu::construct(&topo, &positions, kernels).map_err(|e| e.to_string())?;
+    let (_, edges) = adaptive::edge_ids(&topo);
+    let factors = adaptive::random_factors(edges, seed, lo, hi);
+    let mut max_level = 1u32;
+    while max_level * 2 <= args.max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
+        max_level *= 2;
+    }
+    let t =
+        adaptive::evaluate_cpu(&patches, &topo, &factors, max_level).map_err(|e| e.to_string())?;
+    Ok(t.triangles())
+}
+
 #[cfg(feature = "vulkan")]
 fn vulkan_adaptive(
     mesh: &tessgen_runtime::Mesh,
@@ -546,7 +590,7 @@ fn vulkan_adaptive(
         Backend::Hlsl => Language::Hlsl,
         other => {
             return Err(format!(
-                "--adaptive runs the hardware tessellator: use --backend glsl or hlsl, not {}",
+                "--adaptive runs on --backend cpu, glsl or hlsl, not {}",
                 other.name()
             ))
         }

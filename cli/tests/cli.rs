@@ -410,9 +410,16 @@ fn tessellate_adaptive() {
         assert!(f > 64, "{backend} {metric}: {f} triangles");
         assert_eq!(count_lines(&text, "v "), 3 * f);
     }
+    // The CPU: power-of-two buckets with snapped transitions.
     let o = run("cpu", "random:7", "integer");
+    assert_ok(&o);
+    assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+    let o = run("cpu", "screen:8", "integer");
     assert_ne!(o.status.code(), Some(0));
-    assert!(stderr(&o).contains("glsl or hlsl"), "{}", all(&o));
+    assert!(stderr(&o).contains("random:SEED"), "{}", all(&o));
+    let o = run("wgpu", "random:7", "integer");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("not wgpu"), "{}", all(&o));
     let o = run("glsl", "random:x", "integer");
     assert_ne!(o.status.code(), Some(0));
     assert!(stderr(&o).contains("not a seed"), "{}", all(&o));
