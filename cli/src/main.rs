@@ -12,6 +12,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
+use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::stats::MeshStats;
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
@@ -209,9 +210,18 @@ struct TessellateArgs {
     #[arg(long, value_name = "FILE")]
     tags: Option<PathBuf>,
     /// Tessellation level: each face is sampled on an (N+1)×(N+1) grid (triangles: (N+1)(N+2)/2 samples).
-    #[arg(long, value_name = "N",
+    #[arg(long, value_name = "N", required_unless_present = "adaptive",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
-    level: u32,
+    level: Option<u32>,
+    /// Adaptive tessellation with per-edge factors (quad schemes, --backend glsl|hlsl): `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). Writes the hardware's triangles as an OBJ triangle soup.
+    #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
+    adaptive: Option<AdaptiveArg>,
+    /// Partitioning of the adaptive factors: integer, fractional-odd, fractional-even.
+    #[arg(long, value_name = "MODE", default_value = "integer", value_parser = parse_partitioning)]
+    partitioning: Partitioning,
+    /// Largest adaptive factor (clamp; the device allows up to maxTessellationGenerationLevel, 64 on lavapipe).
+    #[arg(long, value_name = "F", default_value_t = 64.0)]
+    max_factor: f32,
     /// Output OBJ file.
     #[arg(long, value_name = "OUT.obj")]
     out: PathBuf,
@@ -221,6 +231,51 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
+}
+
+/// `--adaptive`: which per-edge metric.
+#[derive(Clone, Debug)]
+enum AdaptiveArg {
+    Random { seed: u64, lo: f32, hi: f32 },
+    Distance(f32),
+    Screen(f32),
+}
+
+fn parse_adaptive(s: &str) -> Result<AdaptiveArg, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let num = |x: &str| -> Result<f32, String> {
+        x.parse::<f32>()
+            .ok()
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .ok_or_else(|| format!("`{x}` is not a positive number"))
+    };
+    match parts.as_slice() {
+        ["random", seed] | ["random", seed, _, _] => {
+            let seed = seed
+                .parse::<u64>()
+                .map_err(|_| format!("`{seed}` is not a seed (unsigned integer)"))?;
+            let (lo, hi) = if let ["random", _, lo, hi] = parts.as_slice() {
+                (num(lo)?, num(hi)?)
+            } else {
+                (1.0, 12.0)
+            };
+            if lo > hi {
+                return Err(format!("random:{seed}:{lo}:{hi}: LO is above HI"));
+            }
+            Ok(AdaptiveArg::Random { seed, lo, hi })
+        }
+        ["distance", k] => Ok(AdaptiveArg::Distance(num(k)?)),
+        ["screen", px] => Ok(AdaptiveArg::Screen(num(px)?)),
+        _ => Err(format!(
+            "unknown adaptive metric `{s}` (random:SEED[:LO:HI], distance:K, screen:PX)"
+        )),
+    }
+}
+
+fn parse_partitioning(s: &str) -> Result<Partitioning, String> {
+    Partitioning::parse(s).ok_or_else(|| {
+        format!("unknown partitioning `{s}` (integer, fractional-odd, fractional-even)")
+    })
 }
 
 /// A command's outcome: `Ok(code)` once it has reported (code 1 for a failed
@@ -427,6 +482,176 @@ fn inspect(args: &InspectArgs) -> CmdResult {
     Ok(ExitCode::SUCCESS)
 }
 
+/// `--adaptive`: the Vulkan harness with per-edge factors; the hardware's
+/// triangles as an OBJ triangle soup (`v` per triangle corner, `f` per
+/// triangle), welded exactly with `--check-watertight`.
+fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> CmdResult {
+    let start = Instant::now();
+    let tris = if args.backend == Backend::Cpu {
+        cpu_adaptive(mesh, args)
+    } else {
+        vulkan_adaptive(mesh, args)
+    }
+    .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let elapsed = start.elapsed();
+    let mut text = String::new();
+    for t in &tris {
+        for p in t {
+            text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+        }
+    }
+    for k in 0..tris.len() {
+        text.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
+    }
+    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    eprintln!(
+        "tessgen: {} faces → {} triangles ({} adaptive, {:?}, {} backend) in {:.2} ms → {}",
+        mesh.num_faces(),
+        tris.len(),
+        args.scheme,
+        args.partitioning,
+        args.backend.name(),
+        elapsed.as_secs_f64() * 1e3,
+        args.out.display()
+    );
+    if !args.check_watertight {
+        return Ok(ExitCode::SUCCESS);
+    }
+    let soup: Vec<glam::Vec3> = tris.iter().flatten().copied().collect();
+    let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);
+    println!(
+        "weld: {} vertices, {} edges, {} triangles, euler {}",
+        r.vertices, r.edges, r.triangles, r.euler
+    );
+    if r.open_edges == 0 && r.overused_edges == 0 {
+        println!(
+            "watertight: closed 2-manifold ({} degenerate triangles)",
+            r.degenerate_triangles
+        );
+        Ok(ExitCode::SUCCESS)
+    } else {
+        println!(
+            "NOT watertight: {} open edges, {} edges used by more than two triangles",
+            r.open_edges, r.overused_edges
+        );
+        Ok(ExitCode::FAILURE)
+    }
+}
+
+/// `--backend cpu --adaptive random:…`: power-of-two edge levels, patches
+/// bucketed by their largest edge level, boundary samples snapped onto the
+/// edges' own points (`adaptive::evaluate_cpu`); `--max-factor` rounded down
+/// to a power of two.
+fn cpu_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    use tessgen_runtime::adaptive;
+    let Some(AdaptiveArg::Random { seed, lo, hi }) = args.adaptive.clone() else {
+        return Err(
+            "--backend cpu supports --adaptive random:SEED[:LO:HI] only (distance and screen run on glsl/hlsl)"
+                .into(),
+        );
+    };
+    if args.partitioning != Partitioning::Integer {
+        return Err(
+            "--backend cpu snaps to power-of-two levels: --partitioning integer only".into(),
+        );
+    }
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let positions: Vec<glam::Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| glam::Vec3::from_array(*p))
+        .collect();
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    let patches = cpu::construct(&topo, &positions, kernels).map_err(|e| e.to_string())?;
+    let (_, edges) = adaptive::edge_ids(&topo);
+    let factors = adaptive::random_factors(edges, seed, lo, hi);
+    let mut max_level = 1u32;
+    while max_level * 2 <= args.max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
+        max_level *= 2;
+    }
+    let t =
+        adaptive::evaluate_cpu(&patches, &topo, &factors, max_level).map_err(|e| e.to_string())?;
+    Ok(t.triangles())
+}
+
+#[cfg(feature = "vulkan")]
+fn vulkan_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    use glam::Vec3;
+    use tessgen_runtime::adaptive::{self, Adaptive, Metric};
+    use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
+    let language = match args.backend {
+        Backend::Glsl => Language::Glsl,
+        Backend::Hlsl => Language::Hlsl,
+        other => {
+            return Err(format!(
+                "--adaptive runs on --backend cpu, glsl or hlsl, not {}",
+                other.name()
+            ))
+        }
+    };
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let (lo, hi) = positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    );
+    let (center, diag) = ((lo + hi) * 0.5, (hi - lo).length().max(1e-6));
+    let (az, el) = (30f32.to_radians(), 20f32.to_radians());
+    let eye = center + Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()) * 2.5 * diag;
+    let metric = match args.adaptive.clone() {
+        Some(AdaptiveArg::Random { seed, lo, hi }) => {
+            let (_, edges) = adaptive::edge_ids(&topo);
+            Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
+        }
+        Some(AdaptiveArg::Distance(k)) => Metric::Distance { eye, scale: k },
+        Some(AdaptiveArg::Screen(_)) | None => Metric::Screen {
+            view_proj: tessgen_runtime::render::Camera {
+                eye,
+                target: center,
+                up: Vec3::Y,
+                fov_y: 45.0,
+            }
+            .view_proj(1.0),
+            viewport: [1024.0, 1024.0],
+            pixels_per_segment: match args.adaptive {
+                Some(AdaptiveArg::Screen(px)) => px,
+                _ => 8.0,
+            },
+        },
+    };
+    let options = Options {
+        adaptive: Some(Adaptive {
+            metric,
+            partitioning: args.partitioning,
+            min: 1.0,
+            max: args.max_factor,
+        }),
+        ..Options::new(language)
+    };
+    let vk = Vulkan::new().map_err(|e| e.to_string())?;
+    let m =
+        VkMesh::new(&vk, &topo, &positions, &args.scheme, &options).map_err(|e| e.to_string())?;
+    m.evaluate_adaptive().map_err(|e| e.to_string())
+}
+
+#[cfg(not(feature = "vulkan"))]
+fn vulkan_adaptive(
+    _mesh: &tessgen_runtime::Mesh,
+    _args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    Err("--adaptive needs tessgen built with the `vulkan` feature".into())
+}
+
 /// `--backend glsl|hlsl`: the Vulkan tessellation harness.
 #[cfg(feature = "vulkan")]
 fn vulkan_tessellate(
@@ -443,7 +668,7 @@ fn vulkan_tessellate(
     vulkan::tessellate_tagged(
         mesh,
         &args.scheme,
-        args.level,
+        args.level.unwrap_or(1),
         args.split_quads,
         tags,
         &Options::new(language),
@@ -478,20 +703,24 @@ enum Output {
 
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
-    let per_face = u64::from(args.level + 1).pow(2);
+    if args.adaptive.is_some() {
+        return tessellate_adaptive(&mesh, args);
+    }
+    let level = args.level.unwrap_or(1);
+    let per_face = u64::from(level + 1).pow(2);
     let samples = mesh.num_faces() as u64 * per_face;
     if samples > u64::from(u32::MAX) {
         return Err(format!(
             "{} faces at level {} make {samples} samples, more than 2^32 - 1",
             mesh.num_faces(),
-            args.level
+            level
         ));
     }
     let tags = match &args.tags {
         Some(path) => Some(load_tags(path, &mesh)?),
         None => None,
     };
-    let (scheme, level, split) = (&args.scheme, args.level, args.split_quads);
+    let (scheme, split) = (&args.scheme, args.split_quads);
     let start = Instant::now();
     let out = match args.backend {
         Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
@@ -537,7 +766,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     eprintln!(
         "tessgen: {summary} ({} level {}, {} backend) in {:.2} ms → {}",
         args.scheme,
-        args.level,
+        level,
         args.backend.name(),
         elapsed.as_secs_f64() * 1e3,
         args.out.display()

@@ -409,6 +409,62 @@ fn tessellate_triangle_scheme_on_the_hardware_tessellator() {
     }
 }
 
+/// `--adaptive`: random per-edge factors and the screen-space metric weld
+/// closed through the GLSL and HLSL tessellation shaders; the output is a
+/// triangle soup (3 `v` lines per `f`); cpu is refused, bad metrics name
+/// what is wrong.
+#[test]
+fn tessellate_adaptive() {
+    let tmp = TempDir::new("tess-adaptive");
+    let torus = mesh("catmark_torus.obj");
+    let out = tmp.path().join("adaptive.obj");
+    let run = |backend: &str, metric: &str, partitioning: &str| {
+        tessgen([
+            "tessellate".as_ref(),
+            torus.as_os_str(),
+            "--scheme".as_ref(),
+            "pccm".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--adaptive".as_ref(),
+            metric.as_ref(),
+            "--partitioning".as_ref(),
+            partitioning.as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ])
+    };
+    for (backend, metric, partitioning) in [
+        ("glsl", "random:7:1:9", "fractional-odd"),
+        ("hlsl", "screen:8", "integer"),
+    ] {
+        let o = run(backend, metric, partitioning);
+        assert_ok(&o);
+        assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let f = count_lines(&text, "f ");
+        assert!(f > 64, "{backend} {metric}: {f} triangles");
+        assert_eq!(count_lines(&text, "v "), 3 * f);
+    }
+    // The CPU: power-of-two buckets with snapped transitions.
+    let o = run("cpu", "random:7", "integer");
+    assert_ok(&o);
+    assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+    let o = run("cpu", "screen:8", "integer");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("random:SEED"), "{}", all(&o));
+    let o = run("wgpu", "random:7", "integer");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("not wgpu"), "{}", all(&o));
+    let o = run("glsl", "random:x", "integer");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("not a seed"), "{}", all(&o));
+    let o = run("glsl", "random:1", "fractional");
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("unknown partitioning"), "{}", all(&o));
+}
+
 /// `--scheme stpn --tags FILE`: the creased torus welds closed on every
 /// backend; tags for another scheme, and a bad tag line, are errors that
 /// name the file and line.

@@ -22,7 +22,16 @@ pub mod common_fn {
     pub const NORMALIZE: usize = 0;
     pub const CUBIC: usize = 1;
     pub const EDGE: usize = 2;
+    pub const EDGE_FACTOR: usize = 3;
 }
+
+/// Name of the adaptive per-edge tessellation factor.
+pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";
+
+/// Fixed-point denominator of the adaptive evaluation: the hardware
+/// tessellator's domain coordinates are 16.16 fixed point, so `m / 2^16`
+/// is exact in f32 and `2^16 − m` is the neighbour's coordinate.
+pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
 
 /// Name of the single shared edge evaluator.
 pub const EDGE_FN: &str = "tessgen_edge";
@@ -157,7 +166,129 @@ pub fn common_module(table: &StencilTable) -> Module {
     }
     f.body.push(Stmt::Return(lerp(l(d[0]), l(d[1]), wl, wr)));
     m.functions.push(f);
+    m.functions.push(edge_factor_fn());
     m
+}
+
+/// The adaptive tessellation factor of one patch edge, from data that
+/// depends only on the edge: its two end points (patch corners, shared
+/// control points that both patches compute bit for bit, watertight.md
+/// Rule 1) taken in a canonical order (lower global vertex index first),
+/// and for the explicit metric the edge's global id. Both patches of the
+/// edge therefore pass the hardware the same factor bits, which is what
+/// makes their boundary vertex sets equal (Rule 3).
+fn edge_factor_fn() -> Function {
+    let mut f = Function::new(
+        EDGE_FACTOR_FN,
+        "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
+         (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower \
+         vertex index first) and the metric sees only them, so both patches of the edge compute \
+         the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over \
+         distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in \
+         pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` \
+         buffer; NaN becomes min.",
+    );
+    f.precise = true;
+    let a = f.param("a", Ty::Vec3);
+    let b = f.param("b", Ty::Vec3);
+    let va = f.param("va", Ty::U32);
+    let vb = f.param("vb", Ty::U32);
+    let edge = f.param("edge", Ty::U32);
+    f.ret = Some(Ty::F32);
+    let p = f.local("p", Ty::Vec3);
+    let q = f.local("q", Ty::Vec3);
+    let fac = f.local("factor", Ty::F32);
+    let ad = |k: u32| fetch(Resource::Adaptive, u(k));
+    // Row r of the column-major view_proj, as a vec3 and its w column.
+    let row = |r: u32| Expr::Call(Builtin::Vec3, vec![ad(r), ad(4 + r), ad(8 + r)]);
+    let dot = |x: Expr, y: Expr| Expr::Call(Builtin::Dot, vec![x, y]);
+    let sqrt = |x: Expr| Expr::Call(Builtin::Sqrt, vec![x]);
+    let clip = |r: u32, pt: LocalId| add(dot(row(r), l(pt)), ad(12 + r));
+
+    // Distance metric.
+    let d = f.local("d", Ty::Vec3);
+    let mid = f.local("mid", Ty::Vec3);
+    let dist = f.local("dist", Ty::F32);
+    let eye = Expr::Call(Builtin::Vec3, vec![ad(16), ad(17), ad(18)]);
+    let distance = vec![
+        Stmt::Let(d, sub(l(q), l(p))),
+        Stmt::Let(mid, mul(add(l(p), l(q)), f32c(0.5))),
+        Stmt::Let(dist, sqrt(dot(sub(l(mid), eye.clone()), sub(l(mid), eye)))),
+        Stmt::If(
+            bin(BinOp::Gt, l(dist), f32c(0.0)),
+            vec![Stmt::Assign(
+                fac,
+                div(mul(ad(19), sqrt(dot(l(d), l(d)))), l(dist)),
+            )],
+            vec![Stmt::Assign(fac, ad(24))],
+        ),
+    ];
+    // Screen-space metric.
+    let wp = f.local("wp", Ty::F32);
+    let wq = f.local("wq", Ty::F32);
+    let dx = f.local("dx", Ty::F32);
+    let dy = f.local("dy", Ty::F32);
+    let screen = vec![
+        Stmt::Let(wp, clip(3, p)),
+        Stmt::Let(wq, clip(3, q)),
+        Stmt::If(
+            bin(
+                BinOp::And,
+                bin(BinOp::Gt, l(wp), f32c(0.0)),
+                bin(BinOp::Gt, l(wq), f32c(0.0)),
+            ),
+            vec![
+                Stmt::Let(
+                    dx,
+                    mul(
+                        sub(div(clip(0, q), l(wq)), div(clip(0, p), l(wp))),
+                        mul(ad(20), f32c(0.5)),
+                    ),
+                ),
+                Stmt::Let(
+                    dy,
+                    mul(
+                        sub(div(clip(1, q), l(wq)), div(clip(1, p), l(wp))),
+                        mul(ad(21), f32c(0.5)),
+                    ),
+                ),
+                Stmt::Assign(
+                    fac,
+                    div(sqrt(add(mul(l(dx), l(dx)), mul(l(dy), l(dy)))), ad(22)),
+                ),
+            ],
+            // An end point behind the eye: the finest factor.
+            vec![Stmt::Assign(fac, ad(24))],
+        ),
+    ];
+    f.body = vec![
+        Stmt::Var(p, l(a)),
+        Stmt::Var(q, l(b)),
+        Stmt::If(
+            bin(BinOp::Lt, l(vb), l(va)),
+            vec![Stmt::Assign(p, l(b)), Stmt::Assign(q, l(a))],
+            vec![],
+        ),
+        Stmt::Var(fac, f32c(1.0)),
+        Stmt::IfDef(
+            plan::Define::MetricBuffer,
+            vec![Stmt::Assign(fac, fetch(Resource::EdgeFactors, l(edge)))],
+            vec![Stmt::IfDef(plan::Define::MetricDistance, distance, screen)],
+        ),
+        // `factor >= min` is false for NaN: NaN becomes min.
+        Stmt::If(
+            bin(BinOp::Ge, l(fac), ad(23)),
+            vec![],
+            vec![Stmt::Assign(fac, ad(23))],
+        ),
+        Stmt::If(
+            bin(BinOp::Gt, l(fac), ad(24)),
+            vec![Stmt::Assign(fac, ad(24))],
+            vec![],
+        ),
+        Stmt::Return(l(fac)),
+    ];
+    f
 }
 
 fn f32c(x: f64) -> Expr {

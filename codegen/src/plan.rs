@@ -50,6 +50,15 @@ pub enum Resource {
     Crease,
     /// `f32` side sign ±1, by `3·face + corner` (scalar-tagged PN).
     CornerSide,
+    /// `u32` global edge id of edge k (`v_k → v_{k+1}`) of face f, by
+    /// `4·face + k` (adaptive tessellation: both faces of an edge hold the
+    /// same id).
+    FaceEdges,
+    /// `f32` explicit tessellation factor, by global edge id (adaptive
+    /// tessellation, `TESSGEN_METRIC_BUFFER`).
+    EdgeFactors,
+    /// `f32` adaptive-tessellation parameters (layout: `abi::ADAPTIVE`).
+    Adaptive,
 }
 
 impl Resource {
@@ -60,7 +69,9 @@ impl Resource {
             | Resource::ControlPoints
             | Resource::Normals
             | Resource::Crease => Ty::Vec3,
-            Resource::Tags | Resource::CornerSide => Ty::F32,
+            Resource::Tags | Resource::CornerSide | Resource::EdgeFactors | Resource::Adaptive => {
+                Ty::F32
+            }
             _ => Ty::U32,
         }
     }
@@ -79,9 +90,12 @@ impl Resource {
             Resource::Tags => "tags",
             Resource::Crease => "crease",
             Resource::CornerSide => "corner_side",
+            Resource::FaceEdges => "face_edges",
+            Resource::EdgeFactors => "edge_factors",
+            Resource::Adaptive => "adaptive",
         }
     }
-    pub const ALL: [Resource; 13] = [
+    pub const ALL: [Resource; 16] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -95,6 +109,9 @@ impl Resource {
         Resource::Tags,
         Resource::Crease,
         Resource::CornerSide,
+        Resource::FaceEdges,
+        Resource::EdgeFactors,
+        Resource::Adaptive,
     ];
 }
 
@@ -182,6 +199,19 @@ pub enum Define {
     /// The tessellation evaluation stage also writes every sample into the
     /// `samples` buffer, at the layout of `eval_main` (harness builds).
     Capture,
+    /// Adaptive tessellation (GLSL/HLSL tessellation pipeline): the control
+    /// stage sets one factor per edge from `tessgen_edge_factor` instead of
+    /// the uniform level, and the evaluation stage reads the hardware
+    /// coordinate on the 2^-16 fixed-point grid (`level` = 65536).
+    Adaptive,
+    /// Adaptive metric: explicit factors from `edge_factors[face_edges[4f + k]]`.
+    MetricBuffer,
+    /// Adaptive metric: edge length over distance to the eye.
+    MetricDistance,
+    /// Partitioning `fractional_odd` (default: `integer` / `equal_spacing`).
+    FractionalOdd,
+    /// Partitioning `fractional_even`.
+    FractionalEven,
 }
 
 impl Define {
@@ -191,6 +221,11 @@ impl Define {
             Define::NoBoundaryPath => "TESSGEN_NO_BOUNDARY_PATH",
             Define::Capture => "TESSGEN_CAPTURE",
             Define::AsymmetricEdgeWeights => "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS",
+            Define::Adaptive => "TESSGEN_ADAPTIVE",
+            Define::MetricBuffer => "TESSGEN_METRIC_BUFFER",
+            Define::MetricDistance => "TESSGEN_METRIC_DISTANCE",
+            Define::FractionalOdd => "TESSGEN_FRACTIONAL_ODD",
+            Define::FractionalEven => "TESSGEN_FRACTIONAL_EVEN",
         }
     }
 }

@@ -12,7 +12,16 @@
 // reverses the winding, so the triangles wind counter-clockwise in (u, v), like
 // the control face. (A pipeline created with
 // VK_TESSELLATION_DOMAIN_ORIGIN_LOWER_LEFT would need `cw` here.)
+// Partitioning: integer (equal_spacing) unless the build defines
+// TESSGEN_FRACTIONAL_ODD or TESSGEN_FRACTIONAL_EVEN (adaptive builds only: the
+// uniform path rounds the coordinate to i/level).
+#if defined(TESSGEN_FRACTIONAL_ODD)
+layout(quads, fractional_odd_spacing, ccw) in;
+#elif defined(TESSGEN_FRACTIONAL_EVEN)
+layout(quads, fractional_even_spacing, ccw) in;
+#else
 layout(quads, equal_spacing, ccw) in;
+#endif
 
 // Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
 const uint TABLE_WIDTH = 65u;
@@ -283,16 +292,27 @@ void main() {
     // form every weight from these integers (watertight.md Rules 2 and 3), so the
     // two patches of an edge compute the same bits. (u, v) = (y, x): see the
     // layout declaration above.
-    uint iu = uint(round((gl_TessCoord.y * float(params.level))));
-    uint iv = uint(round((gl_TessCoord.x * float(params.level))));
-    Sample result = eval(params.class_, 0u, iu, iv, params.level);
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
+    // fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are
+    // then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate
+    // at the hardware coordinate itself, and on an edge the neighbour, whose
+    // tessellator mirrors the edge's points (1 − t is exact in fixed point), passes
+    // the shared edge evaluator exactly the swapped pair.
+    uint level = 65536u;
+#else
+    uint level = params.level;
+#endif
+    uint iu = uint(round((gl_TessCoord.y * float(level))));
+    uint iv = uint(round((gl_TessCoord.x * float(level))));
+    Sample result = eval(params.class_, 0u, iu, iv, level);
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
-#ifdef TESSGEN_CAPTURE
+#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
     // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
     // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(params.level)) + grid_index(iu, iv, params.level)) * 6u);
+    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;
     samples[(o + 2u)] = result.position.z;

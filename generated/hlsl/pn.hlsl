@@ -83,6 +83,15 @@ struct Params {
 // binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 [[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
 
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+[[vk::binding(17, 0)]] StructuredBuffer<uint> face_edges : register(t17);
+
+// binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
+[[vk::binding(18, 0)]] StructuredBuffer<float> edge_factors : register(t18);
+
+// binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
+[[vk::binding(19, 0)]] StructuredBuffer<float> adaptive : register(t19);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -197,6 +206,49 @@ precise float3 tessgen_edge(float3 b0, float3 b1, float3 b2, float3 b3, uint i, 
     precise float3 d0 = ((c0 * l) + (c1 * r));
     precise float3 d1 = ((c1 * l) + (c2 * r));
     return ((d0 * l) + (d1 * r));
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edge) {
+    precise float3 p = a;
+    precise float3 q = b;
+    if ((vb < va)) {
+        p = b;
+        q = a;
+    }
+    precise float factor = 1.0f;
+#ifdef TESSGEN_METRIC_BUFFER
+    factor = edge_factors[edge];
+#else
+#ifdef TESSGEN_METRIC_DISTANCE
+    precise float3 d = (q - p);
+    precise float3 mid = ((p + q) * 0.5f);
+    precise float dist = sqrt(dot((mid - float3(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - float3(adaptive[16u], adaptive[17u], adaptive[18u]))));
+    if ((dist > 0.0f)) {
+        factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+    } else {
+        factor = adaptive[24u];
+    }
+#else
+    precise float wp = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+    precise float wq = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+    if (((wp > 0.0f) && (wq > 0.0f))) {
+        precise float dx = ((((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+        precise float dy = ((((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+        factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+    } else {
+        factor = adaptive[24u];
+    }
+#endif
+#endif
+    if ((factor >= adaptive[23u])) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if ((factor > adaptive[24u])) {
+        factor = adaptive[24u];
+    }
+    return factor;
 }
 
 // ---- module `pn` ----

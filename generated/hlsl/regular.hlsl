@@ -83,6 +83,15 @@ struct Params {
 // binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 [[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
 
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+[[vk::binding(17, 0)]] StructuredBuffer<uint> face_edges : register(t17);
+
+// binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
+[[vk::binding(18, 0)]] StructuredBuffer<float> edge_factors : register(t18);
+
+// binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
+[[vk::binding(19, 0)]] StructuredBuffer<float> adaptive : register(t19);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -197,6 +206,49 @@ precise float3 tessgen_edge(float3 b0, float3 b1, float3 b2, float3 b3, uint i, 
     precise float3 d0 = ((c0 * l) + (c1 * r));
     precise float3 d1 = ((c1 * l) + (c2 * r));
     return ((d0 * l) + (d1 * r));
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edge) {
+    precise float3 p = a;
+    precise float3 q = b;
+    if ((vb < va)) {
+        p = b;
+        q = a;
+    }
+    precise float factor = 1.0f;
+#ifdef TESSGEN_METRIC_BUFFER
+    factor = edge_factors[edge];
+#else
+#ifdef TESSGEN_METRIC_DISTANCE
+    precise float3 d = (q - p);
+    precise float3 mid = ((p + q) * 0.5f);
+    precise float dist = sqrt(dot((mid - float3(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - float3(adaptive[16u], adaptive[17u], adaptive[18u]))));
+    if ((dist > 0.0f)) {
+        factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+    } else {
+        factor = adaptive[24u];
+    }
+#else
+    precise float wp = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+    precise float wq = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+    if (((wp > 0.0f) && (wq > 0.0f))) {
+        precise float dx = ((((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+        precise float dy = ((((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+        factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+    } else {
+        factor = adaptive[24u];
+    }
+#endif
+#endif
+    if ((factor >= adaptive[23u])) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if ((factor > adaptive[24u])) {
+        factor = adaptive[24u];
+    }
+    return factor;
 }
 
 // ---- module `regular` ----
@@ -485,17 +537,43 @@ HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
     }
     c.patch_id = patch_id;
     float level = float(params.level);
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
+    // shared control points), their global vertices and the global edge id, all
+    // data of the edge alone. Inside factors: the larger of the two edges running
+    // in that direction (inside[0] subdivides along u: edges 0 and 2).
+    float f[4];
+    for (uint e = 0u; e < 4u; e += 1u) {
+        uint curve = ((params.class_ * 16u) + (e * 4u));
+        f[e] = tessgen_edge_factor(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 4u) + e)], corner_vertex[((face * 4u) + ((e + 1u) % 4u))], face_edges[((face * 4u) + e)]);
+    }
+    c.edges[0] = f[3];
+    c.edges[1] = f[0];
+    c.edges[2] = f[1];
+    c.edges[3] = f[2];
+    c.inside[0] = max(f[0], f[2]);
+    c.inside[1] = max(f[1], f[3]);
+#else
     c.edges[0] = level;
     c.edges[1] = level;
     c.edges[2] = level;
     c.edges[3] = level;
     c.inside[0] = level;
     c.inside[1] = level;
+#endif
     return c;
 }
 
 [domain("quad")]
+// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or
+// TESSGEN_FRACTIONAL_EVEN (adaptive builds only).
+#if defined(TESSGEN_FRACTIONAL_ODD)
+[partitioning("fractional_odd")]
+#elif defined(TESSGEN_FRACTIONAL_EVEN)
+[partitioning("fractional_even")]
+#else
 [partitioning("integer")]
+#endif
 [outputtopology("triangle_ccw")]
 [outputcontrolpoints(1)]
 [patchconstantfunc("hs_patch_constants")]
@@ -518,7 +596,15 @@ struct DsOut {
 // Rules 2 and 3), so the integer coordinates are recovered by rounding.
 [domain("quad")]
 DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
+    // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp
+    // come from integers; the neighbour's tessellator mirrors the edge's points
+    // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.
+    uint level = 65536u;
+#else
     uint level = params.level;
+#endif
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {
         uint k = (3u * j);
@@ -531,7 +617,7 @@ DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<Hs
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.normal = result.normal;
     o.world = result.position;
-#ifdef TESSGEN_CAPTURE
+#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
     // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
     // being patch out_base + c.patch_id, sample grid_index(iu, iv).
     uint at = ((((params.out_base + c.patch_id) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);

@@ -46,6 +46,12 @@ pub mod common {
         pub crease: &'a [Vec3],
         /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
         pub corner_side: &'a [f32],
+        /// Adaptive tessellation: global edge id of edge k of face f at 4f + k.
+        pub face_edges: &'a [u32],
+        /// Adaptive tessellation: explicit factor per global edge id.
+        pub edge_factors: &'a [f32],
+        /// Adaptive tessellation parameters (generated/README.md).
+        pub adaptive: &'a [f32],
         /// The stencil table, row-major, TABLE_WIDTH columns.
         pub table: &'a [f32],
     }
@@ -120,6 +126,34 @@ pub mod common {
         let d0: Vec3 = ((c0 * l) + (c1 * r));
         let d1: Vec3 = ((c1 * l) + (c2 * r));
         return ((d0 * l) + (d1 * r));
+    }
+    
+    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+    pub fn tessgen_edge_factor(inputs: &Inputs, a: Vec3, b: Vec3, va: u32, vb: u32, edge: u32) -> f32 {
+        let mut p: Vec3 = a;
+        let mut q: Vec3 = b;
+        if (vb < va) {
+            p = b;
+            q = a;
+        }
+        let mut factor: f32 = 1.0f32;
+        let wp: f32 = (Vec3::new(inputs.adaptive[(3u32) as usize], inputs.adaptive[(7u32) as usize], inputs.adaptive[(11u32) as usize]).dot(p) + inputs.adaptive[(15u32) as usize]);
+        let wq: f32 = (Vec3::new(inputs.adaptive[(3u32) as usize], inputs.adaptive[(7u32) as usize], inputs.adaptive[(11u32) as usize]).dot(q) + inputs.adaptive[(15u32) as usize]);
+        if ((wp > 0.0f32) && (wq > 0.0f32)) {
+            let dx: f32 = ((((Vec3::new(inputs.adaptive[(0u32) as usize], inputs.adaptive[(4u32) as usize], inputs.adaptive[(8u32) as usize]).dot(q) + inputs.adaptive[(12u32) as usize]) / wq) - ((Vec3::new(inputs.adaptive[(0u32) as usize], inputs.adaptive[(4u32) as usize], inputs.adaptive[(8u32) as usize]).dot(p) + inputs.adaptive[(12u32) as usize]) / wp)) * (inputs.adaptive[(20u32) as usize] * 0.5f32));
+            let dy: f32 = ((((Vec3::new(inputs.adaptive[(1u32) as usize], inputs.adaptive[(5u32) as usize], inputs.adaptive[(9u32) as usize]).dot(q) + inputs.adaptive[(13u32) as usize]) / wq) - ((Vec3::new(inputs.adaptive[(1u32) as usize], inputs.adaptive[(5u32) as usize], inputs.adaptive[(9u32) as usize]).dot(p) + inputs.adaptive[(13u32) as usize]) / wp)) * (inputs.adaptive[(21u32) as usize] * 0.5f32));
+            factor = (((dx * dx) + (dy * dy)).sqrt() / inputs.adaptive[(22u32) as usize]);
+        } else {
+            factor = inputs.adaptive[(24u32) as usize];
+        }
+        if (factor >= inputs.adaptive[(23u32) as usize]) {
+        } else {
+            factor = inputs.adaptive[(23u32) as usize];
+        }
+        if (factor > inputs.adaptive[(24u32) as usize]) {
+            factor = inputs.adaptive[(24u32) as usize];
+        }
+        return factor;
     }
 }
 

@@ -85,6 +85,15 @@ struct Params {
 // side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 @group(0) @binding(16) var<storage, read> corner_side: array<f32>;
 
+// global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+@group(0) @binding(17) var<storage, read> face_edges: array<u32>;
+
+// explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
+@group(0) @binding(18) var<storage, read> edge_factors: array<f32>;
+
+// adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
+@group(0) @binding(19) var<storage, read> adaptive: array<f32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -175,6 +184,35 @@ fn tessgen_edge(b0: vec3<f32>, b1: vec3<f32>, b2: vec3<f32>, b3: vec3<f32>, i: u
     let d0: vec3<f32> = ((c0 * l) + (c1 * r));
     let d1: vec3<f32> = ((c1 * l) + (c2 * r));
     return ((d0 * l) + (d1 * r));
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_edge_factor(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) -> f32 {
+    var p: vec3<f32> = a;
+    var q: vec3<f32> = b;
+    if (vb < va) {
+        p = b;
+        q = a;
+    }
+    var factor: f32 = 1.0f;
+    let wp: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+    let wq: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+    if ((wp > 0.0f) && (wq > 0.0f)) {
+        let dx: f32 = ((((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+        let dy: f32 = ((((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+        factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+    } else {
+        factor = adaptive[24u];
+    }
+    if (factor >= adaptive[23u]) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if (factor > adaptive[24u]) {
+        factor = adaptive[24u];
+    }
+    return factor;
 }
 
 // ---- Scheme `pccm` ----

@@ -178,6 +178,9 @@ pub fn construct(
             tags: &[],
             crease: &[],
             corner_side: &[],
+            face_edges: &[],
+            edge_factors: &[],
+            adaptive: &[],
             table,
         };
         split_by_offsets(&mut vertex_out, &vertex_out_offsets)
@@ -209,6 +212,9 @@ pub fn construct(
             tags: &[],
             crease: &[],
             corner_side: &[],
+            face_edges: &[],
+            edge_factors: &[],
+            adaptive: &[],
             table,
         };
         split_by_offsets(&mut control_points, &cp_offsets)
@@ -362,6 +368,9 @@ pub fn construct_tri(
         tags: &mesh.crease_tags.tags,
         crease: &mesh.crease_tags.crease,
         corner_side: &mesh.crease_tags.corner_side,
+        face_edges: &[],
+        edge_factors: &[],
+        adaptive: &[],
         table: kernels::table(),
     };
     control_points

@@ -17,6 +17,7 @@
 //! ```
 
 pub mod accuracy;
+pub mod adaptive;
 pub mod capture;
 pub mod cpu;
 #[cfg(feature = "gpu")]

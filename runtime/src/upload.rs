@@ -29,8 +29,14 @@ pub mod binding {
     pub const TAGS: u32 = 14;
     pub const CREASE: u32 = 15;
     pub const CORNER_SIDE: u32 = 16;
-    /// Number of bindings (0 ..= CORNER_SIDE).
-    pub const COUNT: u32 = 17;
+    pub const FACE_EDGES: u32 = 17;
+    pub const EDGE_FACTORS: u32 = 18;
+    pub const ADAPTIVE: u32 = 19;
+    /// Not an ABI binding: the Vulkan harness's geometry-shader triangle
+    /// capture of adaptive draws (`runtime::vulkan`).
+    pub const TRIANGLES: u32 = 20;
+    /// Number of bindings the Vulkan harness lays out (0 ..= TRIANGLES).
+    pub const COUNT: u32 = 21;
 }
 
 /// Errors building an [`Upload`].

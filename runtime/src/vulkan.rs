@@ -24,11 +24,15 @@
 //! driver (`mesa-vulkan-drivers` for lavapipe) and `glslangValidator`
 //! (`glslang-tools`).
 
+use crate::adaptive::{self, Adaptive, Metric};
 use crate::capture::{CaptureError, TriangleCapture, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::topology::Topology;
-use crate::upload::{binding, params_bytes, ClassRange, Upload, UploadError, PARAMS_SIZE};
+use crate::upload::{
+    binding, f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
+    PARAMS_SIZE,
+};
 use ash::vk;
 use glam::{Mat4, Vec3};
 use std::ffi::CStr;
@@ -66,11 +70,14 @@ pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
 pub const CAPTURE: &str = "TESSGEN_CAPTURE";
 
 /// How to build the shaders.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Options {
     pub language: Language,
     /// Extra preprocessor defines (e.g. [`NO_BOUNDARY_PATH`]).
     pub defines: Vec<String>,
+    /// Adaptive tessellation (quad schemes): per-edge factors, captured as
+    /// triangles by [`VkMesh::evaluate_adaptive`].
+    pub adaptive: Option<Adaptive>,
 }
 
 impl Options {
@@ -78,9 +85,49 @@ impl Options {
         Options {
             language,
             defines: Vec::new(),
+            adaptive: None,
+        }
+    }
+
+    /// Every define the shaders are compiled with, besides [`CAPTURE`].
+    fn all_defines(&self) -> Vec<String> {
+        let mut d = self.defines.clone();
+        if let Some(a) = &self.adaptive {
+            d.extend(a.defines());
+        }
+        d
+    }
+}
+
+/// The harness's capture of adaptive draws: a geometry shader after the
+/// emitted evaluation stage appends every tessellated triangle (the
+/// evaluation stage's world position, location 1: GLSL `te_position`,
+/// HLSL `DsOut.world`) to the `triangles` buffer. Fractional and adaptive
+/// patterns are not a grid, so samples cannot be indexed by (iu, iv); the
+/// triangles are what an exact weld needs. Emits nothing (rasterizer
+/// discard).
+const CAPTURE_GEOM: &str = r#"#version 450
+layout(triangles) in;
+layout(points, max_vertices = 1) out;
+layout(location = 1) in vec3 te_position[];
+layout(std430, set = 0, binding = 20) buffer Triangles {
+    uint count;
+    uint capacity;
+    uint pad0;
+    uint pad1;
+    float tri[];
+};
+void main() {
+    uint k = atomicAdd(count, 1u);
+    if (k < capacity) {
+        for (uint i = 0u; i < 3u; i++) {
+            tri[9u * k + 3u * i + 0u] = te_position[i].x;
+            tri[9u * k + 3u * i + 1u] = te_position[i].y;
+            tri[9u * k + 3u * i + 2u] = te_position[i].z;
         }
     }
 }
+"#;
 
 /// Errors of the Vulkan harness.
 #[derive(Debug, thiserror::Error)]
@@ -129,7 +176,9 @@ pub enum VkError {
     TriangleDomain { scheme: String },
     #[error("scheme `{scheme}` has a quad domain: evaluate_triangles is for triangle schemes")]
     QuadDomain { scheme: String },
-    #[error("the Vulkan device has no geometryShader, which the triangle capture needs")]
+    #[error(
+        "the Vulkan device has no geometryShader, which the triangle and adaptive captures need"
+    )]
     NoGeometryShader,
     #[error("level {level}: the tessellator emitted {emitted} triangles for {patches} patches, more than the {capacity} the capture holds")]
     CaptureOverflow {
@@ -140,6 +189,14 @@ pub enum VkError {
     },
     #[error(transparent)]
     Capture(#[from] CaptureError),
+    #[error("scheme `{0}`: adaptive tessellation is implemented for quad schemes only")]
+    AdaptiveNeedsQuads(String),
+    #[error("explicit edge factors: the mesh has {expected} edges, {got} factors were given")]
+    EdgeFactorCount { expected: usize, got: usize },
+    #[error("adaptive draws need VkMesh::evaluate_adaptive (the samples are not a grid)")]
+    AdaptiveNotGrid,
+    #[error("adaptive capture: {written} triangles did not fit the {capacity} reserved")]
+    TriangleOverflow { written: u64, capacity: u64 },
 }
 
 impl From<UploadError> for VkError {
@@ -743,7 +800,45 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
-        Self::build(vk, Upload::quad(topo, positions, scheme)?, options)
+        let mut upload = Upload::quad(topo, positions, scheme)?;
+        if let Some(a) = &options.adaptive {
+            if upload.scheme.sides != 4 {
+                return Err(VkError::AdaptiveNeedsQuads(upload.scheme.name.into()));
+            }
+            if !vk.geometry_shader {
+                return Err(VkError::NoGeometryShader);
+            }
+            let (mut ids, mut edges) = adaptive::edge_ids(topo);
+            if let Metric::PerFaceEdge(_) = &a.metric {
+                // Negative control: every face edge its own id.
+                edges = ids.len() as u32;
+                ids = (0..edges).collect();
+            }
+            if let Metric::Buffer(f) | Metric::PerFaceEdge(f) = &a.metric {
+                if f.len() != edges as usize {
+                    return Err(VkError::EdgeFactorCount {
+                        expected: edges as usize,
+                        got: f.len(),
+                    });
+                }
+            }
+            let buf = |binding, label, bytes| UploadBuffer {
+                binding,
+                label,
+                bytes,
+                read_back: false,
+            };
+            upload.buffers.extend([
+                buf(binding::FACE_EDGES, "face_edges", u32_bytes(&ids)),
+                buf(
+                    binding::EDGE_FACTORS,
+                    "edge_factors",
+                    f32_bytes(a.edge_factors()),
+                ),
+                buf(binding::ADAPTIVE, "adaptive", f32_bytes(&a.params())),
+            ]);
+        }
+        Self::build(vk, upload, options)
     }
 
     /// A triangle mesh for a triangle scheme.
@@ -753,6 +848,9 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
+        if options.adaptive.is_some() {
+            return Err(VkError::AdaptiveNeedsQuads(scheme.into()));
+        }
         Self::build(vk, Upload::tri(mesh, scheme)?, options)
     }
 
@@ -1133,7 +1231,7 @@ impl<'v> VkMesh<'v> {
         } else {
             self.shader(stage)?
         };
-        let words = compile(source, &file, stage, entry, &self.options.defines)?;
+        let words = compile(source, &file, stage, entry, &self.options.all_defines())?;
         let m = unsafe {
             self.vk
                 .device
@@ -1178,6 +1276,20 @@ impl<'v> VkMesh<'v> {
                 return Err(VkError::NoGeometryShader);
             }
             Some(self.module("geom")?)
+        } else if self.options.adaptive.is_some() {
+            // Adaptive draws: the harness's small capture of world positions.
+            if !self.vk.geometry_shader {
+                return Err(VkError::NoGeometryShader);
+            }
+            let words = compile(CAPTURE_GEOM, "harness_capture.geom", "geom", None, &[])?;
+            let m = unsafe {
+                self.vk
+                    .device
+                    .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&words), None)
+            }
+            .map_err(call("vkCreateShaderModule"))?;
+            self.modules.push(m);
+            Some((m, c"main"))
         } else {
             None
         };
@@ -1291,6 +1403,9 @@ impl<'v> VkMesh<'v> {
     /// read the captured samples back in face order: the same layout as
     /// [`cpu::evaluate`].
     pub fn evaluate(&self, level: u32) -> Result<Tessellation, VkError> {
+        if self.options.adaptive.is_some() {
+            return Err(VkError::AdaptiveNotGrid);
+        }
         if self.scheme.sides == 3 {
             return Err(VkError::TriangleDomain {
                 scheme: self.scheme.name.into(),
@@ -1458,6 +1573,98 @@ impl<'v> VkMesh<'v> {
         })();
         buf.destroy(&self.vk.device);
         result
+    }
+
+    /// Run an adaptive draw ([`Options::adaptive`]) and read back every
+    /// tessellated triangle (world positions, in no particular order), for
+    /// an exact weld with [`crate::weld::weld_triangles`].
+    pub fn evaluate_adaptive(&self) -> Result<Vec<[Vec3; 3]>, VkError> {
+        let Some(a) = &self.options.adaptive else {
+            return Err(VkError::AdaptiveNotGrid);
+        };
+        // At most 2·(ceil(max) + 2)² triangles per quad patch (the inside
+        // factor is at most the largest edge factor, a fractional pattern
+        // adds one transition ring).
+        let m = a.max.max(1.0).ceil() as u64 + 2;
+        let capacity = (self.patch_faces.len() as u64 * 2 * m * m).max(1);
+        let bytes = 16 + capacity * 36;
+        let cap = self.vk.limits.max_storage_buffer_range as u64;
+        if bytes > cap {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "bytes of captured triangles (maxStorageBufferRange)",
+                needed: bytes,
+                max: cap,
+            });
+        }
+        let tris = self
+            .vk
+            .buffer("triangles", bytes, vk::BufferUsageFlags::STORAGE_BUFFER)?;
+        let result = self.draw_adaptive(&tris, capacity);
+        tris.destroy(&self.vk.device);
+        result
+    }
+
+    fn draw_adaptive(&self, tris: &Buf, capacity: u64) -> Result<Vec<[Vec3; 3]>, VkError> {
+        let mut header = u32_bytes(&[0, capacity as u32, 0, 0]);
+        header.extend(f32_bytes(&[]));
+        tris.write(&header[..16]);
+        self.write_buffer(binding::TRIANGLES, tris);
+        if let Some(d) = &self.dummy {
+            self.write_buffer(binding::SAMPLES, d);
+        }
+        for c in &self.classes {
+            if c.count == 0 {
+                continue;
+            }
+            self.set_params([c.first, c.count, c.class, c.cp_base, 1, 0]);
+            let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
+            let (rp, fb) = (self.render_pass, self.framebuffer);
+            let count = c.count;
+            self.vk.submit(|d, cb| unsafe {
+                d.cmd_begin_render_pass(
+                    cb,
+                    &vk::RenderPassBeginInfo::default()
+                        .render_pass(rp)
+                        .framebuffer(fb)
+                        .render_area(vk::Rect2D {
+                            offset: vk::Offset2D { x: 0, y: 0 },
+                            extent: vk::Extent2D {
+                                width: 1,
+                                height: 1,
+                            },
+                        }),
+                    vk::SubpassContents::INLINE,
+                );
+                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
+                d.cmd_bind_descriptor_sets(
+                    cb,
+                    vk::PipelineBindPoint::GRAPHICS,
+                    layout,
+                    0,
+                    &[set],
+                    &[],
+                );
+                d.cmd_draw(cb, count, 1, 0, 0);
+                d.cmd_end_render_pass(cb);
+            })?;
+        }
+        let head = tris.read_f32(4);
+        let written = head[0].to_bits() as u64;
+        if written > capacity {
+            return Err(VkError::TriangleOverflow { written, capacity });
+        }
+        let floats = tris.read_f32(4 + written as usize * 9);
+        Ok(floats[4..]
+            .chunks_exact(9)
+            .map(|t| {
+                [
+                    Vec3::new(t[0], t[1], t[2]),
+                    Vec3::new(t[3], t[4], t[5]),
+                    Vec3::new(t[6], t[7], t[8]),
+                ]
+            })
+            .collect())
     }
 
     fn evaluate_into(

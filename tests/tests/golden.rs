@@ -142,6 +142,9 @@ impl Quad {
             tags: &[],
             crease: &[],
             corner_side: &[],
+            face_edges: &[],
+            edge_factors: &[],
+            adaptive: &[],
             table,
         }
     }
@@ -517,6 +520,9 @@ impl TriCase {
             tags: &self.tags,
             crease: &self.crease,
             corner_side: &self.side,
+            face_edges: &[],
+            edge_factors: &[],
+            adaptive: &[],
             table: kernels::table(),
         };
         (class.patch)(&inputs, &mut cp, 0, 0);

@@ -215,8 +215,8 @@ fn negative_rows(define: &str) -> Vec<(String, Language, String, u32, usize)> {
     let mut rows = Vec::new();
     for language in Language::ALL {
         let options = Options {
-            language,
             defines: vec![define.to_string()],
+            ..Options::new(language)
         };
         for scheme in kernels::scheme_names() {
             for name in ["catmark_toroidal_tet", "catmark_torus"] {

@@ -57,7 +57,26 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 14, name: "tags", kind: Kind::F32Buffer, resource: Some(Resource::Tags), written: false, doc: "scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN" },
     Binding { binding: 15, name: "crease", kind: Kind::Vec3Buffer, resource: Some(Resource::Crease), written: false, doc: "crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN" },
     Binding { binding: 16, name: "corner_side", kind: Kind::F32Buffer, resource: Some(Resource::CornerSide), written: false, doc: "side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN" },
+    Binding { binding: 17, name: "face_edges", kind: Kind::U32Buffer, resource: Some(Resource::FaceEdges), written: false, doc: "global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)" },
+    Binding { binding: 18, name: "edge_factors", kind: Kind::F32Buffer, resource: Some(Resource::EdgeFactors), written: false, doc: "explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)" },
+    Binding { binding: 19, name: "adaptive", kind: Kind::F32Buffer, resource: Some(Resource::Adaptive), written: false, doc: "adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)" },
 ];
+
+/// Layout of the `adaptive` buffer (binding 19): `(first float, count,
+/// meaning)`. A storage buffer rather than a second uniform block so every
+/// printer binds it like any other `f32` buffer.
+pub const ADAPTIVE: &[(u32, u32, &str)] = &[
+    (0, 16, "view_proj, column-major (element (row r, column c) at 4c + r): the screen-space metric projects both edge end points with it"),
+    (16, 3, "eye position (distance metric)"),
+    (19, 1, "distance metric scale k: factor = k · ‖b − a‖ / ‖(a + b)/2 − eye‖"),
+    (20, 2, "viewport width, height in pixels (screen-space metric)"),
+    (22, 1, "target pixels per segment (screen-space metric): factor = projected length / this"),
+    (23, 1, "smallest factor (clamp; NaN becomes this)"),
+    (24, 1, "largest factor (clamp; at most the device's maxTessellationGenerationLevel)"),
+];
+
+/// Floats in the `adaptive` buffer.
+pub const ADAPTIVE_LEN: u32 = 25;
 
 /// Binding of a Plan resource.
 pub fn binding_of(r: Resource) -> &'static Binding {

@@ -99,6 +99,17 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
         let _ = writeln!(s, "| {} | `{name}` | {doc} |", abi::params_offset(name));
     }
     s.push_str("\nThe field `class` is spelled `class_` in the shaders (a reserved word in WGSL, GLSL and HLSL).\n\n");
+    let _ = writeln!(
+        s,
+        "### `adaptive` ({} f32, binding 19)\n",
+        abi::ADAPTIVE_LEN
+    );
+    s.push_str("Read by `tessgen_edge_factor` in GLSL/HLSL builds with `-DTESSGEN_ADAPTIVE` (the control stage then sets one factor per edge from the edge's end points in canonical order; the evaluation stage reads the coordinate on the 2^-16 fixed-point grid). Metric: screen space by default, `-DTESSGEN_METRIC_DISTANCE`, or `-DTESSGEN_METRIC_BUFFER` (`edge_factors[face_edges[4f + k]]`, bindings 17 and 18). Partitioning: integer by default, `-DTESSGEN_FRACTIONAL_ODD` or `-DTESSGEN_FRACTIONAL_EVEN`. Quad schemes only.\n\n");
+    s.push_str("| floats | meaning |\n|---|---|\n");
+    for (first, count, doc) in abi::ADAPTIVE {
+        let _ = writeln!(s, "| {first}..{} | {doc} |", first + count);
+    }
+    s.push('\n');
     s.push_str("## Stencil table texture\n\n");
     let _ = writeln!(
         s,

@@ -385,12 +385,18 @@ impl<'a> Writer<'a> {
     fn roots(&self) -> Vec<FnRef> {
         match self.stage {
             Stage::Vert => vec![],
-            Stage::Tesc | Stage::CompPatch => self
-                .entries
-                .patches
-                .iter()
-                .map(|p| FnRef::Local(p.function))
-                .collect(),
+            Stage::Tesc | Stage::CompPatch => {
+                let mut r: Vec<FnRef> = self
+                    .entries
+                    .patches
+                    .iter()
+                    .map(|p| FnRef::Local(p.function))
+                    .collect();
+                if self.stage == Stage::Tesc && self.entries.sides == 4 {
+                    r.push(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR));
+                }
+                r
+            }
             Stage::Tese => match self.entries.eval_domain {
                 Some(d) => vec![FnRef::Local(d)],
                 None => vec![
@@ -484,7 +490,14 @@ impl<'a> Writer<'a> {
                 add(by_name("valence"), false);
                 add(by_name("vertex_out_offsets"), false);
             }
-            Stage::Tesc | Stage::CompPatch => add(by_name("patch_faces"), false),
+            Stage::Tesc | Stage::CompPatch => {
+                add(by_name("patch_faces"), false);
+                if self.stage == Stage::Tesc && self.entries.sides == 4 {
+                    // The adaptive factors' edge ids and end-point vertices.
+                    add(by_name("face_edges"), false);
+                    add(by_name("corner_vertex"), false);
+                }
+            }
             Stage::CompEval => add(by_name("samples"), true),
             Stage::Vert | Stage::Tese => {}
         }
@@ -544,7 +557,16 @@ impl<'a> Writer<'a> {
                 self.line("// reverses the winding, so the triangles wind counter-clockwise in (u, v), like");
                 self.line("// the control face. (A pipeline created with");
                 self.line("// VK_TESSELLATION_DOMAIN_ORIGIN_LOWER_LEFT would need `cw` here.)");
+                self.line("// Partitioning: integer (equal_spacing) unless the build defines");
+                self.line("// TESSGEN_FRACTIONAL_ODD or TESSGEN_FRACTIONAL_EVEN (adaptive builds only: the");
+                self.line("// uniform path rounds the coordinate to i/level).");
+                self.out.push_str(&format!(
+                    "#if defined({})\nlayout(quads, fractional_odd_spacing, ccw) in;\n#elif defined({})\nlayout(quads, fractional_even_spacing, ccw) in;\n#else\n",
+                    Define::FractionalOdd.name(),
+                    Define::FractionalEven.name()
+                ));
                 self.line("layout(quads, equal_spacing, ccw) in;");
+                self.out.push_str("#endif\n");
             }
             _ => self.line(&format!(
                 "layout(local_size_x = {}, local_size_y = 1, local_size_z = 1) in;",
@@ -602,13 +624,16 @@ impl<'a> Writer<'a> {
                 self.line("    tcs_cp[(c / 4u)][(c % 4u)] = v.x;");
                 self.line("    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;");
                 self.line("    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;");
-            } else {
+                self.line("}");
+                self.line("");
+            }
+            if self.stage == Stage::Tese || (self.stage == Stage::Tesc && self.entries.sides == 4) {
                 self.line("vec3 load_tcs_cp(uint i) {");
                 self.line("    uint c = (3u * i);");
                 self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
+                self.line("}");
+                self.line("");
             }
-            self.line("}");
-            self.line("");
         }
         if self.stage == Stage::Tese {
             self.line("layout(location = 0) out vec3 te_normal;");
@@ -770,12 +795,37 @@ impl<'a> Writer<'a> {
                 } else {
                     self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
                     self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
+                    self.out
+                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
+                    self.line("// Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,");
+                    self.line(
+                        "// shared control points), their global vertices and the global edge id,",
+                    );
+                    self.line(
+                        "// all data of the edge alone. Inner levels: the larger of the two edges",
+                    );
+                    self.line("// running in that direction (inner[0] subdivides along x = v: edges 1, 3).");
+                    self.line("float f[4];");
+                    self.line("for (uint k = 0u; k < 4u; k = (k + 1u)) {");
+                    self.line(&format!("    uint curve = (({class} * 16u) + (k * 4u));"));
+                    self.line(&format!(
+                        "    f[k] = {}(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 4u) + k)], corner_vertex[((face * 4u) + ((k + 1u) % 4u))], face_edges[((face * 4u) + k)]);",
+                        self.fn_name(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR))
+                    ));
+                    self.line("}");
+                    for (k, e) in [0, 3, 2, 1].iter().enumerate() {
+                        self.line(&format!("gl_TessLevelOuter[{k}] = f[{e}];"));
+                    }
+                    self.line("gl_TessLevelInner[0] = max(f[1], f[3]);");
+                    self.line("gl_TessLevelInner[1] = max(f[0], f[2]);");
+                    self.out.push_str("#else\n");
                     for k in 0..4 {
                         self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
                     }
                     for k in 0..2 {
                         self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
                     }
+                    self.out.push_str("#endif\n");
                 }
             }
             Stage::Tese => {
@@ -825,6 +875,27 @@ impl<'a> Writer<'a> {
                 } else {
                     ("y", "x")
                 };
+                if self.entries.sides == 4 {
+                    self.out
+                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
+                    self.line(
+                        "// Adaptive (any partitioning): the coordinate on the tessellator's 16.16",
+                    );
+                    self.line("// fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are");
+                    self.line("// then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate");
+                    self.line(
+                        "// at the hardware coordinate itself, and on an edge the neighbour, whose",
+                    );
+                    self.line("// tessellator mirrors the edge's points (1 − t is exact in fixed point), passes");
+                    self.line("// the shared edge evaluator exactly the swapped pair.");
+                    self.line(&format!("uint level = {}u;", crate::lower::ADAPTIVE_LEVEL));
+                    self.out.push_str("#else\n");
+                    self.line(&format!("uint level = {level};"));
+                    self.out.push_str("#endif\n");
+                } else {
+                    self.line(&format!("uint level = {level};"));
+                }
+                let level = "level";
                 self.line(&format!(
                     "uint iu = uint(round((gl_TessCoord.{cu} * float({level}))));"
                 ));
@@ -841,8 +912,11 @@ impl<'a> Writer<'a> {
                 self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
                 let grid_len = self.fn_name(FnRef::Local(self.entries.grid[0]));
                 let grid_index = self.fn_name(FnRef::Local(self.entries.grid_index));
-                self.out
-                    .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
+                self.out.push_str(&format!(
+                    "#if defined({}) && !defined({})\n",
+                    Define::Capture.name(),
+                    Define::Adaptive.name()
+                ));
                 self.line("// Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw");
                 self.line("// being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).");
                 self.line(&format!(

@@ -929,7 +929,7 @@ impl<'a> Writer<'a> {
         } else {
             "float inside[2] : SV_InsideTessFactor;"
         };
-        let set_factors: String = (0..edges)
+        let uniform_factors: String = (0..edges)
             .map(|k| format!("    c.edges[{k}] = level;\n"))
             .chain(if tri {
                 vec!["    c.inside = level;\n".to_string()]
@@ -939,6 +939,63 @@ impl<'a> Writer<'a> {
                     .collect()
             })
             .collect();
+        let adaptive = Define::Adaptive.name();
+        let set_factors = if tri {
+            uniform_factors
+        } else {
+            let edge_factor = ident(crate::lower::EDGE_FACTOR_FN);
+            format!(
+                "#ifdef {adaptive}\n\
+                 \x20   // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,\n\
+                 \x20   // shared control points), their global vertices and the global edge id, all\n\
+                 \x20   // data of the edge alone. Inside factors: the larger of the two edges running\n\
+                 \x20   // in that direction (inside[0] subdivides along u: edges 0 and 2).\n\
+                 \x20   float f[4];\n\
+                 \x20   for (uint e = 0u; e < 4u; e += 1u) {{\n\
+                 \x20       uint curve = ((params.{class} * 16u) + (e * 4u));\n\
+                 \x20       f[e] = {edge_factor}(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 4u) + e)], corner_vertex[((face * 4u) + ((e + 1u) % 4u))], face_edges[((face * 4u) + e)]);\n\
+                 \x20   }}\n\
+                 \x20   c.edges[0] = f[3];\n\
+                 \x20   c.edges[1] = f[0];\n\
+                 \x20   c.edges[2] = f[1];\n\
+                 \x20   c.edges[3] = f[2];\n\
+                 \x20   c.inside[0] = max(f[0], f[2]);\n\
+                 \x20   c.inside[1] = max(f[1], f[3]);\n\
+                 #else\n{uniform_factors}#endif\n"
+            )
+        };
+        let partitioning = if tri {
+            "[partitioning(\"integer\")]".to_string()
+        } else {
+            format!(
+                "// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or\n\
+                 // TESSGEN_FRACTIONAL_EVEN (adaptive builds only).\n\
+                 #if defined({})\n[partitioning(\"fractional_odd\")]\n#elif defined({})\n[partitioning(\"fractional_even\")]\n#else\n[partitioning(\"integer\")]\n#endif",
+                Define::FractionalOdd.name(),
+                Define::FractionalEven.name()
+            )
+        };
+        let ds_level = if tri {
+            "    uint level = params.level;".to_string()
+        } else {
+            format!(
+                "#ifdef {adaptive}\n\
+                 \x20   // Adaptive (any partitioning): the coordinate on the tessellator's 16.16\n\
+                 \x20   // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp\n\
+                 \x20   // come from integers; the neighbour's tessellator mirrors the edge's points\n\
+                 \x20   // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.\n\
+                 \x20   uint level = {}u;\n\
+                 #else\n\
+                 \x20   uint level = params.level;\n\
+                 #endif",
+                crate::lower::ADAPTIVE_LEVEL
+            )
+        };
+        let capture_if = if tri {
+            format!("#ifdef {capture}")
+        } else {
+            format!("#if defined({capture}) && !defined({adaptive})")
+        };
         let domain_doc = if tri {
             "// Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing\n\
              // corners (0, 1, 2), and eval_domain takes it raw. On the outer ring (a\n\
@@ -1053,7 +1110,7 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
 }}
 
 [domain("{domain}")]
-[partitioning("integer")]
+{partitioning}
 [outputtopology("triangle_ccw")]
 [outputcontrolpoints(1)]
 [patchconstantfunc("{HS_PATCH_CONSTANTS}")]
@@ -1072,7 +1129,7 @@ struct DsOut {{
 {domain_doc}
 [domain("{domain}")]
 DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
-    uint level = params.level;
+{ds_level}
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {{
         uint k = (3u * j);
@@ -1083,7 +1140,7 @@ DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch
     o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
     o.normal = result.{normal};
     o.world = result.{position};
-#ifdef {capture}
+{capture_if}
 {capture_body}
 #endif
     return o;

@@ -183,6 +183,12 @@ pub struct Inputs<'a> {
     pub crease: &'a [Vec3],
     /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
     pub corner_side: &'a [f32],
+    /// Adaptive tessellation: global edge id of edge k of face f at 4f + k.
+    pub face_edges: &'a [u32],
+    /// Adaptive tessellation: explicit factor per global edge id.
+    pub edge_factors: &'a [f32],
+    /// Adaptive tessellation parameters (generated/README.md).
+    pub adaptive: &'a [f32],
     /// The stencil table, row-major, TABLE_WIDTH columns.
     pub table: &'a [f32],
 }

@@ -59,6 +59,9 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         tags: &[],
         crease: &[],
         corner_side: &[],
+        face_edges: &[],
+        edge_factors: &[],
+        adaptive: &[],
         table: &table,
     };
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
