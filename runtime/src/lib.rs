@@ -18,6 +18,7 @@
 
 pub mod accuracy;
 pub mod cpu;
+pub mod displace;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod kernels;

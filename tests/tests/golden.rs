@@ -143,6 +143,7 @@ impl Quad {
             crease: &[],
             corner_side: &[],
             table,
+            ..Default::default()
         }
     }
 }
@@ -518,6 +519,7 @@ impl TriCase {
             crease: &self.crease,
             corner_side: &self.side,
             table: kernels::table(),
+            ..Default::default()
         };
         (class.patch)(&inputs, &mut cp, 0, 0);
         cp

@@ -57,6 +57,10 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 14, name: "tags", kind: Kind::F32Buffer, resource: Some(Resource::Tags), written: false, doc: "scalar tags, 4 f32 per vertex: tension, sharpness, bias, creased (1 when the crease vector is non-null) — scalar-tagged PN" },
     Binding { binding: 15, name: "crease", kind: Kind::Vec3Buffer, resource: Some(Resource::Crease), written: false, doc: "crease vector per vertex, 3 f32 (zero = smooth vertex) — scalar-tagged PN" },
     Binding { binding: 16, name: "corner_side", kind: Kind::F32Buffer, resource: Some(Resource::CornerSide), written: false, doc: "side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN" },
+    Binding { binding: 17, name: "texcoords", kind: Kind::F32Buffer, resource: Some(Resource::TexCoords), written: false, doc: "displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5" },
+    Binding { binding: 18, name: "owners", kind: Kind::U32Buffer, resource: Some(Resource::Owners), written: false, doc: "ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4" },
+    Binding { binding: 19, name: "displace_info", kind: Kind::F32Buffer, resource: Some(Resource::DisplaceInfo), written: false, doc: "displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused" },
+    Binding { binding: 20, name: "displace_map", kind: Kind::Table, resource: Some(Resource::DisplaceMap), written: false, doc: "scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader" },
 ];
 
 /// Binding of a Plan resource.
