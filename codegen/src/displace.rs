@@ -41,11 +41,11 @@ fn let_(f: &mut Function, name: &str, ty: Ty, e: Expr) -> LocalId {
     id
 }
 
-/// `tessgen_texcoord(face, iu, iv, level) -> f32`: the height at the
+/// `tessgen_height_at(face, iu, iv, level) -> f32`: the height at the
 /// interpolated texture coordinate (`height` = index of `tessgen_height`).
 pub fn texcoord_fn(height: usize) -> Function {
     let mut f = Function::new(
-        "tessgen_texcoord",
+        "tessgen_height_at",
         "Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): \
          corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, \
          edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. \
@@ -59,9 +59,19 @@ pub fn texcoord_fn(height: usize) -> Function {
     let level = f.param("level", Ty::U32);
     f.ret = Some(Ty::F32);
     let lf = to_f32(l(level));
-    let lu = let_(&mut f, "lu", Ty::F32, div(to_f32(sub(l(level), l(iu))), lf.clone()));
+    let lu = let_(
+        &mut f,
+        "lu",
+        Ty::F32,
+        div(to_f32(sub(l(level), l(iu))), lf.clone()),
+    );
     let ru = let_(&mut f, "ru", Ty::F32, div(to_f32(l(iu)), lf.clone()));
-    let lv = let_(&mut f, "lv", Ty::F32, div(to_f32(sub(l(level), l(iv))), lf.clone()));
+    let lv = let_(
+        &mut f,
+        "lv",
+        Ty::F32,
+        div(to_f32(sub(l(level), l(iv))), lf.clone()),
+    );
     let rv = let_(&mut f, "rv", Ty::F32, div(to_f32(l(iv)), lf));
     // Edge predicates e0 (v = 0), e1 (u = 1), e2 (v = 1), e3 (u = 0), exact.
     let e = [
@@ -87,10 +97,7 @@ pub fn texcoord_fn(height: usize) -> Function {
             add(
                 l(base),
                 mul(
-                    add(
-                        u(4 * k as u32),
-                        add(l(e[k]), mul(u(2), l(e[(k + 3) % 4]))),
-                    ),
+                    add(u(4 * k as u32), add(l(e[k]), mul(u(2), l(e[(k + 3) % 4])))),
                     u(2),
                 ),
             ),
@@ -123,11 +130,22 @@ pub fn height_fn() -> Function {
     let s = f.param("s", Ty::F32);
     let t = f.param("t", Ty::F32);
     f.ret = Some(Ty::F32);
-    let w = let_(&mut f, "width", Ty::F32, fetch(Resource::DisplaceInfo, u(1)));
-    let h = let_(&mut f, "height", Ty::F32, fetch(Resource::DisplaceInfo, u(2)));
+    let w = let_(
+        &mut f,
+        "width",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(1)),
+    );
+    let h = let_(
+        &mut f,
+        "height",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(2)),
+    );
     let coord = |f: &mut Function, name: &str, c: LocalId, size: LocalId| {
         let x = f.local(name, Ty::F32);
-        f.body.push(Stmt::Var(x, sub(mul(l(c), l(size)), Expr::F32(0.5))));
+        f.body
+            .push(Stmt::Var(x, sub(mul(l(c), l(size)), Expr::F32(0.5))));
         f.body.push(Stmt::If(
             bin(BinOp::Lt, l(x), Expr::F32(0.0)),
             vec![Stmt::Assign(x, Expr::F32(0.0))],
@@ -168,9 +186,8 @@ pub fn height_fn() -> Function {
     };
     let (x0, x1, fx) = coord(&mut f, "x", s, w);
     let (y0, y1, fy) = coord(&mut f, "y", t, h);
-    let texel = |x: LocalId, y: LocalId| {
-        Expr::Texel(Resource::DisplaceMap, Box::new(l(x)), Box::new(l(y)))
-    };
+    let texel =
+        |x: LocalId, y: LocalId| Expr::Texel(Resource::DisplaceMap, Box::new(l(x)), Box::new(l(y)));
     let gx = let_(&mut f, "gx", Ty::F32, sub(Expr::F32(1.0), l(fx)));
     let gy = let_(&mut f, "gy", Ty::F32, sub(Expr::F32(1.0), l(fy)));
     let a = let_(
@@ -220,7 +237,7 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
         "`eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). \
          On the patch boundary the normal is the owner's: `eval` of the owner patch at the \
          owner's integer coordinates, the same call from every patch of the edge or corner; \
-         the texture coordinate is the owner's (tessgen_texcoord). Interiors use the patch's \
+         the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's \
          own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the \
          undisplaced surface's.",
     );
@@ -239,7 +256,12 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
             vec![l(class), l(cp), l(iu), l(iv), l(level)],
         ),
     ));
-    let scale = let_(&mut f, "scale", Ty::F32, fetch(Resource::DisplaceInfo, u(0)));
+    let scale = let_(
+        &mut f,
+        "scale",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(0)),
+    );
     let mut on = Vec::new();
     let n = f.local("n", Ty::Vec3);
     on.push(Stmt::Var(n, Expr::Field(Box::new(l(sample)), 1)));
@@ -337,16 +359,8 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
     ];
     let on_boundary = bin(
         BinOp::Or,
-        bin(
-            BinOp::Or,
-            eq(l(iu), u(0)),
-            eq(l(iu), l(level)),
-        ),
-        bin(
-            BinOp::Or,
-            eq(l(iv), u(0)),
-            eq(l(iv), l(level)),
-        ),
+        bin(BinOp::Or, eq(l(iu), u(0)), eq(l(iu), l(level))),
+        bin(BinOp::Or, eq(l(iv), u(0)), eq(l(iv), l(level))),
     );
     on.push(Stmt::If(on_boundary, boundary, vec![]));
     let hgt = f.local("h", Ty::F32);

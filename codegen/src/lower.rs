@@ -248,12 +248,13 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         let displace = m.functions.len();
         m.functions.push(crate::displace::displace_point_fn());
         let idx = m.functions.len();
-        m.functions
-            .push(crate::displace::eval_displaced_fn(&crate::displace::Callees {
+        m.functions.push(crate::displace::eval_displaced_fn(
+            &crate::displace::Callees {
                 eval,
                 texcoord,
                 displace,
-            }));
+            },
+        ));
         idx
     });
     (

@@ -4,8 +4,8 @@
 //! Each stage writes a disjoint slice per vertex/face, so the parallel result
 //! is bit-identical to a sequential run.
 
-use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
 use crate::displace::{DisplaceData, Displacement};
+use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
 use crate::mesh::Mesh;
 use crate::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
 use glam::Vec3;

@@ -272,7 +272,11 @@ impl Mesh {
             .flatten()
             .map(|&n| if n == 0 { NO_NORMAL } else { (n - 1) as u32 })
             .collect();
-        if let Some(i) = scanned.texcoords.iter().position(|t| !t.iter().all(|x| x.is_finite())) {
+        if let Some(i) = scanned
+            .texcoords
+            .iter()
+            .position(|t| !t.iter().all(|x| x.is_finite()))
+        {
             return Err(obj_err(
                 scanned.texcoord_lines[i],
                 "texture coordinate is not finite",

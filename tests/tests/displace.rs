@@ -83,7 +83,11 @@ fn obj_texture_coordinates_are_read_per_corner() {
 fn displacement_off_is_plain_evaluation_bit_for_bit() {
     let mesh = common::mesh("catmark_cube_uv");
     let topo = Topology::build(&mesh, &cpu::topology_options()).unwrap();
-    let positions: Vec<Vec3> = mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
     for scheme in SCHEMES {
         let patches = cpu::construct(&topo, &positions, cpu::scheme(scheme).unwrap()).unwrap();
         for level in [1, 5, 16] {
@@ -124,6 +128,7 @@ fn displaced_cube_with_uv_seams_welds_closed_on_the_cpu() {
                 let plain = cpu::tessellate_mesh(mesh, scheme, level).unwrap();
                 let moved = max_offset(&t, &plain);
                 assert!(moved > 0.01, "{name} {scheme} L{level}: moved {moved}");
+                println!("cpu {name} {scheme} L{level}: closed, max displacement {moved:.3}");
                 assert!(t.positions.iter().all(|p| p.is_finite()));
             }
         }
@@ -137,7 +142,10 @@ fn without_ownership_the_displaced_surface_cracks() {
     for scheme in SCHEMES {
         for level in [2, 7] {
             let report = weld::weld(&cpu_displaced(&mesh, scheme, level, &d));
-            println!("negative control {scheme} L{level}: {} open edges", report.open_edges);
+            println!(
+                "negative control {scheme} L{level}: {} open edges",
+                report.open_edges
+            );
             assert!(report.open_edges > 0, "{scheme} L{level}: {report:?}");
         }
     }
@@ -159,8 +167,11 @@ mod wgpu_path {
         ];
         for mesh in &meshes {
             let topo = Topology::build(mesh, &cpu::topology_options()).unwrap();
-            let positions: Vec<Vec3> =
-                mesh.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+            let positions: Vec<Vec3> = mesh
+                .positions
+                .iter()
+                .map(|p| Vec3::from_array(*p))
+                .collect();
             let diag = common::bbox_diagonal(mesh);
             for scheme in SCHEMES {
                 for (ownership, closed) in
@@ -179,6 +190,11 @@ mod wgpu_path {
                         }
                         let c = cpu_displaced(mesh, scheme, level, &d);
                         let err = max_offset(&g, &c) / diag;
+                        println!(
+                            "wgpu {} faces {scheme} {ownership:?} L{level}: {} open edges, GPU vs CPU {err:.1e} x diag",
+                            mesh.num_faces(),
+                            report.open_edges
+                        );
                         assert!(err < 1e-5, "{scheme} L{level}: GPU vs CPU {err:e}");
                     }
                 }
