@@ -18,7 +18,7 @@ const LEVELS: &[u32] = &[1, 2, 3, 7, 16];
 /// them, so the two sides of every seam read different heights.
 fn map() -> DisplaceMap {
     DisplaceMap::from_fn(48, 32, |s, t| {
-        let cell = ((s * 3.0).floor() + 3.0 * (t * 2.0).floor()) as f32;
+        let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
         0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
     })
 }
