@@ -202,3 +202,41 @@ mod wgpu_path {
         }
     }
 }
+
+/// Each half of the ownership is needed: owned texture coordinates with
+/// each patch's own boundary normals, and owned normals with each patch's
+/// own texture coordinates, both crack.
+#[test]
+fn normal_and_texcoord_ownership_are_each_needed() {
+    let mesh = common::mesh("catmark_cube_uv");
+    let topo = Topology::build(&mesh, &cpu::topology_options()).unwrap();
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    for scheme in SCHEMES {
+        let patches = cpu::construct(&topo, &positions, cpu::scheme(scheme).unwrap()).unwrap();
+        let data = |o| cpu::displacement_data(&mesh, &topo, &patches, &displacement(o)).unwrap();
+        let (owned, own) = (data(Ownership::LowestFace), data(Ownership::PerPatch));
+        let own_normals = DisplaceData {
+            owners: own.owners.clone(),
+            ..owned.clone()
+        };
+        let own_texcoords = DisplaceData {
+            texcoords: own.texcoords.clone(),
+            ..owned.clone()
+        };
+        for level in [2, 7] {
+            let open = |d: &DisplaceData| {
+                weld::weld(&cpu::evaluate_displaced(&patches, level, d).unwrap()).open_edges
+            };
+            let (n, t) = (open(&own_normals), open(&own_texcoords));
+            println!(
+                "{scheme} L{level}: per-patch normals {n} open edges, per-patch texcoords {t}"
+            );
+            assert!(t > 0, "{scheme} L{level}");
+            assert!(n > 0, "{scheme} L{level}");
+        }
+    }
+}
