@@ -13,6 +13,7 @@ use std::time::Instant;
 use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::adaptive::Partitioning;
+use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
 use tessgen_runtime::stats::MeshStats;
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
@@ -231,6 +232,15 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
+    /// Quad schemes, cpu/wgpu: displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed.
+    #[arg(long, value_name = "MAP.png")]
+    displace: Option<PathBuf>,
+    /// Displacement scale: position + scale · height · normal.
+    #[arg(long, value_name = "S", default_value_t = 1.0, requires = "displace")]
+    displace_scale: f32,
+    /// Negative control: every patch uses its own normal and texture coordinates on its edges (no ownership); seams crack.
+    #[arg(long, requires = "displace")]
+    displace_per_patch: bool,
 }
 
 /// `--adaptive`: which per-edge metric.
@@ -721,19 +731,53 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         None => None,
     };
     let (scheme, split) = (&args.scheme, args.split_quads);
+    let displacement = match &args.displace {
+        Some(path) => {
+            if tags.is_some()
+                || split
+                || args.backend == Backend::Glsl
+                || args.backend == Backend::Hlsl
+            {
+                return Err(
+                    "--displace works with quad schemes on --backend cpu or wgpu (no --tags, no --split-quads)"
+                        .into(),
+                );
+            }
+            Some(Displacement {
+                map: DisplaceMap::from_png(path).map_err(|e| e.to_string())?,
+                scale: args.displace_scale,
+                ownership: if args.displace_per_patch {
+                    Ownership::PerPatch
+                } else {
+                    Ownership::LowestFace
+                },
+            })
+        }
+        None => None,
+    };
     let start = Instant::now();
-    let out = match args.backend {
-        Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+    let out = match (args.backend, &displacement) {
+        (Backend::Cpu, Some(d)) => cpu::tessellate_displaced(&mesh, scheme, level, d)
             .map(Output::Grid)
             .map_err(|e| e.to_string()),
-        Backend::Wgpu => {
-            tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+        (Backend::Wgpu, Some(d)) => {
+            tessgen_runtime::gpu::tessellate_displaced(&mesh, scheme, level, d)
                 .map(Output::Grid)
                 .map_err(|e| e.to_string())
         }
-        Backend::Glsl | Backend::Hlsl => {
-            vulkan_tessellate(&mesh, args, tags.as_ref()).map(Output::Vulkan)
-        }
+        (backend, _) => match backend {
+            Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+                .map(Output::Grid)
+                .map_err(|e| e.to_string()),
+            Backend::Wgpu => {
+                tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
+                    .map(Output::Grid)
+                    .map_err(|e| e.to_string())
+            }
+            Backend::Glsl | Backend::Hlsl => {
+                vulkan_tessellate(&mesh, args, tags.as_ref()).map(Output::Vulkan)
+            }
+        },
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();

@@ -12,6 +12,7 @@
 
 pub mod backend;
 pub mod builder;
+pub mod displace;
 pub mod dsl;
 pub mod form;
 pub mod lower;

@@ -383,6 +383,24 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     m.functions.extend(grid_fns(sides));
     let grid_index = m.functions.len();
     m.functions.push(grid_index_fn(sides));
+    // The displacement step (quad schemes: 16 texture coordinates per patch).
+    let eval_displaced = (sides == 4).then(|| {
+        let height = m.functions.len();
+        m.functions.push(crate::displace::height_fn());
+        let texcoord = m.functions.len();
+        m.functions.push(crate::displace::texcoord_fn(height));
+        let displace = m.functions.len();
+        m.functions.push(crate::displace::displace_point_fn());
+        let idx = m.functions.len();
+        m.functions.push(crate::displace::eval_displaced_fn(
+            &crate::displace::Callees {
+                eval,
+                texcoord,
+                displace,
+            },
+        ));
+        idx
+    });
     (
         m,
         Entries {
@@ -390,6 +408,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             patches,
             eval,
             eval_domain,
+            eval_displaced,
             sides,
             grid,
             grid_index,

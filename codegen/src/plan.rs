@@ -59,6 +59,23 @@ pub enum Resource {
     EdgeFactors,
     /// `f32` adaptive-tessellation parameters (layout: `abi::ADAPTIVE`).
     Adaptive,
+    /// `f32` texture coordinates for displacement, 16 `(s, t)` pairs per quad
+    /// patch (watertight.md Rule 5): pair `4k + j` of face `f` at
+    /// `32f + 2(4k + j)`, corner `k`, `j` = 0 interior, 1 the owner of edge
+    /// `k`'s coordinate of `v_k`, 2 the owner of edge `k − 1`'s coordinate of
+    /// `v_k`, 3 the owner of vertex `v_k`'s coordinate.
+    TexCoords,
+    /// `u32` ownership records for displacement (watertight.md Rule 4): per
+    /// face 8 records of 4 (slots 0–3 edge `k`, 4–7 corner `k`) at
+    /// `32f + 4·slot`: the owner patch's class, its first control point, its
+    /// local edge (corner) index, and 1 when it runs the edge the other way.
+    Owners,
+    /// `f32` displacement parameters: scale (0 = displacement off), map
+    /// width, map height (texels, as f32), unused.
+    DisplaceInfo,
+    /// The scalar displacement map, a 2-D `R32Float` texture read with
+    /// [`Expr::Texel`] (exact texel fetches, bilinear weights in the Plan).
+    DisplaceMap,
 }
 
 impl Resource {
@@ -69,9 +86,13 @@ impl Resource {
             | Resource::ControlPoints
             | Resource::Normals
             | Resource::Crease => Ty::Vec3,
-            Resource::Tags | Resource::CornerSide | Resource::EdgeFactors | Resource::Adaptive => {
-                Ty::F32
-            }
+            Resource::Tags
+            | Resource::CornerSide
+            | Resource::EdgeFactors
+            | Resource::Adaptive
+            | Resource::TexCoords
+            | Resource::DisplaceInfo
+            | Resource::DisplaceMap => Ty::F32,
             _ => Ty::U32,
         }
     }
@@ -93,9 +114,13 @@ impl Resource {
             Resource::FaceEdges => "face_edges",
             Resource::EdgeFactors => "edge_factors",
             Resource::Adaptive => "adaptive",
+            Resource::TexCoords => "texcoords",
+            Resource::Owners => "owners",
+            Resource::DisplaceInfo => "displace_info",
+            Resource::DisplaceMap => "displace_map",
         }
     }
-    pub const ALL: [Resource; 16] = [
+    pub const ALL: [Resource; 20] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -112,6 +137,10 @@ impl Resource {
         Resource::FaceEdges,
         Resource::EdgeFactors,
         Resource::Adaptive,
+        Resource::TexCoords,
+        Resource::Owners,
+        Resource::DisplaceInfo,
+        Resource::DisplaceMap,
     ];
 }
 
@@ -146,8 +175,13 @@ pub enum Builtin {
     /// Nearest integer of an f32 (as f32); only used on values within
     /// rounding error of an integer, where every language's tie rule agrees.
     Round,
-    /// `u32` from a non-negative integral `f32`.
+    /// `floor(x)` of an f32.
+    Floor,
+    /// `u32` from a non-negative integral (or already floored) `f32`
+    /// (truncation).
     U32FromF32,
+    /// `u32` 1 from `true`, 0 from `false` (branch-free selections).
+    U32FromBool,
 }
 
 /// Index of a local in [`Function::locals`].
@@ -174,6 +208,9 @@ pub enum Expr {
     Fetch(Resource, Box<Expr>),
     /// Stencil table texel `(row, column)`.
     TableWeight(Box<Expr>, Box<Expr>),
+    /// Texel `(x, y)` (u32 column, row) of a 2-D texture resource, fetched
+    /// exactly (no filtering): [`Resource::DisplaceMap`].
+    Texel(Resource, Box<Expr>, Box<Expr>),
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -310,6 +347,11 @@ impl Function {
                     add(out, *r, false);
                     expr(i, out);
                 }
+                Expr::Texel(r, x, y) => {
+                    add(out, *r, false);
+                    expr(x, out);
+                    expr(y, out);
+                }
                 Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
                 Expr::Binary(_, a, b) | Expr::TableWeight(a, b) => {
                     expr(a, out);
@@ -362,7 +404,7 @@ impl Function {
                 Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
                     expr(a)
                 }
-                Expr::Binary(_, a, b) => expr(a) || expr(b),
+                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) => expr(a) || expr(b),
                 Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
                 _ => false,
             }
@@ -442,6 +484,10 @@ pub struct Entries {
     /// grid path through `eval` on the patch boundary, the surface at the
     /// raw point inside (the hardware's inner rings are not the lattice).
     pub eval_domain: Option<usize>,
+    /// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample`:
+    /// `eval`, then the displacement step (quad schemes; `None` for
+    /// triangle schemes, which have no per-patch texture coordinates yet).
+    pub eval_displaced: Option<usize>,
     /// Corners per facet: 4 (quad domain) or 3 (triangle domain).
     pub sides: u32,
     /// `grid_len(level)`, `grid_iu(s, level)`, `grid_iv(s, level)`: the

@@ -92,6 +92,18 @@ struct Params {
 // binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
 [[vk::binding(19, 0)]] StructuredBuffer<float> adaptive : register(t19);
 
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+[[vk::binding(21, 0)]] StructuredBuffer<float> texcoords : register(t21);
+
+// binding 22: ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+[[vk::binding(22, 0)]] StructuredBuffer<uint> owners : register(t22);
+
+// binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
+[[vk::binding(23, 0)]] StructuredBuffer<float> displace_info : register(t23);
+
+// binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
+[[vk::binding(24, 0)]] Texture2D<float> displace_map : register(t24);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch

@@ -28,7 +28,7 @@ pub mod common {
     }
     /// Everything the kernels read, as flat slices (the GPU binds the same
     /// arrays as buffers and the table as a texture).
-    #[derive(Clone, Copy, Debug)]
+    #[derive(Clone, Copy, Debug, Default)]
     pub struct Inputs<'a> {
         pub positions: &'a [Vec3],
         pub valence: &'a [u32],
@@ -54,6 +54,16 @@ pub mod common {
         pub adaptive: &'a [f32],
         /// The stencil table, row-major, TABLE_WIDTH columns.
         pub table: &'a [f32],
+        /// Displacement (quad schemes): 16 (s, t) pairs per face, owner's
+        /// coordinates on edges and corners (watertight.md Rule 5).
+        pub texcoords: &'a [f32],
+        /// Displacement: 8 ownership records of 4 u32 per face (Rule 4).
+        pub owners: &'a [u32],
+        /// Displacement: scale (0 = off), map width, map height, unused.
+        pub displace_info: &'a [f32],
+        /// Displacement map texels, row-major, `displace_width` columns.
+        pub displace_map: &'a [f32],
+        pub displace_width: u32,
     }
     
     /// Patch stage of one facet class.
@@ -82,6 +92,9 @@ pub mod common {
         /// hardware tessellator's barycentric domain point (what the GLSL/HLSL
         /// evaluation stages run), for parity checks of captured vertices.
         pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
+        /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
+        /// displacement step (quad schemes; `None` for triangle schemes).
+        pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
         /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
         /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
         pub sides: u32,
@@ -316,6 +329,142 @@ pub mod regular {
         return ((iv * (level + 1u32)) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = ((iu == level) as u32);
+        let e2: u32 = ((iv == level) as u32);
+        let e3: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = (lu * lv);
+        let w1: f32 = (ru * lv);
+        let w2: f32 = (ru * rv);
+        let w3: f32 = (lu * rv);
+        let base: u32 = (face * 32u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e3))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let p3: u32 = (base + ((12u32 + (e3 + (2u32 * e2))) * 2u32));
+        let s: f32 = ((((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 0u32)) as usize]));
+        let t: f32 = ((((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if (iu == level) {
+                        slot = 1u32;
+                        t = iv;
+                    } else {
+                        if (iv == level) {
+                            slot = 2u32;
+                            t = (level - iu);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = level;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (level - ot);
+                        ov = level;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (level - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "regular",
@@ -327,6 +476,7 @@ pub mod regular {
         ],
         eval: eval,
         eval_domain: None,
+        eval_displaced: Some(eval_displaced),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -681,6 +831,142 @@ pub mod pccm {
         return ((iv * (level + 1u32)) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = ((iu == level) as u32);
+        let e2: u32 = ((iv == level) as u32);
+        let e3: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = (lu * lv);
+        let w1: f32 = (ru * lv);
+        let w2: f32 = (ru * rv);
+        let w3: f32 = (lu * rv);
+        let base: u32 = (face * 32u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e3))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let p3: u32 = (base + ((12u32 + (e3 + (2u32 * e2))) * 2u32));
+        let s: f32 = ((((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 0u32)) as usize]));
+        let t: f32 = ((((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if (iu == level) {
+                        slot = 1u32;
+                        t = iv;
+                    } else {
+                        if (iv == level) {
+                            slot = 2u32;
+                            t = (level - iu);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = level;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (level - ot);
+                        ov = level;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (level - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pccm",
@@ -693,6 +979,7 @@ pub mod pccm {
         ],
         eval: eval,
         eval_domain: None,
+        eval_displaced: Some(eval_displaced),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -999,6 +1286,142 @@ pub mod acc {
         return ((iv * (level + 1u32)) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = ((iu == level) as u32);
+        let e2: u32 = ((iv == level) as u32);
+        let e3: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = (lu * lv);
+        let w1: f32 = (ru * lv);
+        let w2: f32 = (ru * rv);
+        let w3: f32 = (lu * rv);
+        let base: u32 = (face * 32u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e3))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let p3: u32 = (base + ((12u32 + (e3 + (2u32 * e2))) * 2u32));
+        let s: f32 = ((((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 0u32)) as usize]));
+        let t: f32 = ((((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if (iu == level) {
+                        slot = 1u32;
+                        t = iv;
+                    } else {
+                        if (iv == level) {
+                            slot = 2u32;
+                            t = (level - iu);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = level;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (level - ot);
+                        ov = level;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (level - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "acc",
@@ -1011,6 +1434,7 @@ pub mod acc {
         ],
         eval: eval,
         eval_domain: None,
+        eval_displaced: Some(eval_displaced),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1342,6 +1766,142 @@ pub mod gregory {
         return ((iv * (level + 1u32)) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = ((iu == level) as u32);
+        let e2: u32 = ((iv == level) as u32);
+        let e3: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = (lu * lv);
+        let w1: f32 = (ru * lv);
+        let w2: f32 = (ru * rv);
+        let w3: f32 = (lu * rv);
+        let base: u32 = (face * 32u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e3))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let p3: u32 = (base + ((12u32 + (e3 + (2u32 * e2))) * 2u32));
+        let s: f32 = ((((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 0u32)) as usize]));
+        let t: f32 = ((((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if (iu == level) {
+                        slot = 1u32;
+                        t = iv;
+                    } else {
+                        if (iv == level) {
+                            slot = 2u32;
+                            t = (level - iu);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = level;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (level - ot);
+                        ov = level;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (level - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory",
@@ -1354,6 +1914,7 @@ pub mod gregory {
         ],
         eval: eval,
         eval_domain: None,
+        eval_displaced: Some(eval_displaced),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1685,6 +2246,142 @@ pub mod gregory_osd {
         return ((iv * (level + 1u32)) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let lu: f32 = (((level - iu) as f32) / (level as f32));
+        let ru: f32 = ((iu as f32) / (level as f32));
+        let lv: f32 = (((level - iv) as f32) / (level as f32));
+        let rv: f32 = ((iv as f32) / (level as f32));
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = ((iu == level) as u32);
+        let e2: u32 = ((iv == level) as u32);
+        let e3: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = (lu * lv);
+        let w1: f32 = (ru * lv);
+        let w2: f32 = (ru * rv);
+        let w3: f32 = (lu * rv);
+        let base: u32 = (face * 32u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e3))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let p3: u32 = (base + ((12u32 + (e3 + (2u32 * e2))) * 2u32));
+        let s: f32 = ((((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 0u32)) as usize]));
+        let t: f32 = ((((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize])) + (w3 * inputs.texcoords[((p3 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if (iu == level) {
+                        slot = 1u32;
+                        t = iv;
+                    } else {
+                        if (iv == level) {
+                            slot = 2u32;
+                            t = (level - iu);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = level;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (level - ot);
+                        ov = level;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (level - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory_osd",
@@ -1697,6 +2394,7 @@ pub mod gregory_osd {
         ],
         eval: eval,
         eval_domain: None,
+        eval_displaced: Some(eval_displaced),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1905,6 +2603,7 @@ pub mod pn {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
+        eval_displaced: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2156,6 +2855,7 @@ pub mod stpn {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
+        eval_displaced: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2358,6 +3058,7 @@ pub mod phong {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
+        eval_displaced: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,

@@ -4,6 +4,7 @@
 //! Each stage writes a disjoint slice per vertex/face, so the parallel result
 //! is bit-identical to a sequential run.
 
+use crate::displace::{DisplaceData, Displacement};
 use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
 use crate::mesh::Mesh;
 use crate::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
@@ -35,6 +36,8 @@ pub enum TessError {
     Tags(#[from] crate::tags::TagError),
     #[error("scheme `{scheme}` takes no crease tags (only `stpn` reads them)")]
     TagsUnused { scheme: String },
+    #[error(transparent)]
+    Displace(#[from] crate::displace::DisplaceError),
 }
 
 /// The error for a scheme given the wrong kind of facet.
@@ -182,6 +185,7 @@ pub fn construct(
             edge_factors: &[],
             adaptive: &[],
             table,
+            ..Default::default()
         };
         split_by_offsets(&mut vertex_out, &vertex_out_offsets)
             .into_par_iter()
@@ -216,6 +220,7 @@ pub fn construct(
             edge_factors: &[],
             adaptive: &[],
             table,
+            ..Default::default()
         };
         split_by_offsets(&mut control_points, &cp_offsets)
             .into_par_iter()
@@ -319,6 +324,112 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
     })
 }
 
+/// [`evaluate`] through the displacement step: `p + scale · h(tc) · n` with
+/// the owner's normal and texture coordinate on shared edges and corners
+/// ([`crate::displace`]). `data` must be built with this [`Patches`]'
+/// layout ([`displacement_data`]). With [`DisplaceData::off`] the result is
+/// [`evaluate`]'s, bit for bit.
+pub fn evaluate_displaced(
+    patches: &Patches,
+    level: u32,
+    data: &DisplaceData,
+) -> Result<Tessellation, TessError> {
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let kernels = patches.scheme;
+    let Some(eval) = kernels.eval_displaced else {
+        return Err(facet_error(kernels));
+    };
+    let per = (kernels.grid_len)(level) as usize;
+    let faces = patches.face_class.len();
+    let inputs = Inputs {
+        texcoords: &data.texcoords,
+        owners: &data.owners,
+        displace_info: &data.info,
+        displace_map: &data.map.texels,
+        displace_width: data.map.width,
+        ..Default::default()
+    };
+    let mut samples = vec![
+        Sample {
+            position: Vec3::ZERO,
+            normal: Vec3::ZERO
+        };
+        per * faces
+    ];
+    samples
+        .par_chunks_mut(per)
+        .enumerate()
+        .for_each(|(f, grid)| {
+            let class = patches.face_class[f];
+            let cp_base = patches.cp_offsets[f];
+            for (s, out) in grid.iter_mut().enumerate() {
+                let s = s as u32;
+                let (iu, iv) = ((kernels.grid_iu)(s, level), (kernels.grid_iv)(s, level));
+                *out = eval(
+                    &inputs,
+                    &patches.control_points,
+                    f as u32,
+                    class,
+                    cp_base,
+                    iu,
+                    iv,
+                    level,
+                );
+            }
+        });
+    Ok(Tessellation {
+        level,
+        faces,
+        sides: kernels.sides,
+        positions: samples.iter().map(|s| s.position).collect(),
+        normals: samples.iter().map(|s| s.normal).collect(),
+    })
+}
+
+/// The displacement arrays for the CPU layout of `patches` (control points
+/// in face order).
+pub fn displacement_data(
+    mesh: &Mesh,
+    topo: &Topology,
+    patches: &Patches,
+    d: &Displacement,
+) -> Result<DisplaceData, TessError> {
+    Ok(crate::displace::build(
+        mesh,
+        topo,
+        &patches.face_class,
+        &patches.cp_offsets[..patches.face_class.len()],
+        d,
+    )?)
+}
+
+/// [`tessellate_mesh`] with displacement (quad schemes).
+pub fn tessellate_displaced(
+    mesh: &Mesh,
+    scheme_name: &str,
+    level: u32,
+    d: &Displacement,
+) -> Result<Tessellation, TessError> {
+    let kernels = scheme(scheme_name)?;
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    if kernels.sides != 4 {
+        return Err(facet_error(kernels));
+    }
+    let topo = Topology::build(mesh, &topology_options())?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let patches = construct(&topo, &positions, kernels)?;
+    let data = displacement_data(mesh, &topo, &patches, d)?;
+    evaluate_displaced(&patches, level, &data)
+}
+
 /// Load-free entry point: topology + scheme + level → grids.
 pub fn tessellate_mesh(
     mesh: &Mesh,
@@ -372,6 +483,7 @@ pub fn construct_tri(
         edge_factors: &[],
         adaptive: &[],
         table: kernels::table(),
+        ..Default::default()
     };
     control_points
         .par_chunks_mut(class.control_points as usize)

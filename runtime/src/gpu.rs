@@ -33,6 +33,8 @@ pub enum GpuError {
     NoShader(String),
     #[error("generated WGSL does not parse/validate: {0}")]
     Shader(String),
+    #[error("the displacement map ({width}x{height}) exceeds max_texture_dimension_2d = {max}")]
+    MapTooLarge { width: u32, height: u32, max: u32 },
     #[error("the stencil table ({width}x{height}) exceeds max_texture_dimension_2d = {max}")]
     TableTooLarge { width: u32, height: u32, max: u32 },
     #[error("{what} needs {needed} bytes in one binding, more than max_storage_buffer_binding_size = {max}")]
@@ -194,11 +196,55 @@ pub struct GpuMesh<'g> {
     num_positions: u32,
     buffers: HashMap<u32, wgpu::Buffer>,
     table_view: wgpu::TextureView,
+    /// The displacement map (binding 20; 1×1 zero while displacement is off).
+    displace_view: wgpu::TextureView,
     module: wgpu::ShaderModule,
     bindings: HashMap<String, Vec<u32>>,
     vertex_pipeline: wgpu::ComputePipeline,
     patch_pipeline: wgpu::ComputePipeline,
     eval_pipeline: wgpu::ComputePipeline,
+}
+
+/// An `R32Float` texture holding `texels` (row-major, `width` columns).
+fn r32_texture(
+    gpu: &Gpu,
+    label: &'static str,
+    width: u32,
+    height: u32,
+    texels: &[f32],
+) -> wgpu::TextureView {
+    let size = wgpu::Extent3d {
+        width,
+        height,
+        depth_or_array_layers: 1,
+    };
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    let bytes: Vec<u8> = texels.iter().flat_map(|w| w.to_le_bytes()).collect();
+    gpu.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture: &texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        &bytes,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * width),
+            rows_per_image: Some(height),
+        },
+        size,
+    );
+    texture.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 /// A buffer larger than one storage binding is a typed error, never a
@@ -236,6 +282,24 @@ impl<'g> GpuMesh<'g> {
     ) -> Result<Self, GpuError> {
         let upload = Upload::quad(topo, positions, scheme_name)?;
         Self::build(gpu, limits, upload)
+    }
+
+    /// Upload a quad mesh with displacement ([`crate::displace`]): the
+    /// texture coordinates come from `mesh` (the OBJ's `vt`), owners are
+    /// recorded in this upload's class-sorted control-point layout.
+    pub fn new_displaced(
+        gpu: &'g Gpu,
+        mesh: &crate::Mesh,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme_name: &str,
+        d: &crate::displace::Displacement,
+    ) -> Result<Self, GpuError> {
+        let upload = Upload::quad(topo, positions, scheme_name)?;
+        let (class, cp_base) = upload.face_layout();
+        let data = crate::displace::build(mesh, topo, &class, &cp_base, d)
+            .map_err(cpu::TessError::from)?;
+        Self::build(gpu, gpu.limits, upload.with_displacement(&data))
     }
 
     /// Upload a triangle mesh for a triangle scheme (`pn`, `stpn`, `phong`):
@@ -301,41 +365,18 @@ impl<'g> GpuMesh<'g> {
                 max: limits.max_texture_dimension_2d,
             });
         }
-        let texture = dev.create_texture(&wgpu::TextureDescriptor {
-            label: Some("stencil_table"),
-            size: wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let bytes: Vec<u8> = table.iter().flat_map(|w| w.to_le_bytes()).collect();
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            &bytes,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(4 * width),
-                rows_per_image: Some(height),
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
-        let table_view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let table_view = r32_texture(gpu, "stencil_table", width, height, table);
+        let map = &upload.displace_map;
+        if map.width > limits.max_texture_dimension_2d
+            || map.height > limits.max_texture_dimension_2d
+        {
+            return Err(GpuError::MapTooLarge {
+                width: map.width,
+                height: map.height,
+                max: limits.max_texture_dimension_2d,
+            });
+        }
+        let displace_view = r32_texture(gpu, "displace_map", map.width, map.height, &map.texels);
 
         let (module, vertex_pipeline, patch_pipeline, eval_pipeline) = gpu.scoped(|| {
             let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -367,6 +408,7 @@ impl<'g> GpuMesh<'g> {
             num_positions: upload.num_positions,
             buffers,
             table_view,
+            displace_view,
             module,
             bindings,
             vertex_pipeline,
@@ -424,6 +466,7 @@ impl<'g> GpuMesh<'g> {
         for b in used {
             let resource = match b {
                 binding::TABLE => wgpu::BindingResource::TextureView(&self.table_view),
+                binding::DISPLACE_MAP => wgpu::BindingResource::TextureView(&self.displace_view),
                 binding::PARAMS => params.as_entire_binding(),
                 binding::SAMPLES => match samples {
                     Some(s) => s.as_entire_binding(),
@@ -714,6 +757,30 @@ pub fn tessellate_mesh(
         .collect();
     let gpu = Gpu::new()?;
     GpuMesh::new(&gpu, &topo, &positions, kernels.name)?.evaluate(level)
+}
+
+/// Like [`cpu::tessellate_displaced`] on the GPU.
+pub fn tessellate_displaced(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    d: &crate::displace::Displacement,
+) -> Result<Tessellation, GpuError> {
+    let kernels = cpu::scheme(scheme)?;
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    if kernels.sides != 4 {
+        return Err(cpu::facet_error(kernels).into());
+    }
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let gpu = Gpu::new()?;
+    GpuMesh::new_displaced(&gpu, mesh, &topo, &positions, kernels.name, d)?.evaluate(level)
 }
 
 /// Like [`cpu::tessellate_any`] on the GPU: quad schemes through

@@ -20,6 +20,7 @@ pub mod accuracy;
 pub mod adaptive;
 pub mod capture;
 pub mod cpu;
+pub mod displace;
 #[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod kernels;

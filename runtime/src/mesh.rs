@@ -65,6 +65,13 @@ pub struct Mesh {
     /// empty, meaning "no normals", so that meshes assembled by hand with
     /// `..Default::default()` stay valid. [`Mesh::corner_normal`] reads it either way.
     pub face_normals: Vec<u32>,
+    /// Texture coordinates `(u, v)` as written in the OBJ (`vt`, first two values); index `k`
+    /// is the `(k+1)`-th `vt` line. Read for displacement mapping ([`crate::displace`]).
+    pub texcoords: Vec<[f32; 2]>,
+    /// Parallel to [`Mesh::face_vertices`]: the 0-based [`Mesh::texcoords`] index of each face
+    /// corner (`f v/vt`), or [`NO_NORMAL`] (the same marker) for a corner without one. May be
+    /// empty (no texture coordinates).
+    pub face_texcoords: Vec<u32>,
 }
 
 /// Marker in [`Mesh::face_normals`] for a face corner without a normal index.
@@ -213,6 +220,16 @@ impl Mesh {
             .filter(|&n| n != NO_NORMAL)
     }
 
+    /// The texture coordinate of face corner `corner` (an index into [`Mesh::face_vertices`]),
+    /// or `None` when it has none.
+    pub fn corner_texcoord(&self, corner: usize) -> Option<[f32; 2]> {
+        self.face_texcoords
+            .get(corner)
+            .copied()
+            .filter(|&n| n != NO_NORMAL)
+            .and_then(|n| self.texcoords.get(n as usize).copied())
+    }
+
     /// Whether any face corner has a normal index. `vn` lines that no face uses do not count:
     /// they carry no per-vertex information.
     pub fn has_normals(&self) -> bool {
@@ -255,9 +272,28 @@ impl Mesh {
             .flatten()
             .map(|&n| if n == 0 { NO_NORMAL } else { (n - 1) as u32 })
             .collect();
+        if let Some(i) = scanned
+            .texcoords
+            .iter()
+            .position(|t| !t.iter().all(|x| x.is_finite()))
+        {
+            return Err(obj_err(
+                scanned.texcoord_lines[i],
+                "texture coordinate is not finite",
+            ));
+        }
+        // Range-checked by the scanner (1-based, 0 = none).
+        let face_texcoords = scanned
+            .face_texcoords
+            .iter()
+            .flatten()
+            .map(|&n| if n == 0 { NO_NORMAL } else { (n - 1) as u32 })
+            .collect();
         let mesh = Mesh {
             normals: scanned.normals,
             face_normals,
+            texcoords: scanned.texcoords,
+            face_texcoords,
             ..mesh
         };
         match load_with_tobj(text) {
@@ -376,6 +412,8 @@ impl Mesh {
             tags,
             normals: Vec::new(),
             face_normals: vec![NO_NORMAL; total],
+            texcoords: Vec::new(),
+            face_texcoords: Vec::new(),
         })
     }
 }
@@ -561,6 +599,10 @@ struct Scanned {
     /// Parallel to `faces`: 1-based resolved normal index per corner, 0 = none. Range-checked
     /// by `scan_obj` before it returns.
     face_normals: Vec<Vec<i64>>,
+    /// Parallel to `faces`: 1-based resolved `vt` index per corner, 0 = none (range-checked).
+    face_texcoords: Vec<Vec<i64>>,
+    texcoords: Vec<[f32; 2]>,
+    texcoord_lines: Vec<usize>,
     normals: Vec<[f32; 3]>,
     normal_lines: Vec<usize>,
     face_lines: Vec<usize>,
@@ -576,6 +618,9 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
         position_lines: Vec::new(),
         faces: Vec::new(),
         face_normals: Vec::new(),
+        face_texcoords: Vec::new(),
+        texcoords: Vec::new(),
+        texcoord_lines: Vec::new(),
         normals: Vec::new(),
         normal_lines: Vec::new(),
         face_lines: Vec::new(),
@@ -596,7 +641,9 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
                 s.position_lines.push(line);
             }
             Some("vt") => {
-                scan_floats(line, words, 2, "texture coordinate")?;
+                let t = scan_floats(line, words, 2, "texture coordinate")?;
+                s.texcoords.push([t[0], t[1]]);
+                s.texcoord_lines.push(line);
                 num_vt += 1;
             }
             Some("vn") => {
@@ -607,17 +654,20 @@ fn scan_obj(text: &str) -> Result<Scanned, MeshError> {
             Some("f") => {
                 let mut face = Vec::new();
                 let mut normals = Vec::new();
+                let mut tcs = Vec::new();
                 for word in words {
                     let (v, vt, vn) =
                         scan_corner(line, word, s.positions.len(), num_vt, s.normals.len())?;
                     face.push(v);
                     normals.push(vn.unwrap_or(0));
+                    tcs.push(vt.unwrap_or(0));
                     if vt.is_some() || vn.is_some() {
                         attr_refs.push((line, vt.unwrap_or(0), vn.unwrap_or(0)));
                     }
                 }
                 s.faces.push(face);
                 s.face_normals.push(normals);
+                s.face_texcoords.push(tcs);
                 s.face_lines.push(line);
             }
             Some("l") => {

@@ -35,8 +35,15 @@ pub mod binding {
     /// Not an ABI binding: the Vulkan harness's geometry-shader triangle
     /// capture of adaptive draws (`runtime::vulkan`).
     pub const TRIANGLES: u32 = 20;
-    /// Number of bindings the Vulkan harness lays out (0 ..= TRIANGLES).
+    /// Number of bindings the Vulkan harness lays out (0 ..= TRIANGLES); the
+    /// displacement bindings below are read only by `eval_displaced` (WGSL
+    /// entries, GLSL compute evaluation), not by the tessellation stages.
     pub const COUNT: u32 = 21;
+    pub const TEXCOORDS: u32 = 21;
+    pub const OWNERS: u32 = 22;
+    pub const DISPLACE_INFO: u32 = 23;
+    /// The displacement map texture (not in [`Upload::buffers`]).
+    pub const DISPLACE_MAP: u32 = 24;
 }
 
 /// Errors building an [`Upload`].
@@ -86,6 +93,9 @@ pub struct Upload {
     pub num_positions: u32,
     /// Storage buffers by binding (the table and Params are not here).
     pub buffers: Vec<UploadBuffer>,
+    /// The displacement map (binding 20, an `R32Float` texture); a 1×1 zero
+    /// map while displacement is off.
+    pub displace_map: crate::displace::DisplaceMap,
 }
 
 /// Size of the Params uniform block in bytes (`abi::PARAMS_SIZE`).
@@ -256,7 +266,40 @@ impl Upload {
             ],
             patch_faces,
             classes,
-        })
+            displace_map: crate::displace::DisplaceMap::flat(),
+        }
+        .with_displacement(&crate::displace::DisplaceData::off()))
+    }
+
+    /// Class and first control point of every face in this upload's layout
+    /// (patches sorted by class): what [`crate::displace::build`] records
+    /// for the owners.
+    pub fn face_layout(&self) -> (Vec<u32>, Vec<u32>) {
+        let mut class = vec![0u32; self.patch_faces.len()];
+        let mut cp_base = vec![0u32; self.patch_faces.len()];
+        for c in &self.classes {
+            for k in 0..c.count {
+                let f = self.patch_faces[(c.first + k) as usize] as usize;
+                class[f] = c.class;
+                cp_base[f] = c.cp_base + k * c.points;
+            }
+        }
+        (class, cp_base)
+    }
+
+    /// Replace the displacement data (bindings 21–24). Built for this
+    /// upload's [`Upload::face_layout`].
+    pub fn with_displacement(mut self, d: &crate::displace::DisplaceData) -> Self {
+        self.buffers.retain(|b| {
+            ![binding::TEXCOORDS, binding::OWNERS, binding::DISPLACE_INFO].contains(&b.binding)
+        });
+        self.buffers.extend([
+            buf(binding::TEXCOORDS, "texcoords", f32_bytes(&d.texcoords)),
+            buf(binding::OWNERS, "owners", u32_bytes(&d.owners)),
+            buf(binding::DISPLACE_INFO, "displace_info", f32_bytes(&d.info)),
+        ]);
+        self.displace_map = d.map.clone();
+        self
     }
 
     /// A triangle mesh for a triangle scheme: corner vertices, positions,
@@ -307,6 +350,7 @@ impl Upload {
             ],
             patch_faces,
             classes,
+            displace_map: crate::displace::DisplaceMap::flat(),
         })
     }
 

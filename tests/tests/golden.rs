@@ -146,6 +146,7 @@ impl Quad {
             edge_factors: &[],
             adaptive: &[],
             table,
+            ..Default::default()
         }
     }
 }
@@ -524,6 +525,7 @@ impl TriCase {
             edge_factors: &[],
             adaptive: &[],
             table: kernels::table(),
+            ..Default::default()
         };
         (class.patch)(&inputs, &mut cp, 0, 0);
         cp

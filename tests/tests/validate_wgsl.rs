@@ -344,6 +344,9 @@ fn builtin_schemes_validate() {
 
 /// The bindings each entry point reaches, as `binding name access`: the
 /// table a runtime builds its bind group layouts from.
+/// The triangle schemes' WGSL files.
+const TRI: &[&str] = &["wgsl/pn.wgsl", "wgsl/stpn.wgsl", "wgsl/phong.wgsl"];
+
 #[test]
 fn entry_point_bindings() {
     let files = wgsl_files(Builder::new().builtin_schemes());
@@ -419,12 +422,37 @@ fn entry_point_bindings() {
                     "10 params -",
                     "11 patch_faces read",
                 ],
-                "eval_main" => &[
+                // Triangle schemes evaluate without displacement.
+                "eval_main" if TRI.contains(&f.path.as_str()) => &[
                     "8 control_points_ro read",
                     "10 params -",
                     "12 samples read_write",
                 ],
-                "eval_vs" => &["8 control_points_ro read", "10 params -"],
+                "eval_vs" if TRI.contains(&f.path.as_str()) => {
+                    &["8 control_points_ro read", "10 params -"]
+                }
+                // Quad schemes evaluate through eval_displaced: the face,
+                // texture coordinates, owners, parameters and the map
+                // (6 storage buffers in eval_main, 5 in the vertex stage).
+                "eval_main" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "12 samples read_write",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
+                ],
+                "eval_vs" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
+                ],
                 // The wireframe flag.
                 "shade_fs" => &["10 params -"],
                 other => panic!("{}: unexpected entry point {other}", f.path),

@@ -60,6 +60,10 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 17, name: "face_edges", kind: Kind::U32Buffer, resource: Some(Resource::FaceEdges), written: false, doc: "global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)" },
     Binding { binding: 18, name: "edge_factors", kind: Kind::F32Buffer, resource: Some(Resource::EdgeFactors), written: false, doc: "explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)" },
     Binding { binding: 19, name: "adaptive", kind: Kind::F32Buffer, resource: Some(Resource::Adaptive), written: false, doc: "adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)" },
+    Binding { binding: 21, name: "texcoords", kind: Kind::F32Buffer, resource: Some(Resource::TexCoords), written: false, doc: "displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5" },
+    Binding { binding: 22, name: "owners", kind: Kind::U32Buffer, resource: Some(Resource::Owners), written: false, doc: "ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4" },
+    Binding { binding: 23, name: "displace_info", kind: Kind::F32Buffer, resource: Some(Resource::DisplaceInfo), written: false, doc: "displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused" },
+    Binding { binding: 24, name: "displace_map", kind: Kind::Table, resource: Some(Resource::DisplaceMap), written: false, doc: "scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader" },
 ];
 
 /// Layout of the `adaptive` buffer (binding 19): `(first float, count,

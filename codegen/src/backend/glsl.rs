@@ -406,6 +406,7 @@ impl<'a> Writer<'a> {
                 ],
             },
             Stage::CompEval => std::iter::once(self.entries.eval)
+                .chain(self.entries.eval_displaced)
                 .chain(self.entries.grid)
                 .map(FnRef::Local)
                 .collect(),
@@ -498,7 +499,12 @@ impl<'a> Writer<'a> {
                     add(by_name("corner_vertex"), false);
                 }
             }
-            Stage::CompEval => add(by_name("samples"), true),
+            Stage::CompEval => {
+                add(by_name("samples"), true);
+                if self.entries.eval_displaced.is_some() {
+                    add(by_name("patch_faces"), false);
+                }
+            }
             Stage::Vert | Stage::Tese => {}
         }
         need
@@ -976,10 +982,20 @@ impl<'a> Writer<'a> {
                         self.class_chain(&|_, p| format!("points = {}u;", p.control_points));
                     }
                 }
+                // Quad schemes evaluate through the displacement step (a
+                // no-op, bit for bit, while displace_info[0] == 0).
+                let (eval, face_arg) = match self.entries.eval_displaced {
+                    Some(d) => {
+                        self.line(&format!(
+                            "uint face = patch_faces[({first} + patch_index)];"
+                        ));
+                        (self.fn_name(FnRef::Local(d)), "face, ")
+                    }
+                    None => (self.fn_name(FnRef::Local(self.entries.eval)), ""),
+                };
                 self.line(&format!(
-                    "{} result = {}({class}, ({cp_base} + (patch_index * points)), iu, iv, {level});",
+                    "{} result = {eval}({face_arg}{class}, ({cp_base} + (patch_index * points)), iu, iv, {level});",
                     self.ty(&Ty::Struct(common::SAMPLE)),
-                    self.fn_name(FnRef::Local(self.entries.eval))
                 ));
                 self.line(&format!("uint o = (({} + k) * 6u);", param("out_base")));
                 for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
@@ -1160,7 +1176,8 @@ impl<'a> Writer<'a> {
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("vec3({}, {}, {})", a[0], a[1], a[2]),
                     Builtin::Round => format!("round({})", a[0]),
-                    Builtin::U32FromF32 => format!("uint({})", a[0]),
+                    Builtin::Floor => format!("floor({})", a[0]),
+                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -1197,6 +1214,12 @@ impl<'a> Writer<'a> {
                 "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
                 self.expr(m, f, col),
                 self.expr(m, f, row)
+            ),
+            Expr::Texel(r, x, y) => format!(
+                "texelFetch({}, ivec2(int({}), int({})), 0).x",
+                r.name(),
+                self.expr(m, f, x),
+                self.expr(m, f, y)
             ),
         }
     }

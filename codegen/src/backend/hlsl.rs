@@ -490,7 +490,18 @@ impl<'a> Writer<'a> {
             self.line("    return s;");
             self.line("}");
         }
-        for f in &m.functions {
+        // The displacement step (eval_displaced and the three functions
+        // lowered just before it) evaluates owner patches from the global
+        // control-point buffer; HLSL's evaluation reads a patch-local array,
+        // so HLSL does not displace (yet) and does not print them.
+        let skip = match self.entries.eval_displaced {
+            Some(d) if std::ptr::eq(m, self.module) => d.saturating_sub(3)..d + 1,
+            _ => 0..0,
+        };
+        for (i, f) in m.functions.iter().enumerate() {
+            if skip.contains(&i) {
+                continue;
+            }
             self.line("");
             self.function(m, f);
         }
@@ -686,7 +697,8 @@ impl<'a> Writer<'a> {
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("float3({}, {}, {})", a[0], a[1], a[2]),
                     Builtin::Round => format!("round({})", a[0]),
-                    Builtin::U32FromF32 => format!("uint({})", a[0]),
+                    Builtin::Floor => format!("floor({})", a[0]),
+                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -725,6 +737,12 @@ impl<'a> Writer<'a> {
                 "stencil_table.Load(int3(int({}), int({}), 0))",
                 self.expr(cx, col),
                 self.expr(cx, row)
+            ),
+            Expr::Texel(r, x, y) => format!(
+                "{}.Load(int3(int({}), int({}), 0))",
+                r.name(),
+                self.expr(cx, x),
+                self.expr(cx, y)
             ),
         }
     }

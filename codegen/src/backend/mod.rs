@@ -81,7 +81,7 @@ pub fn called(f: &Function) -> Vec<FnRef> {
             Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
                 expr(a, out)
             }
-            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) => {
+            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::Texel(_, a, b) => {
                 expr(a, out);
                 expr(b, out);
             }

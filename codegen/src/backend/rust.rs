@@ -165,7 +165,7 @@ impl<'a> Writer<'a> {
         let text = r#"
 /// Everything the kernels read, as flat slices (the GPU binds the same
 /// arrays as buffers and the table as a texture).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Inputs<'a> {
     pub positions: &'a [Vec3],
     pub valence: &'a [u32],
@@ -191,6 +191,16 @@ pub struct Inputs<'a> {
     pub adaptive: &'a [f32],
     /// The stencil table, row-major, TABLE_WIDTH columns.
     pub table: &'a [f32],
+    /// Displacement (quad schemes): 16 (s, t) pairs per face, owner's
+    /// coordinates on edges and corners (watertight.md Rule 5).
+    pub texcoords: &'a [f32],
+    /// Displacement: 8 ownership records of 4 u32 per face (Rule 4).
+    pub owners: &'a [u32],
+    /// Displacement: scale (0 = off), map width, map height, unused.
+    pub displace_info: &'a [f32],
+    /// Displacement map texels, row-major, `displace_width` columns.
+    pub displace_map: &'a [f32],
+    pub displace_width: u32,
 }
 
 /// Patch stage of one facet class.
@@ -219,6 +229,9 @@ pub struct SchemeKernels {
     /// hardware tessellator's barycentric domain point (what the GLSL/HLSL
     /// evaluation stages run), for parity checks of captured vertices.
     pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
+    /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
+    /// displacement step (quad schemes; `None` for triangle schemes).
+    pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
     /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
     /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
     pub sides: u32,
@@ -276,6 +289,13 @@ pub struct SchemeKernels {
         match e.eval_domain {
             Some(d) => self.line(&format!("    eval_domain: Some({}),", m.functions[d].name)),
             None => self.line("    eval_domain: None,"),
+        }
+        match e.eval_displaced {
+            Some(d) => self.line(&format!(
+                "    eval_displaced: Some({}),",
+                m.functions[d].name
+            )),
+            None => self.line("    eval_displaced: None,"),
         }
         self.line(&format!("    sides: {},", e.sides));
         for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {
@@ -432,7 +452,8 @@ pub struct SchemeKernels {
                     Builtin::Cross => format!("{}.cross({})", a[0], a[1]),
                     Builtin::Vec3 => format!("Vec3::new({}, {}, {})", a[0], a[1], a[2]),
                     Builtin::Round => format!("{}.round_ties_even()", a[0]),
-                    Builtin::U32FromF32 => format!("({} as u32)", a[0]),
+                    Builtin::Floor => format!("{}.floor()", a[0]),
+                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("({} as u32)", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -473,6 +494,12 @@ pub struct SchemeKernels {
                     other => format!("inputs.{}[({idx}) as usize]", other.name()),
                 }
             }
+            Expr::Texel(r, x, y) => format!(
+                "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",
+                r.name(),
+                self.expr(m, f, y),
+                self.expr(m, f, x)
+            ),
             Expr::TableWeight(row, col) => {
                 let mut s = String::new();
                 let _ = write!(

@@ -535,7 +535,8 @@ impl<'a> Writer<'a> {
                     Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
                     Builtin::Vec3 => format!("vec3<f32>({}, {}, {})", a[0], a[1], a[2]),
                     Builtin::Round => format!("round({})", a[0]),
-                    Builtin::U32FromF32 => format!("u32({})", a[0]),
+                    Builtin::Floor => format!("floor({})", a[0]),
+                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("u32({})", a[0]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -577,6 +578,12 @@ impl<'a> Writer<'a> {
                 "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
                 self.expr(m, f, written, col),
                 self.expr(m, f, written, row)
+            ),
+            Expr::Texel(r, x, y) => format!(
+                "textureLoad({}, vec2<u32>({}, {}), 0u).x",
+                r.name(),
+                self.expr(m, f, written, x),
+                self.expr(m, f, written, y)
             ),
         }
     }
@@ -628,6 +635,12 @@ impl<'a> Writer<'a> {
         let cp_base = param("cp_base");
         let sample_ty = self.ty(&Ty::Struct(common::SAMPLE));
         let eval = self.fn_name(FnRef::Local(self.entries.eval));
+        // Quad schemes evaluate through the displacement step (a no-op, bit
+        // for bit, while displace_info[0] == 0), which takes the face.
+        let (eval, face_arg) = match self.entries.eval_displaced {
+            Some(d) => (self.fn_name(FnRef::Local(d)), "face, "),
+            None => (eval, ""),
+        };
         self.section("Entry points");
 
         self.line(
@@ -673,8 +686,13 @@ impl<'a> Writer<'a> {
         self.line(&format!("let iu: u32 = {grid_iu}(s, {level});"));
         self.line(&format!("let iv: u32 = {grid_iv}(s, {level});"));
         self.points_of_class();
+        if !face_arg.is_empty() {
+            self.line(&format!(
+                "let face: u32 = patch_faces[({first} + patch_index)];"
+            ));
+        }
         self.line(&format!(
-            "let result: {sample_ty} = {eval}({class}, ({cp_base} + (patch_index * points)), iu, iv, {level});"
+            "let result: {sample_ty} = {eval}({face_arg}{class}, ({cp_base} + (patch_index * points)), iu, iv, {level});"
         ));
         self.line(&format!("let o: u32 = (({} + k) * 6u);", param("out_base")));
         let comps = [
@@ -715,8 +733,11 @@ impl<'a> Writer<'a> {
         self.line(&format!("let iu: u32 = {grid_iu}(vi, {level});"));
         self.line(&format!("let iv: u32 = {grid_iv}(vi, {level});"));
         self.points_of_class();
+        if !face_arg.is_empty() {
+            self.line(&format!("let face: u32 = patch_faces[({first} + inst)];"));
+        }
         self.line(&format!(
-            "let result: {sample_ty} = {eval}({class}, ({cp_base} + (inst * points)), iu, iv, {level});"
+            "let result: {sample_ty} = {eval}({face_arg}{class}, ({cp_base} + (inst * points)), iu, iv, {level});"
         ));
         self.line("var out: VsOut;");
         self.line("out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));");

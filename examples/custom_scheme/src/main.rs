@@ -63,6 +63,8 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         edge_factors: &[],
         adaptive: &[],
         table: &table,
+        // Displacement (texture coordinates, owners, map) is not used here.
+        ..Default::default()
     };
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
     for (v, &n) in topo.valence.iter().enumerate() {

@@ -1,0 +1,393 @@
+//! Lowering of the displacement step (spec/watertight.md Rules 4 and 5):
+//! `eval_displaced(face, class, cp_base, iu, iv, level)` = `eval`, then
+//! `p + scale · h(tc) · n` with the normal and the texture coordinate of the
+//! *owner* on shared edges and corners.
+//!
+//! * **Normal (Rule 4)**: on a patch boundary every patch — the owner
+//!   included — takes the normal from one call `eval(owner class, owner
+//!   cp_base, owner's (iu, iv), level)`, the owner's own formula on the
+//!   owner's control points at the owner's integer coordinates. All patches
+//!   of an edge (corner) therefore run the same function on the same
+//!   arguments: the same bits. The owner is read from
+//!   [`Resource::Owners`], which the runtime fills per face (lowest adjacent
+//!   face index owns). This needs every patch's control points in one global
+//!   buffer (CPU, WGSL, the compute entries of GLSL/HLSL), which is why the
+//!   hardware tessellation stages (`.tese`, `ds_main`) do not displace.
+//! * **Texture coordinate (Rule 5)**: 16 per quad patch, selected with the
+//!   spec's branch-free `idx_k = e_k + 2·e_{k−1}` and interpolated with
+//!   bilinear weights formed from integers; on an edge the sum collapses
+//!   exactly to `l·a + r·b` of the edge owner's pair (`1·x = x`, `0·x = 0`,
+//!   `x + 0 = x`), which both sides form with mirrored integers.
+//! * **Height**: texel fetches and bilinear weights in the Plan (no hardware
+//!   filtering), so every backend computes the same formula.
+//!
+//! Displacement off (`displace_info[0] == 0`) skips the whole step: the
+//! sample is `eval`'s, bit for bit.
+
+use crate::plan::build::*;
+use crate::plan::{self, *};
+
+fn boolu(e: Expr) -> Expr {
+    Expr::Call(Builtin::U32FromBool, vec![e])
+}
+
+fn eq(a: Expr, b: Expr) -> Expr {
+    bin(BinOp::Eq, a, b)
+}
+
+fn let_(f: &mut Function, name: &str, ty: Ty, e: Expr) -> LocalId {
+    let id = f.local(name, ty);
+    f.body.push(Stmt::Let(id, e));
+    id
+}
+
+/// `tessgen_height_at(face, iu, iv, level) -> f32`: the height at the
+/// interpolated texture coordinate (`height` = index of `tessgen_height`).
+pub fn texcoord_fn(height: usize) -> Function {
+    let mut f = Function::new(
+        "tessgen_height_at",
+        "Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): \
+         corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, \
+         edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. \
+         On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner \
+         to the vertex owner's one. Returns the displacement height there (tessgen_height).",
+    );
+    f.precise = true;
+    let face = f.param("face", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::F32);
+    let lf = to_f32(l(level));
+    let lu = let_(
+        &mut f,
+        "lu",
+        Ty::F32,
+        div(to_f32(sub(l(level), l(iu))), lf.clone()),
+    );
+    let ru = let_(&mut f, "ru", Ty::F32, div(to_f32(l(iu)), lf.clone()));
+    let lv = let_(
+        &mut f,
+        "lv",
+        Ty::F32,
+        div(to_f32(sub(l(level), l(iv))), lf.clone()),
+    );
+    let rv = let_(&mut f, "rv", Ty::F32, div(to_f32(l(iv)), lf));
+    // Edge predicates e0 (v = 0), e1 (u = 1), e2 (v = 1), e3 (u = 0), exact.
+    let e = [
+        let_(&mut f, "e0", Ty::U32, boolu(eq(l(iv), u(0)))),
+        let_(&mut f, "e1", Ty::U32, boolu(eq(l(iu), l(level)))),
+        let_(&mut f, "e2", Ty::U32, boolu(eq(l(iv), l(level)))),
+        let_(&mut f, "e3", Ty::U32, boolu(eq(l(iu), u(0)))),
+    ];
+    let w = [
+        let_(&mut f, "w0", Ty::F32, mul(l(lu), l(lv))),
+        let_(&mut f, "w1", Ty::F32, mul(l(ru), l(lv))),
+        let_(&mut f, "w2", Ty::F32, mul(l(ru), l(rv))),
+        let_(&mut f, "w3", Ty::F32, mul(l(lu), l(rv))),
+    ];
+    let base = let_(&mut f, "base", Ty::U32, mul(l(face), u(32)));
+    let mut at = Vec::new();
+    for k in 0..4 {
+        // Pair (4k + idx_k), idx_k = e_k + 2·e_(k−1).
+        let idx = let_(
+            &mut f,
+            &format!("p{k}"),
+            Ty::U32,
+            add(
+                l(base),
+                mul(
+                    add(u(4 * k as u32), add(l(e[k]), mul(u(2), l(e[(k + 3) % 4])))),
+                    u(2),
+                ),
+            ),
+        );
+        at.push(idx);
+    }
+    let mut comps = Vec::new();
+    for (c, name) in ["s", "t"].iter().enumerate() {
+        let term = |k: usize| {
+            mul(
+                l(w[k]),
+                fetch(Resource::TexCoords, add(l(at[k]), u(c as u32))),
+            )
+        };
+        let sum = add(add(add(term(0), term(1)), term(2)), term(3));
+        comps.push(l(let_(&mut f, name, Ty::F32, sum)));
+    }
+    f.body.push(Stmt::Return(call(FnRef::Local(height), comps)));
+    f
+}
+
+/// `tessgen_height(s, t) -> f32`: bilinear over exact texel fetches.
+pub fn height_fn() -> Function {
+    let mut f = Function::new(
+        "tessgen_height",
+        "Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, \
+         clamped to the map, bilinear weights formed here from exact texel fetches (never \
+         hardware filtering, whose sub-texel precision differs between devices).",
+    );
+    let s = f.param("s", Ty::F32);
+    let t = f.param("t", Ty::F32);
+    f.ret = Some(Ty::F32);
+    let w = let_(
+        &mut f,
+        "width",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(1)),
+    );
+    let h = let_(
+        &mut f,
+        "height",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(2)),
+    );
+    let coord = |f: &mut Function, name: &str, c: LocalId, size: LocalId| {
+        let x = f.local(name, Ty::F32);
+        f.body
+            .push(Stmt::Var(x, sub(mul(l(c), l(size)), Expr::F32(0.5))));
+        f.body.push(Stmt::If(
+            bin(BinOp::Lt, l(x), Expr::F32(0.0)),
+            vec![Stmt::Assign(x, Expr::F32(0.0))],
+            vec![],
+        ));
+        f.body.push(Stmt::If(
+            bin(BinOp::Gt, l(x), sub(l(size), Expr::F32(1.0))),
+            vec![Stmt::Assign(x, sub(l(size), Expr::F32(1.0)))],
+            vec![],
+        ));
+        let fl = let_(
+            f,
+            &format!("{name}f"),
+            Ty::F32,
+            Expr::Call(Builtin::Floor, vec![l(x)]),
+        );
+        let i0 = let_(
+            f,
+            &format!("{name}0"),
+            Ty::U32,
+            Expr::Call(Builtin::U32FromF32, vec![l(fl)]),
+        );
+        let n = let_(
+            f,
+            &format!("{name}n"),
+            Ty::U32,
+            Expr::Call(Builtin::U32FromF32, vec![l(size)]),
+        );
+        let i1 = f.local(format!("{name}1"), Ty::U32);
+        f.body.push(Stmt::Var(i1, add(l(i0), u(1))));
+        f.body.push(Stmt::If(
+            bin(BinOp::Ge, l(i1), l(n)),
+            vec![Stmt::Assign(i1, l(i0))],
+            vec![],
+        ));
+        let fr = let_(f, &format!("f{name}"), Ty::F32, sub(l(x), l(fl)));
+        (i0, i1, fr)
+    };
+    let (x0, x1, fx) = coord(&mut f, "x", s, w);
+    let (y0, y1, fy) = coord(&mut f, "y", t, h);
+    let texel =
+        |x: LocalId, y: LocalId| Expr::Texel(Resource::DisplaceMap, Box::new(l(x)), Box::new(l(y)));
+    let gx = let_(&mut f, "gx", Ty::F32, sub(Expr::F32(1.0), l(fx)));
+    let gy = let_(&mut f, "gy", Ty::F32, sub(Expr::F32(1.0), l(fy)));
+    let a = let_(
+        &mut f,
+        "a",
+        Ty::F32,
+        add(mul(texel(x0, y0), l(gx)), mul(texel(x1, y0), l(fx))),
+    );
+    let b = let_(
+        &mut f,
+        "b",
+        Ty::F32,
+        add(mul(texel(x0, y1), l(gx)), mul(texel(x1, y1), l(fx))),
+    );
+    f.body
+        .push(Stmt::Return(add(mul(l(a), l(gy)), mul(l(b), l(fy)))));
+    f
+}
+
+/// `tessgen_displace(p, n, d) -> p + n·d`, `precise`.
+pub fn displace_point_fn() -> Function {
+    let mut f = Function::new(
+        "tessgen_displace",
+        "The displaced point p + n·d, in one `precise` function so no backend contracts it \
+         differently for the patches of one edge.",
+    );
+    f.precise = true;
+    let p = f.param("p", Ty::Vec3);
+    let n = f.param("n", Ty::Vec3);
+    let d = f.param("d", Ty::F32);
+    f.ret = Some(Ty::Vec3);
+    f.body.push(Stmt::Return(add(l(p), mul(l(n), l(d)))));
+    f
+}
+
+/// Indices (in the scheme module) of the functions `eval_displaced` calls.
+pub struct Callees {
+    pub eval: usize,
+    pub texcoord: usize,
+    pub displace: usize,
+}
+
+/// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample`.
+pub fn eval_displaced_fn(c: &Callees) -> Function {
+    let mut f = Function::new(
+        "eval_displaced",
+        "`eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). \
+         On the patch boundary the normal is the owner's: `eval` of the owner patch at the \
+         owner's integer coordinates, the same call from every patch of the edge or corner; \
+         the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's \
+         own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the \
+         undisplaced surface's.",
+    );
+    let face = f.param("face", Ty::U32);
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
+    f.body.push(Stmt::Var(
+        sample,
+        call(
+            FnRef::Local(c.eval),
+            vec![l(class), l(cp), l(iu), l(iv), l(level)],
+        ),
+    ));
+    let scale = let_(
+        &mut f,
+        "scale",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(0)),
+    );
+    let mut on = Vec::new();
+    let n = f.local("n", Ty::Vec3);
+    on.push(Stmt::Var(n, Expr::Field(Box::new(l(sample)), 1)));
+    // Boundary: slot 0–3 = edge k at t (from v_k), 4–7 = corner k.
+    let slot = f.local("slot", Ty::U32);
+    let t = f.local("t", Ty::U32);
+    let rec = f.local("rec", Ty::U32);
+    let oclass = f.local("owner_class", Ty::U32);
+    let ocp = f.local("owner_cp", Ty::U32);
+    let ok = f.local("owner_k", Ty::U32);
+    let ot = f.local("ot", Ty::U32);
+    let ou = f.local("ou", Ty::U32);
+    let ov = f.local("ov", Ty::U32);
+    let os = f.local("owner_sample", Ty::Struct(plan::common::SAMPLE));
+    let boundary = vec![
+        Stmt::Var(slot, u(3)),
+        Stmt::Var(t, sub(l(level), l(iv))),
+        Stmt::If(
+            eq(l(iv), u(0)),
+            vec![Stmt::Assign(slot, u(0)), Stmt::Assign(t, l(iu))],
+            vec![Stmt::If(
+                eq(l(iu), l(level)),
+                vec![Stmt::Assign(slot, u(1)), Stmt::Assign(t, l(iv))],
+                vec![Stmt::If(
+                    eq(l(iv), l(level)),
+                    vec![
+                        Stmt::Assign(slot, u(2)),
+                        Stmt::Assign(t, sub(l(level), l(iu))),
+                    ],
+                    vec![],
+                )],
+            )],
+        ),
+        // Corners: the start (t = 0) or end (t = level) of the edge.
+        Stmt::If(
+            eq(l(t), u(0)),
+            vec![Stmt::Assign(slot, add(l(slot), u(4)))],
+            vec![Stmt::If(
+                eq(l(t), l(level)),
+                vec![Stmt::Assign(
+                    slot,
+                    add(bin(BinOp::Rem, add(l(slot), u(1)), u(4)), u(4)),
+                )],
+                vec![],
+            )],
+        ),
+        Stmt::Let(rec, add(mul(l(face), u(32)), mul(l(slot), u(4)))),
+        Stmt::Let(oclass, fetch(Resource::Owners, l(rec))),
+        Stmt::Let(ocp, fetch(Resource::Owners, add(l(rec), u(1)))),
+        Stmt::Let(ok, fetch(Resource::Owners, add(l(rec), u(2)))),
+        // The owner's parameter along its edge k: mirrored when it runs
+        // the edge the other way, 0 at its corner k.
+        Stmt::Var(ot, l(t)),
+        Stmt::If(
+            eq(fetch(Resource::Owners, add(l(rec), u(3))), u(1)),
+            vec![Stmt::Assign(ot, sub(l(level), l(t)))],
+            vec![],
+        ),
+        Stmt::If(
+            bin(BinOp::Ge, l(slot), u(4)),
+            vec![Stmt::Assign(ot, u(0))],
+            vec![],
+        ),
+        // Edge k of the owner at parameter ot: k = 0 (ot, 0), 1 (level, ot),
+        // 2 (level − ot, level), 3 (0, level − ot).
+        Stmt::Var(ou, l(ot)),
+        Stmt::Var(ov, u(0)),
+        Stmt::If(
+            eq(l(ok), u(1)),
+            vec![Stmt::Assign(ou, l(level)), Stmt::Assign(ov, l(ot))],
+            vec![Stmt::If(
+                eq(l(ok), u(2)),
+                vec![
+                    Stmt::Assign(ou, sub(l(level), l(ot))),
+                    Stmt::Assign(ov, l(level)),
+                ],
+                vec![Stmt::If(
+                    eq(l(ok), u(3)),
+                    vec![
+                        Stmt::Assign(ou, u(0)),
+                        Stmt::Assign(ov, sub(l(level), l(ot))),
+                    ],
+                    vec![],
+                )],
+            )],
+        ),
+        Stmt::Let(
+            os,
+            call(
+                FnRef::Local(c.eval),
+                vec![l(oclass), l(ocp), l(ou), l(ov), l(level)],
+            ),
+        ),
+        Stmt::Assign(n, Expr::Field(Box::new(l(os)), 1)),
+    ];
+    let on_boundary = bin(
+        BinOp::Or,
+        bin(BinOp::Or, eq(l(iu), u(0)), eq(l(iu), l(level))),
+        bin(BinOp::Or, eq(l(iv), u(0)), eq(l(iv), l(level))),
+    );
+    on.push(Stmt::If(on_boundary, boundary, vec![]));
+    let hgt = f.local("h", Ty::F32);
+    on.push(Stmt::Let(
+        hgt,
+        call(
+            FnRef::Local(c.texcoord),
+            vec![l(face), l(iu), l(iv), l(level)],
+        ),
+    ));
+    on.push(Stmt::AssignField(
+        sample,
+        0,
+        call(
+            FnRef::Local(c.displace),
+            vec![
+                Expr::Field(Box::new(l(sample)), 0),
+                l(n),
+                mul(l(scale), l(hgt)),
+            ],
+        ),
+    ));
+    f.body.push(Stmt::If(
+        bin(BinOp::Ne, l(scale), Expr::F32(0.0)),
+        on,
+        vec![],
+    ));
+    f.body.push(Stmt::Return(l(sample)));
+    f
+}
