@@ -35,7 +35,9 @@ fn load(name: &str) -> (Topology, Vec<Vec3>, f32) {
     (topo, positions, common::bbox_diagonal(&mesh))
 }
 
-const LEVELS: &[u32] = &[1, 2, 7, 8, 16];
+/// The watertightness matrix's levels (docs/watertight.md), as for the
+/// GLSL/HLSL harness.
+const LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16, 33, 64];
 
 #[test]
 fn gpu_matches_cpu_and_is_watertight() {
@@ -49,6 +51,12 @@ fn gpu_acc_and_gregory_match_cpu_and_are_watertight() {
     for scheme in ["acc", "gregory", "gregory_osd"] {
         check_meshes(scheme, common::CLOSED_MESHES, LEVELS);
     }
+}
+
+/// `regular` applies to the all-valence-4 torus only.
+#[test]
+fn gpu_regular_torus_matches_cpu_and_is_watertight() {
+    check_meshes("regular", &["catmark_torus"], LEVELS);
 }
 
 /// The 27,776-quad mesh, at fewer levels to keep CI quick.

@@ -7,7 +7,7 @@ mod common;
 use tessgen_runtime::tags::{TagError, TagFile};
 use tessgen_runtime::{cpu, weld, Topology};
 
-const LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16, 33];
+const LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16, 33, 64];
 
 fn check(name: &str, scheme: &str) {
     check_levels(name, scheme, LEVELS);
