@@ -1613,42 +1613,15 @@ impl<'v> VkMesh<'v> {
         if let Some(d) = &self.dummy {
             self.write_buffer(binding::SAMPLES, d);
         }
-        for c in &self.classes {
-            if c.count == 0 {
-                continue;
-            }
-            self.set_params([c.first, c.count, c.class, c.cp_base, 1, 0]);
-            let (pipe, layout, set) = (self.draw_pipeline, self.layout, self.set);
-            let (rp, fb) = (self.render_pass, self.framebuffer);
-            let count = c.count;
-            self.vk.submit(|d, cb| unsafe {
-                d.cmd_begin_render_pass(
-                    cb,
-                    &vk::RenderPassBeginInfo::default()
-                        .render_pass(rp)
-                        .framebuffer(fb)
-                        .render_area(vk::Rect2D {
-                            offset: vk::Offset2D { x: 0, y: 0 },
-                            extent: vk::Extent2D {
-                                width: 1,
-                                height: 1,
-                            },
-                        }),
-                    vk::SubpassContents::INLINE,
-                );
-                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::GRAPHICS, pipe);
-                d.cmd_bind_descriptor_sets(
-                    cb,
-                    vk::PipelineBindPoint::GRAPHICS,
-                    layout,
-                    0,
-                    &[set],
-                    &[],
-                );
-                d.cmd_draw(cb, count, 1, 0, 0);
-                d.cmd_end_render_pass(cb);
-            })?;
-        }
+        // The same per-class draws as the uniform path, kept under
+        // lavapipe's 16-bit vertex numbering with a geometry shader: a quad
+        // patch at factors ≤ m emits at most (m + 1)² vertices.
+        let Some(a) = &self.options.adaptive else {
+            return Err(VkError::AdaptiveNotGrid);
+        };
+        let m = a.max.max(1.0).ceil() as u64 + 2;
+        let per_draw = (u16::MAX as u64 / ((m + 1) * (m + 1))).max(1);
+        self.draw_chunk(1, 0, self.patch_faces.len() as u64, per_draw)?;
         let head = tris.read_f32(4);
         let written = head[0].to_bits() as u64;
         if written > capacity {
