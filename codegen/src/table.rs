@@ -115,8 +115,12 @@ impl StencilTable {
                     push_row(&mut weights, &mut rows, info, &w);
                 }
             }
+            // A scheme without per-valence constants (the triangle schemes,
+            // `regular`) reads no constant rows, so it reserves none: the
+            // table's height is bounded by the texture limit (8192 rows in
+            // WebGPU's defaults), and empty rows only bring it closer.
             let const_row_base = rows.len() as u32;
-            for n in 3..=max_valence {
+            for n in (3..=max_valence).filter(|_| !s.consts.is_empty()) {
                 let vals = s.const_values(n);
                 let info = RowInfo {
                     row: rows.len() as u32,

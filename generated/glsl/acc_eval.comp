@@ -14,10 +14,10 @@ const uint TABLE_WIDTH = 65u;
 const uint MAX_VALENCE = 32u;
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 2745u, 2755u, 2768u, 2784u, 2803u, 2825u, 2850u, 2878u, 2909u, 2943u, 2980u, 3020u, 3063u, 3109u, 3158u, 3210u, 3265u, 3323u, 3384u, 3448u, 3515u, 3585u, 3658u, 3734u, 3813u, 3895u, 3980u, 4068u, 4159u, 4253u);
+const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 2715u, 2725u, 2738u, 2754u, 2773u, 2795u, 2820u, 2848u, 2879u, 2913u, 2950u, 2990u, 3033u, 3079u, 3128u, 3180u, 3235u, 3293u, 3354u, 3418u, 3485u, 3555u, 3628u, 3704u, 3783u, 3865u, 3950u, 4038u, 4129u, 4223u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const uint CONST_ROW_BASE = 4350u;
+const uint CONST_ROW_BASE = 4320u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const uint ROWS_PER_N = 3u;

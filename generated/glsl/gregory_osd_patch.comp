@@ -14,10 +14,10 @@ const uint TABLE_WIDTH = 65u;
 const uint MAX_VALENCE = 32u;
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 6015u, 6025u, 6038u, 6054u, 6073u, 6095u, 6120u, 6148u, 6179u, 6213u, 6250u, 6290u, 6333u, 6379u, 6428u, 6480u, 6535u, 6593u, 6654u, 6718u, 6785u, 6855u, 6928u, 7004u, 7083u, 7165u, 7250u, 7338u, 7429u, 7523u);
+const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 5985u, 5995u, 6008u, 6024u, 6043u, 6065u, 6090u, 6118u, 6149u, 6183u, 6220u, 6260u, 6303u, 6349u, 6398u, 6450u, 6505u, 6563u, 6624u, 6688u, 6755u, 6825u, 6898u, 6974u, 7053u, 7135u, 7220u, 7308u, 7399u, 7493u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const uint CONST_ROW_BASE = 7620u;
+const uint CONST_ROW_BASE = 7590u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const uint ROWS_PER_N = 3u;

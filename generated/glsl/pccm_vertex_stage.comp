@@ -14,10 +14,10 @@ const uint TABLE_WIDTH = 65u;
 const uint MAX_VALENCE = 32u;
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 1110u, 1120u, 1133u, 1149u, 1168u, 1190u, 1215u, 1243u, 1274u, 1308u, 1345u, 1385u, 1428u, 1474u, 1523u, 1575u, 1630u, 1688u, 1749u, 1813u, 1880u, 1950u, 2023u, 2099u, 2178u, 2260u, 2345u, 2433u, 2524u, 2618u);
+const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 1080u, 1090u, 1103u, 1119u, 1138u, 1160u, 1185u, 1213u, 1244u, 1278u, 1315u, 1355u, 1398u, 1444u, 1493u, 1545u, 1600u, 1658u, 1719u, 1783u, 1850u, 1920u, 1993u, 2069u, 2148u, 2230u, 2315u, 2403u, 2494u, 2588u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const uint CONST_ROW_BASE = 2715u;
+const uint CONST_ROW_BASE = 2685u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const uint ROWS_PER_N = 3u;

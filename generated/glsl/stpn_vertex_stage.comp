@@ -14,10 +14,10 @@ const uint TABLE_WIDTH = 65u;
 const uint MAX_VALENCE = 32u;
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u, 7680u);
+const uint ROW_BASE[33] = uint[33](0u, 0u, 0u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const uint CONST_ROW_BASE = 7680u;
+const uint CONST_ROW_BASE = 7620u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const uint ROWS_PER_N = 0u;

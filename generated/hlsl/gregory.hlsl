@@ -271,10 +271,10 @@ precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edg
 // and golden values: spec/gregory.md.
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-static const uint ROW_BASE[33] = {0u, 0u, 0u, 4380u, 4390u, 4403u, 4419u, 4438u, 4460u, 4485u, 4513u, 4544u, 4578u, 4615u, 4655u, 4698u, 4744u, 4793u, 4845u, 4900u, 4958u, 5019u, 5083u, 5150u, 5220u, 5293u, 5369u, 5448u, 5530u, 5615u, 5703u, 5794u, 5888u};
+static const uint ROW_BASE[33] = {0u, 0u, 0u, 4350u, 4360u, 4373u, 4389u, 4408u, 4430u, 4455u, 4483u, 4514u, 4548u, 4585u, 4625u, 4668u, 4714u, 4763u, 4815u, 4870u, 4928u, 4989u, 5053u, 5120u, 5190u, 5263u, 5339u, 5418u, 5500u, 5585u, 5673u, 5764u, 5858u};
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-static const uint CONST_ROW_BASE = 5985u;
+static const uint CONST_ROW_BASE = 5955u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 static const uint ROWS_PER_N = 3u;

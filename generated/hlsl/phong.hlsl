@@ -271,10 +271,10 @@ precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edg
 // normals, normalize(Σ w_i N_i).
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-static const uint ROW_BASE[33] = {0u, 0u, 0u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u, 7710u};
+static const uint ROW_BASE[33] = {0u, 0u, 0u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u};
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-static const uint CONST_ROW_BASE = 7710u;
+static const uint CONST_ROW_BASE = 7620u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 static const uint ROWS_PER_N = 0u;

@@ -493,10 +493,10 @@ pub mod pccm {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 1110, 1120, 1133, 1149, 1168, 1190, 1215, 1243, 1274, 1308, 1345, 1385, 1428, 1474, 1523, 1575, 1630, 1688, 1749, 1813, 1880, 1950, 2023, 2099, 2178, 2260, 2345, 2433, 2524, 2618];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 1080, 1090, 1103, 1119, 1138, 1160, 1185, 1213, 1244, 1278, 1315, 1355, 1398, 1444, 1493, 1545, 1600, 1658, 1719, 1783, 1850, 1920, 1993, 2069, 2148, 2230, 2315, 2403, 2494, 2588];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 2715;
+    pub const CONST_ROW_BASE: u32 = 2685;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 3;
@@ -998,10 +998,10 @@ pub mod acc {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 2745, 2755, 2768, 2784, 2803, 2825, 2850, 2878, 2909, 2943, 2980, 3020, 3063, 3109, 3158, 3210, 3265, 3323, 3384, 3448, 3515, 3585, 3658, 3734, 3813, 3895, 3980, 4068, 4159, 4253];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 2715, 2725, 2738, 2754, 2773, 2795, 2820, 2848, 2879, 2913, 2950, 2990, 3033, 3079, 3128, 3180, 3235, 3293, 3354, 3418, 3485, 3555, 3628, 3704, 3783, 3865, 3950, 4038, 4129, 4223];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 4350;
+    pub const CONST_ROW_BASE: u32 = 4320;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 3;
@@ -1453,10 +1453,10 @@ pub mod gregory {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 4380, 4390, 4403, 4419, 4438, 4460, 4485, 4513, 4544, 4578, 4615, 4655, 4698, 4744, 4793, 4845, 4900, 4958, 5019, 5083, 5150, 5220, 5293, 5369, 5448, 5530, 5615, 5703, 5794, 5888];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 4350, 4360, 4373, 4389, 4408, 4430, 4455, 4483, 4514, 4548, 4585, 4625, 4668, 4714, 4763, 4815, 4870, 4928, 4989, 5053, 5120, 5190, 5263, 5339, 5418, 5500, 5585, 5673, 5764, 5858];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 5985;
+    pub const CONST_ROW_BASE: u32 = 5955;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 3;
@@ -1933,10 +1933,10 @@ pub mod gregory_osd {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 6015, 6025, 6038, 6054, 6073, 6095, 6120, 6148, 6179, 6213, 6250, 6290, 6333, 6379, 6428, 6480, 6535, 6593, 6654, 6718, 6785, 6855, 6928, 7004, 7083, 7165, 7250, 7338, 7429, 7523];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 5985, 5995, 6008, 6024, 6043, 6065, 6090, 6118, 6149, 6183, 6220, 6260, 6303, 6349, 6398, 6450, 6505, 6563, 6624, 6688, 6755, 6825, 6898, 6974, 7053, 7135, 7220, 7308, 7399, 7493];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 7620;
+    pub const CONST_ROW_BASE: u32 = 7590;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 3;
@@ -2413,10 +2413,10 @@ pub mod pn {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650, 7650];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 7650;
+    pub const CONST_ROW_BASE: u32 = 7620;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 0;
@@ -2626,10 +2626,10 @@ pub mod stpn {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680, 7680];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 7680;
+    pub const CONST_ROW_BASE: u32 = 7620;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 0;
@@ -2874,10 +2874,10 @@ pub mod phong {
     use super::common::*;
     
     /// First stencil-table row of each valence's vertex-stage block (index = valence).
-    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710, 7710];
+    pub const ROW_BASE: [u32; 33] = [0, 0, 0, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620, 7620];
     
     /// Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-    pub const CONST_ROW_BASE: u32 = 7710;
+    pub const CONST_ROW_BASE: u32 = 7620;
     
     /// Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
     pub const ROWS_PER_N: u32 = 0;

@@ -236,10 +236,10 @@ fn tessgen_edge_factor(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) 
 // normal field is continuous.
 
 // First stencil-table row of each valence's vertex-stage block (index = valence).
-var<private> ROW_BASE: array<u32, 33> = array<u32, 33>(0u, 0u, 0u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u, 7650u);
+var<private> ROW_BASE: array<u32, 33> = array<u32, 33>(0u, 0u, 0u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u, 7620u);
 
 // Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.
-const CONST_ROW_BASE: u32 = 7650u;
+const CONST_ROW_BASE: u32 = 7620u;
 
 // Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.
 const ROWS_PER_N: u32 = 0u;
