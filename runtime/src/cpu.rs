@@ -156,15 +156,7 @@ pub fn construct(
     let face_class = face_classes(topo, scheme)?;
     let table = kernels::table();
     // Vertex stage.
-    let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
-    let mut total = 0u32;
-    for &n in &topo.valence {
-        vertex_out_offsets.push(total);
-        if n > 0 {
-            total += scheme.rows_per_n * n + scheme.rows_fixed;
-        }
-    }
-    vertex_out_offsets.push(total);
+    let (vertex_out_offsets, total) = vertex_out_offsets(topo, scheme);
     let (corner_vertex, corner_sector) = corner_arrays(topo);
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
     {
@@ -289,6 +281,22 @@ pub fn eval_domain(patches: &Patches, face: usize, domain: [f32; 3], level: u32)
 
 /// Evaluate every patch on a `level × level` grid.
 pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
+    let kernels = patches.scheme;
+    evaluate_grid(patches, level, |f, class, iu, iv| {
+        let cp = &patches.control_points
+            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+        (kernels.eval)(cp, class, 0, iu, iv, level)
+    })
+}
+
+/// Every patch's `grid_len(level)` samples in face order, sample `s` at the
+/// grid point `(grid_iu(s), grid_iv(s))`, from `sample(face, class, iu, iv)`:
+/// the one grid walk behind [`evaluate`] and [`evaluate_displaced`].
+fn evaluate_grid(
+    patches: &Patches,
+    level: u32,
+    sample: impl Fn(usize, u32, u32, u32) -> Sample + Sync,
+) -> Result<Tessellation, TessError> {
     if level == 0 || level > MAX_LEVEL {
         return Err(TessError::Level(level));
     }
@@ -306,13 +314,11 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
         .par_chunks_mut(per)
         .enumerate()
         .for_each(|(f, grid)| {
-            let cp = &patches.control_points
-                [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
             let class = patches.face_class[f];
             for (s, out) in grid.iter_mut().enumerate() {
                 let s = s as u32;
                 let (iu, iv) = ((kernels.grid_iu)(s, level), (kernels.grid_iv)(s, level));
-                *out = (kernels.eval)(cp, class, 0, iu, iv, level);
+                *out = sample(f, class, iu, iv);
             }
         });
     Ok(Tessellation {
@@ -334,15 +340,10 @@ pub fn evaluate_displaced(
     level: u32,
     data: &DisplaceData,
 ) -> Result<Tessellation, TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
     let kernels = patches.scheme;
     let Some(eval) = kernels.eval_displaced else {
         return Err(facet_error(kernels));
     };
-    let per = (kernels.grid_len)(level) as usize;
-    let faces = patches.face_class.len();
     let inputs = Inputs {
         texcoords: &data.texcoords,
         owners: &data.owners,
@@ -351,40 +352,18 @@ pub fn evaluate_displaced(
         displace_width: data.map.width,
         ..Default::default()
     };
-    let mut samples = vec![
-        Sample {
-            position: Vec3::ZERO,
-            normal: Vec3::ZERO
-        };
-        per * faces
-    ];
-    samples
-        .par_chunks_mut(per)
-        .enumerate()
-        .for_each(|(f, grid)| {
-            let class = patches.face_class[f];
-            let cp_base = patches.cp_offsets[f];
-            for (s, out) in grid.iter_mut().enumerate() {
-                let s = s as u32;
-                let (iu, iv) = ((kernels.grid_iu)(s, level), (kernels.grid_iv)(s, level));
-                *out = eval(
-                    &inputs,
-                    &patches.control_points,
-                    f as u32,
-                    class,
-                    cp_base,
-                    iu,
-                    iv,
-                    level,
-                );
-            }
-        });
-    Ok(Tessellation {
-        level,
-        faces,
-        sides: kernels.sides,
-        positions: samples.iter().map(|s| s.position).collect(),
-        normals: samples.iter().map(|s| s.normal).collect(),
+    evaluate_grid(patches, level, |f, class, iu, iv| {
+        let cp_base = patches.cp_offsets[f];
+        eval(
+            &inputs,
+            &patches.control_points,
+            f as u32,
+            class,
+            cp_base,
+            iu,
+            iv,
+            level,
+        )
     })
 }
 
@@ -448,6 +427,22 @@ pub fn tessellate_mesh(
         .collect();
     let patches = construct(&topo, &positions, kernels)?;
     evaluate(&patches, level)
+}
+
+/// Start of each vertex's vertex-stage outputs (`rows_per_n·n + rows_fixed`
+/// points each, none for an unused vertex), with the total as the last
+/// entry and returned on its own: the layout of `vertex_out` on every backend.
+pub fn vertex_out_offsets(topo: &Topology, scheme: &SchemeKernels) -> (Vec<u32>, u32) {
+    let mut offsets = Vec::with_capacity(topo.valence.len() + 1);
+    let mut total = 0u32;
+    for &n in &topo.valence {
+        offsets.push(total);
+        if n > 0 {
+            total += scheme.rows_per_n * n + scheme.rows_fixed;
+        }
+    }
+    offsets.push(total);
+    (offsets, total)
 }
 
 /// Patch stage of a triangle scheme (`pn`, `phong`): per triangle, from its

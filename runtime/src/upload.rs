@@ -211,15 +211,7 @@ impl Upload {
             });
         }
         let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
-        let mut vertex_out_offsets = Vec::with_capacity(topo.valence.len() + 1);
-        let mut total = 0u32;
-        for &n in &topo.valence {
-            vertex_out_offsets.push(total);
-            if n > 0 {
-                total += scheme.rows_per_n * n + scheme.rows_fixed;
-            }
-        }
-        vertex_out_offsets.push(total);
+        let (vertex_out_offsets, total) = cpu::vertex_out_offsets(topo, scheme);
         let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
         Ok(Upload {
             scheme,
