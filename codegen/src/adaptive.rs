@@ -81,9 +81,7 @@ pub fn bucket_level_fn() -> Function {
         "Bucket of a patch: the largest of its four edge levels (all powers of two, so each \
          divides it). Patches of one bucket and class are one instanced draw.",
     );
-    let ls: Vec<LocalId> = (0..4)
-        .map(|k| f.param(format!("l{k}"), Ty::U32))
-        .collect();
+    let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
     f.ret = Some(Ty::U32);
     let m = f.local("bucket", Ty::U32);
     f.body.push(Stmt::Var(m, l(ls[0])));
@@ -180,9 +178,7 @@ pub fn eval_adaptive_fn(eval: usize) -> Function {
     let iu = f.param("iu", Ty::U32);
     let iv = f.param("iv", Ty::U32);
     let level = f.param("level", Ty::U32);
-    let ls: Vec<LocalId> = (0..4)
-        .map(|k| f.param(format!("l{k}"), Ty::U32))
-        .collect();
+    let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
     f.ret = Some(Ty::Struct(plan::common::SAMPLE));
     let su = f.local("su", Ty::U32);
     let sv = f.local("sv", Ty::U32);

@@ -211,7 +211,7 @@ fn edge_factor_fn(runtime: bool) -> Function {
          and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN \
          becomes min."
         } else {
-        "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
+            "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
          (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower \
          vertex index first) and the metric sees only them, so both patches of the edge compute \
          the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over \

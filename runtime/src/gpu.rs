@@ -746,10 +746,26 @@ impl<'g> GpuMesh<'g> {
         use crate::upload::{f32_bytes, u32_bytes};
         let patches = self.patch_faces.len() as u64;
         check(&self.limits, "patch_levels", patches * 20)?;
-        let face_edges = storage("face_edges", &u32_bytes(&inp.face_edges), wgpu::BufferUsages::empty());
-        let edge_factors = storage("edge_factors", &f32_bytes(&inp.edge_factors), wgpu::BufferUsages::empty());
-        let params_buf = storage("adaptive", &f32_bytes(&inp.params), wgpu::BufferUsages::empty());
-        let levels_buf = storage("patch_levels", &vec![0u8; patches as usize * 20], wgpu::BufferUsages::COPY_SRC);
+        let face_edges = storage(
+            "face_edges",
+            &u32_bytes(&inp.face_edges),
+            wgpu::BufferUsages::empty(),
+        );
+        let edge_factors = storage(
+            "edge_factors",
+            &f32_bytes(&inp.edge_factors),
+            wgpu::BufferUsages::empty(),
+        );
+        let params_buf = storage(
+            "adaptive",
+            &f32_bytes(&inp.params),
+            wgpu::BufferUsages::empty(),
+        );
+        let levels_buf = storage(
+            "patch_levels",
+            &vec![0u8; patches as usize * 20],
+            wgpu::BufferUsages::COPY_SRC,
+        );
         let extra = [
             (binding::FACE_EDGES, &face_edges),
             (binding::EDGE_FACTORS, &edge_factors),
@@ -855,7 +871,11 @@ impl<'g> GpuMesh<'g> {
         offsets.push(total);
         let all: Vec<u32> = lists.values().flatten().copied().collect();
         check(&self.limits, "bucket_patches", all.len() as u64 * 4)?;
-        let bucket_buf = storage("bucket_patches", &u32_bytes(&all), wgpu::BufferUsages::empty());
+        let bucket_buf = storage(
+            "bucket_patches",
+            &u32_bytes(&all),
+            wgpu::BufferUsages::empty(),
+        );
 
         // 3. one dispatch per (class, bucket), split at the limits.
         let mut positions = vec![Vec3::ZERO; total];

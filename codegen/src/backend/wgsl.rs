@@ -818,7 +818,9 @@ impl<'a> Writer<'a> {
         let bucket = self.fn_name(FnRef::Common(crate::lower::common_fn::BUCKET_LEVEL));
         let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
         self.line("");
-        self.line("// Adaptive classify: for patches first .. first + count of the dispatch's class, the");
+        self.line(
+            "// Adaptive classify: for patches first .. first + count of the dispatch's class, the",
+        );
         self.line("// power-of-two level of each edge (patch_edge_level, largest level = params.level) and the");
         self.line("// patch's bucket into patch_levels[5p ..] (p = first + k, the class-sorted patch index).");
         self.compute_head("adaptive_classify_main");
