@@ -250,20 +250,22 @@ fn bad_adaptive_input_is_a_typed_error() {
     ];
     for (a, max, want) in cases {
         let g = m.evaluate_adaptive(&c.topo, a, max);
-        let ok = match (&g, want) {
+        let ok = matches!(
+            (&g, want),
             (
                 Err(GpuError::Adaptive(AdaptiveError::EdgeFactorCount {
                     expected: 12,
                     got: 11,
                 })),
                 "EdgeFactorCount",
-            ) => true,
-            (Err(GpuError::Adaptive(AdaptiveError::BadFactor { edge: 5, .. })), "BadFactor") => {
-                true
-            }
-            (Err(GpuError::Adaptive(AdaptiveError::MaxLevel { got: 48 })), "MaxLevel") => true,
-            _ => false,
-        };
+            ) | (
+                Err(GpuError::Adaptive(AdaptiveError::BadFactor { edge: 5, .. })),
+                "BadFactor",
+            ) | (
+                Err(GpuError::Adaptive(AdaptiveError::MaxLevel { got: 48 })),
+                "MaxLevel",
+            )
+        );
         assert!(ok, "wgpu, {want}: {:?}", g.err());
         let e = adaptive::evaluate_cpu_adaptive(&c.patches, &c.topo, a, max)
             .expect_err("cpu accepted bad input");
