@@ -192,3 +192,22 @@ fn rayon_threads() -> usize {
         .map(|n| n.get())
         .unwrap_or(1)
 }
+
+/// `tessellate --adaptive … --backend wgpu`: the WGSL instanced path
+/// (`GpuMesh::evaluate_adaptive`: GPU classify pass, one dispatch per
+/// (class, level) bucket, snapped transitions) as a triangle soup.
+pub fn wgpu_adaptive(
+    scheme: &str,
+    topo: &tessgen_runtime::Topology,
+    positions: &[glam::Vec3],
+    a: &tessgen_runtime::adaptive::Adaptive,
+    max_level: u32,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    let gpu = tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?;
+    let m = tessgen_runtime::gpu::GpuMesh::new(&gpu, topo, positions, scheme)
+        .map_err(|e| e.to_string())?;
+    let t = m
+        .evaluate_adaptive(topo, a, max_level)
+        .map_err(|e| e.to_string())?;
+    Ok(t.triangles())
+}

@@ -214,7 +214,7 @@ struct TessellateArgs {
     #[arg(long, value_name = "N", required_unless_present = "adaptive",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
     level: Option<u32>,
-    /// Adaptive tessellation with per-edge factors (quad schemes, --backend glsl|hlsl): `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). Writes the hardware's triangles as an OBJ triangle soup.
+    /// Adaptive tessellation with per-edge factors (quad schemes): `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). glsl/hlsl: the hardware tessellator's triangles; cpu/wgpu: power-of-two edge levels, patches bucketed by level, snapped transitions. Writes an OBJ triangle soup.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
     /// Partitioning of the adaptive factors: integer, fractional-odd, fractional-even.
@@ -497,10 +497,18 @@ fn inspect(args: &InspectArgs) -> CmdResult {
 /// triangle), welded exactly with `--check-watertight`.
 fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> CmdResult {
     let start = Instant::now();
-    let tris = if args.backend == Backend::Cpu {
-        cpu_adaptive(mesh, args)
-    } else {
-        vulkan_adaptive(mesh, args)
+    let tris = match args.backend {
+        Backend::Cpu => cpu_adaptive(mesh, args),
+        Backend::Wgpu => instanced_adaptive(mesh, args).and_then(|a| {
+            gpu_cmds::wgpu_adaptive(
+                &args.scheme,
+                &a.topo,
+                &a.positions,
+                &a.adaptive,
+                a.max_level,
+            )
+        }),
+        _ => vulkan_adaptive(mesh, args),
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
@@ -548,69 +556,15 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
     }
 }
 
-/// `--backend cpu --adaptive random:…`: power-of-two edge levels, patches
-/// bucketed by their largest edge level, boundary samples snapped onto the
-/// edges' own points (`adaptive::evaluate_cpu`); `--max-factor` rounded down
-/// to a power of two.
-fn cpu_adaptive(
-    mesh: &tessgen_runtime::Mesh,
+/// The eye of the computed adaptive metrics: 2.5 bounding-box diagonals
+/// from the mesh centre (azimuth 30°, elevation 20°), looking at the centre.
+fn adaptive_metric(
+    topo: &Topology,
+    positions: &[glam::Vec3],
     args: &TessellateArgs,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    use tessgen_runtime::adaptive;
-    let Some(AdaptiveArg::Random { seed, lo, hi }) = args.adaptive.clone() else {
-        return Err(
-            "--backend cpu supports --adaptive random:SEED[:LO:HI] only (distance and screen run on glsl/hlsl)"
-                .into(),
-        );
-    };
-    if args.partitioning != Partitioning::Integer {
-        return Err(
-            "--backend cpu snaps to power-of-two levels: --partitioning integer only".into(),
-        );
-    }
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
-    let positions: Vec<glam::Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| glam::Vec3::from_array(*p))
-        .collect();
-    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
-    let patches = cpu::construct(&topo, &positions, kernels).map_err(|e| e.to_string())?;
-    let (_, edges) = adaptive::edge_ids(&topo);
-    let factors = adaptive::random_factors(edges, seed, lo, hi);
-    let mut max_level = 1u32;
-    while max_level * 2 <= args.max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
-        max_level *= 2;
-    }
-    let t =
-        adaptive::evaluate_cpu(&patches, &topo, &factors, max_level).map_err(|e| e.to_string())?;
-    Ok(t.triangles())
-}
-
-#[cfg(feature = "vulkan")]
-fn vulkan_adaptive(
-    mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
+) -> tessgen_runtime::adaptive::Metric {
     use glam::Vec3;
-    use tessgen_runtime::adaptive::{self, Adaptive, Metric};
-    use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
-    let language = match args.backend {
-        Backend::Glsl => Language::Glsl,
-        Backend::Hlsl => Language::Hlsl,
-        other => {
-            return Err(format!(
-                "--adaptive runs on --backend cpu, glsl or hlsl, not {}",
-                other.name()
-            ))
-        }
-    };
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
+    use tessgen_runtime::adaptive::{self, Metric};
     let (lo, hi) = positions.iter().fold(
         (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
         |(a, b), p| (a.min(*p), b.max(*p)),
@@ -618,9 +572,9 @@ fn vulkan_adaptive(
     let (center, diag) = ((lo + hi) * 0.5, (hi - lo).length().max(1e-6));
     let (az, el) = (30f32.to_radians(), 20f32.to_radians());
     let eye = center + Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()) * 2.5 * diag;
-    let metric = match args.adaptive.clone() {
+    match args.adaptive.clone() {
         Some(AdaptiveArg::Random { seed, lo, hi }) => {
-            let (_, edges) = adaptive::edge_ids(&topo);
+            let (_, edges) = adaptive::edge_ids(topo);
             Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
         }
         Some(AdaptiveArg::Distance(k)) => Metric::Distance { eye, scale: k },
@@ -638,7 +592,100 @@ fn vulkan_adaptive(
                 _ => 8.0,
             },
         },
+    }
+}
+
+/// The instanced adaptive path's input (`--backend cpu|wgpu`): topology,
+/// positions, the metric, and the largest level — `--max-factor` rounded
+/// down to a power of two. Levels are powers of two, so only `--partitioning
+/// integer` applies.
+struct InstancedAdaptive {
+    topo: Topology,
+    positions: Vec<glam::Vec3>,
+    adaptive: tessgen_runtime::adaptive::Adaptive,
+    max_level: u32,
+}
+
+fn instanced_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<InstancedAdaptive, String> {
+    if args.partitioning != Partitioning::Integer {
+        return Err(format!(
+            "--backend {} snaps to power-of-two levels: --partitioning integer only",
+            args.backend.name()
+        ));
+    }
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let positions: Vec<glam::Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| glam::Vec3::from_array(*p))
+        .collect();
+    let mut max_level = 1u32;
+    while max_level * 2 <= args.max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
+        max_level *= 2;
+    }
+    let adaptive = tessgen_runtime::adaptive::Adaptive {
+        metric: adaptive_metric(&topo, &positions, args),
+        partitioning: Partitioning::Integer,
+        min: 1.0,
+        max: max_level as f32,
     };
+    Ok(InstancedAdaptive {
+        topo,
+        positions,
+        adaptive,
+        max_level,
+    })
+}
+
+/// `--backend cpu --adaptive …`: power-of-two edge levels, patches
+/// bucketed by their largest edge level, boundary samples snapped onto the
+/// edges' own points (`adaptive::evaluate_cpu_adaptive`, the generated Rust
+/// of the Plan functions the WGSL path runs).
+fn cpu_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    let a = instanced_adaptive(mesh, args)?;
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    let patches = cpu::construct(&a.topo, &a.positions, kernels).map_err(|e| e.to_string())?;
+    let t = tessgen_runtime::adaptive::evaluate_cpu_adaptive(
+        &patches,
+        &a.topo,
+        &a.adaptive,
+        a.max_level,
+    )
+    .map_err(|e| e.to_string())?;
+    Ok(t.triangles())
+}
+
+#[cfg(feature = "vulkan")]
+fn vulkan_adaptive(
+    mesh: &tessgen_runtime::Mesh,
+    args: &TessellateArgs,
+) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    use glam::Vec3;
+    use tessgen_runtime::adaptive::Adaptive;
+    use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
+    let language = match args.backend {
+        Backend::Glsl => Language::Glsl,
+        Backend::Hlsl => Language::Hlsl,
+        other => {
+            return Err(format!(
+                "--adaptive runs on --backend cpu, wgpu, glsl or hlsl, not {}",
+                other.name()
+            ))
+        }
+    };
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let metric = adaptive_metric(&topo, &positions, args);
     let options = Options {
         adaptive: Some(Adaptive {
             metric,

@@ -410,9 +410,10 @@ fn tessellate_triangle_scheme_on_the_hardware_tessellator() {
 }
 
 /// `--adaptive`: random per-edge factors and the screen-space metric weld
-/// closed through the GLSL and HLSL tessellation shaders; the output is a
-/// triangle soup (3 `v` lines per `f`); cpu is refused, bad metrics name
-/// what is wrong.
+/// closed through the GLSL and HLSL tessellation shaders and on the
+/// instanced path (cpu, wgpu); the output is a triangle soup (3 `v` lines
+/// per `f`); bad metrics and fractional partitioning on the instanced path
+/// name what is wrong.
 #[test]
 fn tessellate_adaptive() {
     let tmp = TempDir::new("tess-adaptive");
@@ -447,16 +448,21 @@ fn tessellate_adaptive() {
         assert!(f > 64, "{backend} {metric}: {f} triangles");
         assert_eq!(count_lines(&text, "v "), 3 * f);
     }
-    // The CPU: power-of-two buckets with snapped transitions.
-    let o = run("cpu", "random:7", "integer");
-    assert_ok(&o);
-    assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
-    let o = run("cpu", "screen:8", "integer");
+    // The CPU and wgpu (the WGSL instanced path): power-of-two buckets with
+    // snapped transitions, every metric.
+    for (backend, metric) in [
+        ("cpu", "random:7"),
+        ("cpu", "screen:8"),
+        ("wgpu", "random:7"),
+        ("wgpu", "distance:24"),
+    ] {
+        let o = run(backend, metric, "integer");
+        assert_ok(&o);
+        assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+    }
+    let o = run("wgpu", "random:7", "fractional-odd");
     assert_ne!(o.status.code(), Some(0));
-    assert!(stderr(&o).contains("random:SEED"), "{}", all(&o));
-    let o = run("wgpu", "random:7", "integer");
-    assert_ne!(o.status.code(), Some(0));
-    assert!(stderr(&o).contains("not wgpu"), "{}", all(&o));
+    assert!(stderr(&o).contains("integer only"), "{}", all(&o));
     let o = run("glsl", "random:x", "integer");
     assert_ne!(o.status.code(), Some(0));
     assert!(stderr(&o).contains("not a seed"), "{}", all(&o));

@@ -10,6 +10,7 @@
 //! Math lives in the scheme declaration and the IR, order lives in the
 //! Plan, syntax lives in the printers.
 
+pub mod adaptive;
 pub mod backend;
 pub mod builder;
 pub mod displace;

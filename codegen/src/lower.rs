@@ -23,10 +23,19 @@ pub mod common_fn {
     pub const CUBIC: usize = 1;
     pub const EDGE: usize = 2;
     pub const EDGE_FACTOR: usize = 3;
+    /// `tessgen_edge_factor_runtime`: the metric chosen at run time.
+    pub const EDGE_FACTOR_RUNTIME: usize = 4;
+    /// `tessgen_edge_level`: power-of-two edge level of a factor.
+    pub const EDGE_LEVEL: usize = 5;
+    /// `tessgen_bucket_level`: a patch's bucket, the largest edge level.
+    pub const BUCKET_LEVEL: usize = 6;
 }
 
 /// Name of the adaptive per-edge tessellation factor.
 pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";
+
+/// Name of the adaptive per-edge factor with the metric chosen at run time.
+pub const EDGE_FACTOR_RUNTIME_FN: &str = "tessgen_edge_factor_runtime";
 
 /// Fixed-point denominator of the adaptive evaluation: the hardware
 /// tessellator's domain coordinates are 16.16 fixed point, so `m / 2^16`
@@ -166,7 +175,10 @@ pub fn common_module(table: &StencilTable) -> Module {
     }
     f.body.push(Stmt::Return(lerp(l(d[0]), l(d[1]), wl, wr)));
     m.functions.push(f);
-    m.functions.push(edge_factor_fn());
+    m.functions.push(edge_factor_fn(false));
+    m.functions.push(edge_factor_fn(true));
+    m.functions.push(crate::adaptive::edge_level_fn());
+    m.functions.push(crate::adaptive::bucket_level_fn());
     m
 }
 
@@ -177,16 +189,36 @@ pub fn common_module(table: &StencilTable) -> Module {
 /// and for the explicit metric the edge's global id. Both patches of the
 /// edge therefore pass the hardware the same factor bits, which is what
 /// makes their boundary vertex sets equal (Rule 3).
-fn edge_factor_fn() -> Function {
+///
+/// `runtime = false`: `tessgen_edge_factor`, the metric a define (GLSL/HLSL
+/// tessellation control stages). `runtime = true`:
+/// `tessgen_edge_factor_runtime`, the same statements with the metric chosen
+/// at run time by `adaptive[25]` (0 screen, 1 distance, 2 buffer) — for the
+/// targets without a preprocessor (WGSL, Rust), which would otherwise only
+/// ever see the screen-space default branch.
+fn edge_factor_fn(runtime: bool) -> Function {
     let mut f = Function::new(
-        EDGE_FACTOR_FN,
-        "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
+        if runtime {
+            EDGE_FACTOR_RUNTIME_FN
+        } else {
+            EDGE_FACTOR_FN
+        },
+        if runtime {
+            "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
+         (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen \
+         at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the \
+         eye, otherwise the projected length in pixels over the target pixels per segment (WGSL \
+         and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN \
+         becomes min."
+        } else {
+            "Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` \
          (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower \
          vertex index first) and the metric sees only them, so both patches of the edge compute \
          the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over \
          distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in \
          pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` \
-         buffer; NaN becomes min.",
+         buffer; NaN becomes min."
+        },
     );
     f.precise = true;
     let a = f.param("a", Ty::Vec3);
@@ -270,11 +302,24 @@ fn edge_factor_fn() -> Function {
             vec![],
         ),
         Stmt::Var(fac, f32c(1.0)),
-        Stmt::IfDef(
-            plan::Define::MetricBuffer,
-            vec![Stmt::Assign(fac, fetch(Resource::EdgeFactors, l(edge)))],
-            vec![Stmt::IfDef(plan::Define::MetricDistance, distance, screen)],
-        ),
+        if runtime {
+            let metric = || fetch(Resource::Adaptive, u(crate::adaptive::METRIC_SLOT));
+            Stmt::If(
+                bin(BinOp::Eq, metric(), f32c(crate::adaptive::METRIC_BUFFER)),
+                vec![Stmt::Assign(fac, fetch(Resource::EdgeFactors, l(edge)))],
+                vec![Stmt::If(
+                    bin(BinOp::Eq, metric(), f32c(crate::adaptive::METRIC_DISTANCE)),
+                    distance,
+                    screen,
+                )],
+            )
+        } else {
+            Stmt::IfDef(
+                plan::Define::MetricBuffer,
+                vec![Stmt::Assign(fac, fetch(Resource::EdgeFactors, l(edge)))],
+                vec![Stmt::IfDef(plan::Define::MetricDistance, distance, screen)],
+            )
+        },
         // `factor >= min` is false for NaN: NaN becomes min.
         Stmt::If(
             bin(BinOp::Ge, l(fac), ad(23)),
@@ -401,6 +446,18 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         ));
         idx
     });
+    // Adaptive tessellation on the instanced path (quad schemes).
+    let adaptive = (sides == 4).then(|| {
+        let edge_level = m.functions.len();
+        m.functions
+            .push(crate::adaptive::patch_edge_level_fn(curve_const));
+        let eval_a = m.functions.len();
+        m.functions.push(crate::adaptive::eval_adaptive_fn(eval));
+        AdaptiveEntries {
+            edge_level,
+            eval: eval_a,
+        }
+    });
     (
         m,
         Entries {
@@ -412,6 +469,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             sides,
             grid,
             grid_index,
+            adaptive,
         },
     )
 }

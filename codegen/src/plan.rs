@@ -499,6 +499,18 @@ pub struct Entries {
     /// flat sample index of an integer domain point (the tessellation
     /// evaluation stages write their captured samples there).
     pub grid_index: usize,
+    /// Adaptive tessellation without a hardware tessellator (quad schemes;
+    /// `None` for triangle schemes): see `crate::adaptive`.
+    pub adaptive: Option<AdaptiveEntries>,
+}
+
+/// The per-scheme functions of adaptive tessellation on the instanced path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AdaptiveEntries {
+    /// `patch_edge_level(face, class, cp_base, k, max_level) -> u32`.
+    pub edge_level: usize,
+    /// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`.
+    pub eval: usize,
 }
 
 #[derive(Clone, Debug, PartialEq)]

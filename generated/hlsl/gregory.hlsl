@@ -104,6 +104,12 @@ struct Params {
 // binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 [[vk::binding(24, 0)]] Texture2D<float> displace_map : register(t24);
 
+// binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+[[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
+
+// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+[[vk::binding(26, 0)]] StructuredBuffer<uint> bucket_patches : register(t26);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 20u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -261,6 +267,75 @@ precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edg
         factor = adaptive[24u];
     }
     return factor;
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
+precise float tessgen_edge_factor_runtime(float3 a, float3 b, uint va, uint vb, uint edge) {
+    precise float3 p = a;
+    precise float3 q = b;
+    if ((vb < va)) {
+        p = b;
+        q = a;
+    }
+    precise float factor = 1.0f;
+    if ((adaptive[25u] == 2.0f)) {
+        factor = edge_factors[edge];
+    } else {
+        if ((adaptive[25u] == 1.0f)) {
+            precise float3 d = (q - p);
+            precise float3 mid = ((p + q) * 0.5f);
+            precise float dist = sqrt(dot((mid - float3(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - float3(adaptive[16u], adaptive[17u], adaptive[18u]))));
+            if ((dist > 0.0f)) {
+                factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+            } else {
+                factor = adaptive[24u];
+            }
+        } else {
+            precise float wp = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+            precise float wq = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+            if (((wp > 0.0f) && (wq > 0.0f))) {
+                precise float dx = ((((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+                precise float dy = ((((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+                factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+            } else {
+                factor = adaptive[24u];
+            }
+        }
+    }
+    if ((factor >= adaptive[23u])) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if ((factor > adaptive[24u])) {
+        factor = adaptive[24u];
+    }
+    return factor;
+}
+
+// Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power of two). A function of the factor alone, so both patches of an edge get the same level. A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN factor compares false and gives 1.
+uint tessgen_edge_level(float factor, uint max_level) {
+    uint level = 1u;
+    for (uint step_ = 0u; step_ < 16u; step_ += 1u) {
+        if (((float(level) < factor) && (level < max_level))) {
+            level = (level * 2u);
+        }
+    }
+    return level;
+}
+
+// Bucket of a patch: the largest of its four edge levels (all powers of two, so each divides it). Patches of one bucket and class are one instanced draw.
+uint tessgen_bucket_level(uint l0, uint l1, uint l2, uint l3) {
+    uint bucket = l0;
+    if ((l1 > bucket)) {
+        bucket = l1;
+    }
+    if ((l2 > bucket)) {
+        bucket = l2;
+    }
+    if ((l3 > bucket)) {
+        bucket = l3;
+    }
+    return bucket;
 }
 
 // ---- module `gregory` ----
@@ -584,6 +659,50 @@ uint grid_iv(uint s, uint level) {
 // Flat index of the sample at integer domain point (iu, iv): iv·(level+1) + iu (the inverse of grid_iu, grid_iv).
 uint grid_index(uint iu, uint iv, uint level) {
     return ((iv * (level + 1u)) + iu);
+}
+
+// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
+    uint k1 = ((k + 1u) % 4u);
+    uint curve = ((class_ * 16u) + (k * 4u));
+    float3 a = cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
+    float3 b = cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+    uint va = corner_vertex[((face * 4u) + k)];
+    uint vb = corner_vertex[((face * 4u) + k1)];
+    uint edge = face_edges[((face * 4u) + k)];
+    float factor = tessgen_edge_factor_runtime(a, b, va, vb, edge);
+    return tessgen_edge_level(factor, max_level);
+}
+
+// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
+    uint su = iu;
+    uint sv = iv;
+    uint sl = level;
+    if ((iv == 0u)) {
+        su = (iu / (level / l0));
+        sv = 0u;
+        sl = l0;
+    } else {
+        if ((iu == level)) {
+            su = l1;
+            sv = (iv / (level / l1));
+            sl = l1;
+        } else {
+            if ((iv == level)) {
+                su = (iu / (level / l2));
+                sv = l2;
+                sl = l2;
+            } else {
+                if ((iu == 0u)) {
+                    su = 0u;
+                    sv = (iv / (level / l3));
+                    sl = l3;
+                }
+            }
+        }
+    }
+    return eval(cp, class_, cp_base, su, sv, sl);
 }
 
 // ---- compute entry points ----

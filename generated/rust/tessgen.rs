@@ -76,6 +76,18 @@ pub mod common {
         pub patch: fn(&Inputs, &mut [Vec3], u32, u32),
     }
     
+    /// Adaptive tessellation of a quad scheme (power-of-two edge levels,
+    /// buckets, snapped transitions): the functions the CPU runs and the WGSL
+    /// classify and evaluation entries call.
+    #[derive(Clone, Copy, Debug)]
+    pub struct AdaptiveKernels {
+        /// `(inputs, cp, face, class, cp_base, k, max_level)`: level of edge k.
+        pub edge_level: fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32) -> u32,
+        /// `(cp, class, cp_base, iu, iv, level, l0, l1, l2, l3)`: `eval` with
+        /// boundary samples snapped onto the edges' own levels.
+        pub eval: fn(&[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
+    }
+    
     /// Entry points of one scheme.
     #[derive(Clone, Copy, Debug)]
     pub struct SchemeKernels {
@@ -95,6 +107,9 @@ pub mod common {
         /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
         /// displacement step (quad schemes; `None` for triangle schemes).
         pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
+        /// Adaptive tessellation on the instanced path (quad schemes; `None`
+        /// for triangle schemes).
+        pub adaptive: Option<AdaptiveKernels>,
         /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
         /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
         pub sides: u32,
@@ -167,6 +182,75 @@ pub mod common {
             factor = inputs.adaptive[(24u32) as usize];
         }
         return factor;
+    }
+    
+    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
+    pub fn tessgen_edge_factor_runtime(inputs: &Inputs, a: Vec3, b: Vec3, va: u32, vb: u32, edge: u32) -> f32 {
+        let mut p: Vec3 = a;
+        let mut q: Vec3 = b;
+        if (vb < va) {
+            p = b;
+            q = a;
+        }
+        let mut factor: f32 = 1.0f32;
+        if (inputs.adaptive[(25u32) as usize] == 2.0f32) {
+            factor = inputs.edge_factors[(edge) as usize];
+        } else {
+            if (inputs.adaptive[(25u32) as usize] == 1.0f32) {
+                let d: Vec3 = (q - p);
+                let mid: Vec3 = ((p + q) * 0.5f32);
+                let dist: f32 = (mid - Vec3::new(inputs.adaptive[(16u32) as usize], inputs.adaptive[(17u32) as usize], inputs.adaptive[(18u32) as usize])).dot((mid - Vec3::new(inputs.adaptive[(16u32) as usize], inputs.adaptive[(17u32) as usize], inputs.adaptive[(18u32) as usize]))).sqrt();
+                if (dist > 0.0f32) {
+                    factor = ((inputs.adaptive[(19u32) as usize] * d.dot(d).sqrt()) / dist);
+                } else {
+                    factor = inputs.adaptive[(24u32) as usize];
+                }
+            } else {
+                let wp: f32 = (Vec3::new(inputs.adaptive[(3u32) as usize], inputs.adaptive[(7u32) as usize], inputs.adaptive[(11u32) as usize]).dot(p) + inputs.adaptive[(15u32) as usize]);
+                let wq: f32 = (Vec3::new(inputs.adaptive[(3u32) as usize], inputs.adaptive[(7u32) as usize], inputs.adaptive[(11u32) as usize]).dot(q) + inputs.adaptive[(15u32) as usize]);
+                if ((wp > 0.0f32) && (wq > 0.0f32)) {
+                    let dx: f32 = ((((Vec3::new(inputs.adaptive[(0u32) as usize], inputs.adaptive[(4u32) as usize], inputs.adaptive[(8u32) as usize]).dot(q) + inputs.adaptive[(12u32) as usize]) / wq) - ((Vec3::new(inputs.adaptive[(0u32) as usize], inputs.adaptive[(4u32) as usize], inputs.adaptive[(8u32) as usize]).dot(p) + inputs.adaptive[(12u32) as usize]) / wp)) * (inputs.adaptive[(20u32) as usize] * 0.5f32));
+                    let dy: f32 = ((((Vec3::new(inputs.adaptive[(1u32) as usize], inputs.adaptive[(5u32) as usize], inputs.adaptive[(9u32) as usize]).dot(q) + inputs.adaptive[(13u32) as usize]) / wq) - ((Vec3::new(inputs.adaptive[(1u32) as usize], inputs.adaptive[(5u32) as usize], inputs.adaptive[(9u32) as usize]).dot(p) + inputs.adaptive[(13u32) as usize]) / wp)) * (inputs.adaptive[(21u32) as usize] * 0.5f32));
+                    factor = (((dx * dx) + (dy * dy)).sqrt() / inputs.adaptive[(22u32) as usize]);
+                } else {
+                    factor = inputs.adaptive[(24u32) as usize];
+                }
+            }
+        }
+        if (factor >= inputs.adaptive[(23u32) as usize]) {
+        } else {
+            factor = inputs.adaptive[(23u32) as usize];
+        }
+        if (factor > inputs.adaptive[(24u32) as usize]) {
+            factor = inputs.adaptive[(24u32) as usize];
+        }
+        return factor;
+    }
+    
+    /// Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power of two). A function of the factor alone, so both patches of an edge get the same level. A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN factor compares false and gives 1.
+    pub fn tessgen_edge_level(factor: f32, max_level: u32) -> u32 {
+        let mut level: u32 = 1u32;
+        for step in (0u32)..(16u32) {
+            if (((level as f32) < factor) && (level < max_level)) {
+                level = (level * 2u32);
+            }
+        }
+        return level;
+    }
+    
+    /// Bucket of a patch: the largest of its four edge levels (all powers of two, so each divides it). Patches of one bucket and class are one instanced draw.
+    pub fn tessgen_bucket_level(l0: u32, l1: u32, l2: u32, l3: u32) -> u32 {
+        let mut bucket: u32 = l0;
+        if (l1 > bucket) {
+            bucket = l1;
+        }
+        if (l2 > bucket) {
+            bucket = l2;
+        }
+        if (l3 > bucket) {
+            bucket = l3;
+        }
+        return bucket;
     }
 }
 
@@ -465,6 +549,50 @@ pub mod regular {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        let k1: u32 = ((k + 1u32) % 4u32);
+        let curve: u32 = ((class * 16u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 4u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 4u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 4u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "regular",
@@ -477,6 +605,7 @@ pub mod regular {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -967,6 +1096,50 @@ pub mod pccm {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        let k1: u32 = ((k + 1u32) % 4u32);
+        let curve: u32 = ((class * 16u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 4u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 4u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 4u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pccm",
@@ -980,6 +1153,7 @@ pub mod pccm {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1422,6 +1596,50 @@ pub mod acc {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        let k1: u32 = ((k + 1u32) % 4u32);
+        let curve: u32 = ((class * 16u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 4u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 4u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 4u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "acc",
@@ -1435,6 +1653,7 @@ pub mod acc {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1902,6 +2121,50 @@ pub mod gregory {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        let k1: u32 = ((k + 1u32) % 4u32);
+        let curve: u32 = ((class * 16u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 4u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 4u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 4u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory",
@@ -1915,6 +2178,7 @@ pub mod gregory {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2382,6 +2646,50 @@ pub mod gregory_osd {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        let k1: u32 = ((k + 1u32) % 4u32);
+        let curve: u32 = ((class * 16u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 4u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 4u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 4u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory_osd",
@@ -2395,6 +2703,7 @@ pub mod gregory_osd {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2604,6 +2913,7 @@ pub mod pn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: None,
+        adaptive: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2856,6 +3166,7 @@ pub mod stpn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: None,
+        adaptive: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3059,6 +3370,7 @@ pub mod phong {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: None,
+        adaptive: None,
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,

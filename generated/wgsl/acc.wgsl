@@ -106,6 +106,12 @@ struct Params {
 // scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 @group(0) @binding(24) var displace_map: texture_2d<f32>;
 
+// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+@group(0) @binding(25) var<storage, read_write> patch_levels: array<u32>;
+
+// adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+@group(0) @binding(26) var<storage, read> bucket_patches: array<u32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -225,6 +231,76 @@ fn tessgen_edge_factor(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) 
         factor = adaptive[24u];
     }
     return factor;
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_edge_factor_runtime(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) -> f32 {
+    var p: vec3<f32> = a;
+    var q: vec3<f32> = b;
+    if (vb < va) {
+        p = b;
+        q = a;
+    }
+    var factor: f32 = 1.0f;
+    if (adaptive[25u] == 2.0f) {
+        factor = edge_factors[edge];
+    } else {
+        if (adaptive[25u] == 1.0f) {
+            let d: vec3<f32> = (q - p);
+            let mid: vec3<f32> = ((p + q) * 0.5f);
+            let dist: f32 = sqrt(dot((mid - vec3<f32>(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - vec3<f32>(adaptive[16u], adaptive[17u], adaptive[18u]))));
+            if (dist > 0.0f) {
+                factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+            } else {
+                factor = adaptive[24u];
+            }
+        } else {
+            let wp: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+            let wq: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+            if ((wp > 0.0f) && (wq > 0.0f)) {
+                let dx: f32 = ((((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+                let dy: f32 = ((((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+                factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+            } else {
+                factor = adaptive[24u];
+            }
+        }
+    }
+    if (factor >= adaptive[23u]) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if (factor > adaptive[24u]) {
+        factor = adaptive[24u];
+    }
+    return factor;
+}
+
+// Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power of two). A function of the factor alone, so both patches of an edge get the same level. A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN factor compares false and gives 1.
+fn tessgen_edge_level(factor: f32, max_level: u32) -> u32 {
+    var level: u32 = 1u;
+    for (var step: u32 = 0u; step < 16u; step = (step + 1u)) {
+        if ((f32(level) < factor) && (level < max_level)) {
+            level = (level * 2u);
+        }
+    }
+    return level;
+}
+
+// Bucket of a patch: the largest of its four edge levels (all powers of two, so each divides it). Patches of one bucket and class are one instanced draw.
+fn tessgen_bucket_level(l0: u32, l1: u32, l2: u32, l3: u32) -> u32 {
+    var bucket: u32 = l0;
+    if (l1 > bucket) {
+        bucket = l1;
+    }
+    if (l2 > bucket) {
+        bucket = l2;
+    }
+    if (l3 > bucket) {
+        bucket = l3;
+    }
+    return bucket;
 }
 
 // ---- Scheme `acc` ----
@@ -662,6 +738,50 @@ fn eval_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u32, level:
     return sample;
 }
 
+// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+fn patch_edge_level(face: u32, class_: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+    let k1: u32 = ((k + 1u) % 4u);
+    let curve: u32 = ((class_ * 16u) + (k * 4u));
+    let a: vec3<f32> = load_control_points_ro((cp_base + EDGE_CURVE[(curve + 0u)]));
+    let b: vec3<f32> = load_control_points_ro((cp_base + EDGE_CURVE[(curve + 3u)]));
+    let va: u32 = corner_vertex[((face * 4u) + k)];
+    let vb: u32 = corner_vertex[((face * 4u) + k1)];
+    let edge: u32 = face_edges[((face * 4u) + k)];
+    let factor: f32 = tessgen_edge_factor_runtime(a, b, va, vb, edge);
+    return tessgen_edge_level(factor, max_level);
+}
+
+// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+fn eval_adaptive(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+    var su: u32 = iu;
+    var sv: u32 = iv;
+    var sl: u32 = level;
+    if (iv == 0u) {
+        su = (iu / (level / l0));
+        sv = 0u;
+        sl = l0;
+    } else {
+        if (iu == level) {
+            su = l1;
+            sv = (iv / (level / l1));
+            sl = l1;
+        } else {
+            if (iv == level) {
+                su = (iu / (level / l2));
+                sv = l2;
+                sl = l2;
+            } else {
+                if (iu == 0u) {
+                    su = 0u;
+                    sv = (iv / (level / l3));
+                    sl = l3;
+                }
+            }
+        }
+    }
+    return eval(class_, cp_base, su, sv, sl);
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -778,4 +898,77 @@ fn shade_fs(input: VsOut) -> @location(0) vec4<f32> {
         }
     }
     return vec4<f32>(color, 1.0f);
+}
+
+// Adaptive classify: for patches first .. first + count of the dispatch's class, the
+// power-of-two level of each edge (patch_edge_level, largest level = params.level) and the
+// patch's bucket into patch_levels[5p ..] (p = first + k, the class-sorted patch index).
+@compute @workgroup_size(64)
+fn adaptive_classify_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k >= params.count) {
+        return;
+    }
+    let p: u32 = (params.first + k);
+    let face: u32 = patch_faces[p];
+    var points: u32 = 0u;
+    if (params.class_ == 0u) {
+        points = 16u;
+    } else {
+        points = 40u;
+    }
+    let cp: u32 = (params.cp_base + (k * points));
+    let l0: u32 = patch_edge_level(face, params.class_, cp, 0u, params.level);
+    let l1: u32 = patch_edge_level(face, params.class_, cp, 1u, params.level);
+    let l2: u32 = patch_edge_level(face, params.class_, cp, 2u, params.level);
+    let l3: u32 = patch_edge_level(face, params.class_, cp, 3u, params.level);
+    patch_levels[((5u * p) + 0u)] = l0;
+    patch_levels[((5u * p) + 1u)] = l1;
+    patch_levels[((5u * p) + 2u)] = l2;
+    patch_levels[((5u * p) + 3u)] = l3;
+    patch_levels[((5u * p) + 4u)] = tessgen_bucket_level(l0, l1, l2, l3);
+}
+
+// One bucket of one class at its level params.level: grid_len(level) samples of each of
+// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into
+// samples[(out_base + k)·6 ..]: position xyz, normal xyz.
+@compute @workgroup_size(64)
+fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    let spp: u32 = grid_len(params.level);
+    if (k >= (params.count * spp)) {
+        return;
+    }
+    let patch_index: u32 = (k / spp);
+    let s: u32 = (k % spp);
+    let iu: u32 = grid_iu(s, params.level);
+    let iv: u32 = grid_iv(s, params.level);
+    let e: u32 = (6u * (params.first + patch_index));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let o: u32 = ((params.out_base + k) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+}
+
+// Instanced adaptive draw of one bucket of one class: the level-params.level grid index
+// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.
+@vertex
+fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
+    let iu: u32 = grid_iu(vi, params.level);
+    let iv: u32 = grid_iv(vi, params.level);
+    let e: u32 = (6u * (params.first + inst));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    var out: VsOut;
+    out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
+    out.world_position = result.position;
+    out.normal = result.normal;
+    out.patch_class = params.class_;
+    out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32(params.level));
+    return out;
 }

@@ -106,6 +106,12 @@ struct Params {
 // scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 @group(0) @binding(24) var displace_map: texture_2d<f32>;
 
+// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+@group(0) @binding(25) var<storage, read_write> patch_levels: array<u32>;
+
+// adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+@group(0) @binding(26) var<storage, read> bucket_patches: array<u32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -231,6 +237,76 @@ fn tessgen_edge_factor(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) 
         factor = adaptive[24u];
     }
     return factor;
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_edge_factor_runtime(a: vec3<f32>, b: vec3<f32>, va: u32, vb: u32, edge: u32) -> f32 {
+    var p: vec3<f32> = a;
+    var q: vec3<f32> = b;
+    if (vb < va) {
+        p = b;
+        q = a;
+    }
+    var factor: f32 = 1.0f;
+    if (adaptive[25u] == 2.0f) {
+        factor = edge_factors[edge];
+    } else {
+        if (adaptive[25u] == 1.0f) {
+            let d: vec3<f32> = (q - p);
+            let mid: vec3<f32> = ((p + q) * 0.5f);
+            let dist: f32 = sqrt(dot((mid - vec3<f32>(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - vec3<f32>(adaptive[16u], adaptive[17u], adaptive[18u]))));
+            if (dist > 0.0f) {
+                factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+            } else {
+                factor = adaptive[24u];
+            }
+        } else {
+            let wp: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+            let wq: f32 = (dot(vec3<f32>(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+            if ((wp > 0.0f) && (wq > 0.0f)) {
+                let dx: f32 = ((((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(vec3<f32>(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
+                let dy: f32 = ((((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(vec3<f32>(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
+                factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+            } else {
+                factor = adaptive[24u];
+            }
+        }
+    }
+    if (factor >= adaptive[23u]) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if (factor > adaptive[24u]) {
+        factor = adaptive[24u];
+    }
+    return factor;
+}
+
+// Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power of two). A function of the factor alone, so both patches of an edge get the same level. A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN factor compares false and gives 1.
+fn tessgen_edge_level(factor: f32, max_level: u32) -> u32 {
+    var level: u32 = 1u;
+    for (var step: u32 = 0u; step < 16u; step = (step + 1u)) {
+        if ((f32(level) < factor) && (level < max_level)) {
+            level = (level * 2u);
+        }
+    }
+    return level;
+}
+
+// Bucket of a patch: the largest of its four edge levels (all powers of two, so each divides it). Patches of one bucket and class are one instanced draw.
+fn tessgen_bucket_level(l0: u32, l1: u32, l2: u32, l3: u32) -> u32 {
+    var bucket: u32 = l0;
+    if (l1 > bucket) {
+        bucket = l1;
+    }
+    if (l2 > bucket) {
+        bucket = l2;
+    }
+    if (l3 > bucket) {
+        bucket = l3;
+    }
+    return bucket;
 }
 
 // ---- Scheme `stpn` ----

@@ -89,7 +89,7 @@ impl Adaptive {
         d
     }
 
-    /// The `adaptive` buffer (binding 19): 25 f32, layout `abi::ADAPTIVE`.
+    /// The `adaptive` buffer (binding 19): 26 f32, layout `abi::ADAPTIVE`.
     pub fn params(&self) -> Vec<f32> {
         let mut a = vec![0.0f32; ADAPTIVE_LEN];
         match &self.metric {
@@ -111,6 +111,13 @@ impl Adaptive {
         }
         a[23] = self.min;
         a[24] = self.max;
+        // The metric of `tessgen_edge_factor_runtime` (WGSL, Rust); the
+        // GLSL/HLSL control stages select theirs with a define instead.
+        a[METRIC_SLOT] = match self.metric {
+            Metric::Screen { .. } => 0.0,
+            Metric::Distance { .. } => 1.0,
+            Metric::Buffer(_) | Metric::PerFaceEdge(_) => 2.0,
+        };
         a
     }
 
@@ -125,7 +132,11 @@ impl Adaptive {
 }
 
 /// Floats in the `adaptive` buffer (`abi::ADAPTIVE_LEN`).
-pub const ADAPTIVE_LEN: usize = 25;
+pub const ADAPTIVE_LEN: usize = 26;
+
+/// Float of the `adaptive` buffer selecting the metric at run time (0
+/// screen, 1 distance, 2 explicit buffer), `abi::ADAPTIVE`.
+pub const METRIC_SLOT: usize = 25;
 
 /// Global edge id of edge k (`v_k → v_{k+1}`, half-edge `face_offsets[f] + k`)
 /// of every face, at `4f + k` (`sides·f + k`): edges numbered in order of
@@ -169,7 +180,7 @@ pub fn random_factors(edges: u32, seed: u64, lo: f32, hi: f32) -> Vec<f32> {
 
 // ---- CPU: power-of-two buckets with snapped transitions ----
 
-/// Errors of the CPU adaptive tessellator.
+/// Errors of the adaptive tessellators (CPU and wgpu).
 #[derive(Debug, thiserror::Error)]
 pub enum AdaptiveError {
     #[error(transparent)]
@@ -180,27 +191,91 @@ pub enum AdaptiveError {
     MaxLevel { got: u32 },
     #[error("edge {edge}: factor {factor} is not a finite number")]
     BadFactor { edge: usize, factor: f32 },
+    #[error("adaptive clamp range [{min}, {max}] is not a finite range with min <= max")]
+    Clamp { min: f32, max: f32 },
 }
 
 /// The power-of-two level of an edge: the smallest `2^k ≥ factor`, clamped
 /// to `1..=max_level` (a power of two). A function of the factor alone, so
-/// of the edge alone.
+/// of the edge alone. This is the generated `tessgen_edge_level` (the Plan
+/// function the WGSL classify pass runs too), not a host copy of it.
 pub fn edge_level(factor: f32, max_level: u32) -> u32 {
-    let mut l = 1u32;
-    while (l as f32) < factor && l < max_level {
-        l *= 2;
+    crate::kernels::common::tessgen_edge_level(factor, max_level)
+}
+
+/// The per-edge data of an adaptive run, checked: what the generated
+/// `patch_edge_level` reads on the CPU (`Inputs`) and on the GPU (bindings
+/// 17–19). Shared by [`evaluate_cpu_adaptive`] and
+/// `gpu::GpuMesh::evaluate_adaptive`, so both see the same bits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeInputs {
+    /// Edge id of edge k of face f at `4f + k` (`face_edges`, binding 17).
+    pub face_edges: Vec<u32>,
+    /// Explicit factors by edge id (`edge_factors`, binding 18); one zero
+    /// for the computed metrics (wgpu rejects empty bindings).
+    pub edge_factors: Vec<f32>,
+    /// The `adaptive` buffer (binding 19), metric selector included.
+    pub params: Vec<f32>,
+}
+
+/// Check an adaptive configuration against the mesh and lay out its
+/// per-edge data: `max_level` a power of two in `1..=MAX_LEVEL`, explicit
+/// factors one per edge ([`Metric::Buffer`]) or per face edge
+/// ([`Metric::PerFaceEdge`]) and finite, the clamp range finite.
+pub fn edge_inputs(
+    topo: &Topology,
+    a: &Adaptive,
+    max_level: u32,
+) -> Result<EdgeInputs, AdaptiveError> {
+    if !max_level.is_power_of_two() || max_level > crate::cpu::MAX_LEVEL {
+        return Err(AdaptiveError::MaxLevel { got: max_level });
     }
-    l
+    if !(a.min.is_finite() && a.max.is_finite() && a.min <= a.max) {
+        return Err(AdaptiveError::Clamp {
+            min: a.min,
+            max: a.max,
+        });
+    }
+    let (mut ids, mut edges) = edge_ids(topo);
+    if let Metric::PerFaceEdge(_) = &a.metric {
+        // Negative control: every face edge its own id.
+        edges = ids.len() as u32;
+        ids = (0..edges).collect();
+    }
+    let factors = a.edge_factors();
+    if let Metric::Buffer(_) | Metric::PerFaceEdge(_) = &a.metric {
+        if factors.len() != edges as usize {
+            return Err(AdaptiveError::EdgeFactorCount {
+                expected: edges as usize,
+                got: factors.len(),
+            });
+        }
+        if let Some((edge, &factor)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
+            return Err(AdaptiveError::BadFactor { edge, factor });
+        }
+    }
+    Ok(EdgeInputs {
+        face_edges: ids,
+        edge_factors: if factors.is_empty() {
+            vec![0.0]
+        } else {
+            factors.to_vec()
+        },
+        params: a.params(),
+    })
 }
 
 /// A tessellation with one power-of-two level per patch (its *bucket*: the
-/// largest level of its four edges) and one level per edge.
+/// largest level of its four edges) and one level per edge (CPU:
+/// [`evaluate_cpu_adaptive`]; wgpu: `gpu::GpuMesh::evaluate_adaptive`, the
+/// same layout bit for bit).
 ///
 /// Face `f` is an `(levels[f] + 1)²` grid in the usual order (`iv·(L+1) + iu`)
 /// from `offsets[f]`. Its interior samples are at `(iu, iv)/L`; a boundary
 /// sample `i` of edge `k`, whose own level is `L_e = edge_levels[4f + k] ≤ L`,
 /// is *snapped* to the edge's coarser point `⌊i / (L / L_e)⌋` and evaluated
-/// there through the shared edge evaluator at level `L_e` — exactly the
+/// there through the shared edge evaluator at level `L_e` (the generated
+/// `eval_adaptive`) — exactly the
 /// points the neighbour produces for that edge, whatever its bucket. Fine
 /// boundary triangles whose two boundary corners snapped to one point are
 /// degenerate (skipped by the weld); the rest stitch the levels without
@@ -239,87 +314,89 @@ impl AdaptiveTessellation {
     }
 }
 
-/// The grid point `(iu, iv)` of a face at bucket level `level`, with its
-/// boundary samples snapped to the edges' own levels: `(iu', iv', level')`
-/// to evaluate. Edge k is `v = 0, u = 1, v = 1, u = 0` for k = 0..3.
-pub fn snap(iu: u32, iv: u32, level: u32, edge_levels: [u32; 4]) -> (u32, u32, u32) {
-    let s = |k: usize| level / edge_levels[k];
-    if iv == 0 {
-        let le = edge_levels[0];
-        (iu / s(0), 0, le)
-    } else if iu == level {
-        let le = edge_levels[1];
-        (le, iv / s(1), le)
-    } else if iv == level {
-        let le = edge_levels[2];
-        (iu / s(2), le, le)
-    } else if iu == 0 {
-        let le = edge_levels[3];
-        (0, iv / s(3), le)
-    } else {
-        (iu, iv, level)
-    }
-}
-
-/// CPU adaptive tessellation of constructed quad patches: `factors` per
-/// global edge id ([`edge_ids`]), each edge's level [`edge_level`], each
-/// patch's bucket the largest of its edges, boundary samples [`snap`]ped.
+/// CPU adaptive tessellation of constructed quad patches from explicit
+/// `factors` per global edge id ([`edge_ids`]): [`evaluate_cpu_adaptive`]
+/// with [`Metric::Buffer`], factors clamped to `[1, max_level]` (which does
+/// not change their power-of-two levels).
 pub fn evaluate_cpu(
     patches: &crate::cpu::Patches,
     topo: &Topology,
     factors: &[f32],
     max_level: u32,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
+    let a = Adaptive {
+        metric: Metric::Buffer(factors.to_vec()),
+        partitioning: Partitioning::Integer,
+        min: 1.0,
+        max: max_level as f32,
+    };
+    evaluate_cpu_adaptive(patches, topo, &a, max_level)
+}
+
+/// CPU adaptive tessellation of constructed quad patches with any metric,
+/// through the generated Rust — the same Plan functions the WGSL classify
+/// and evaluation entries run: each edge's level from
+/// `patch_edge_level` (factor of the edge's end points or id, then the
+/// smallest power of two ≥ it, clamped to `max_level`), each patch's bucket
+/// `tessgen_bucket_level` (the largest of its four), every sample
+/// `eval_adaptive` (boundary samples snapped onto the edge's own level).
+/// `a.partitioning` is ignored: levels are powers of two.
+pub fn evaluate_cpu_adaptive(
+    patches: &crate::cpu::Patches,
+    topo: &Topology,
+    a: &Adaptive,
+    max_level: u32,
+) -> Result<AdaptiveTessellation, AdaptiveError> {
     let kernels = patches.scheme;
-    if kernels.sides != 4 {
+    let Some(ak) = kernels.adaptive else {
         return Err(crate::cpu::facet_error(kernels).into());
-    }
-    if !max_level.is_power_of_two() || max_level > crate::cpu::MAX_LEVEL {
-        return Err(AdaptiveError::MaxLevel { got: max_level });
-    }
-    let (ids, edges) = edge_ids(topo);
-    if factors.len() != edges as usize {
-        return Err(AdaptiveError::EdgeFactorCount {
-            expected: edges as usize,
-            got: factors.len(),
-        });
-    }
-    if let Some((edge, &factor)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
-        return Err(AdaptiveError::BadFactor { edge, factor });
-    }
+    };
+    let inp = edge_inputs(topo, a, max_level)?;
+    let (corner_vertex, _) = crate::cpu::corner_arrays(topo);
+    let inputs = crate::kernels::common::Inputs {
+        corner_vertex: &corner_vertex,
+        face_edges: &inp.face_edges,
+        edge_factors: &inp.edge_factors,
+        adaptive: &inp.params,
+        ..Default::default()
+    };
     let faces = patches.face_class.len();
-    let edge_levels: Vec<u32> = ids
-        .iter()
-        .map(|&e| edge_level(factors[e as usize], max_level))
-        .collect();
-    let levels: Vec<u32> = (0..faces)
-        .map(|f| {
-            edge_levels[4 * f..4 * f + 4]
-                .iter()
-                .copied()
-                .max()
-                .unwrap_or(1)
-        })
+    let cp_of = |f: usize| {
+        &patches.control_points[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize]
+    };
+    let mut edge_levels = Vec::with_capacity(4 * faces);
+    for f in 0..faces {
+        for k in 0..4 {
+            edge_levels.push((ak.edge_level)(
+                &inputs,
+                cp_of(f),
+                f as u32,
+                patches.face_class[f],
+                0,
+                k,
+                max_level,
+            ));
+        }
+    }
+    let levels: Vec<u32> = edge_levels
+        .chunks_exact(4)
+        .map(|e| crate::kernels::common::tessgen_bucket_level(e[0], e[1], e[2], e[3]))
         .collect();
     let mut offsets = Vec::with_capacity(faces + 1);
     let mut total = 0usize;
     for &l in &levels {
         offsets.push(total);
-        total += ((l + 1) * (l + 1)) as usize;
+        total += (kernels.grid_len)(l) as usize;
     }
     offsets.push(total);
     let mut positions = vec![Vec3::ZERO; total];
     let mut normals = vec![Vec3::ZERO; total];
     for f in 0..faces {
-        let cp = &patches.control_points
-            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
-        let class = patches.face_class[f];
-        let l = levels[f];
-        let el = [0, 1, 2, 3].map(|k| edge_levels[4 * f + k]);
-        for s in 0..(l + 1) * (l + 1) {
+        let (cp, class, l) = (cp_of(f), patches.face_class[f], levels[f]);
+        let e = &edge_levels[4 * f..4 * f + 4];
+        for s in 0..(kernels.grid_len)(l) {
             let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
-            let (u, v, lv) = snap(iu, iv, l, el);
-            let r = (kernels.eval)(cp, class, 0, u, v, lv);
+            let r = (ak.eval)(cp, class, 0, iu, iv, l, e[0], e[1], e[2], e[3]);
             positions[offsets[f] + s as usize] = r.position;
             normals[offsets[f] + s as usize] = r.normal;
         }

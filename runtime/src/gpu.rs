@@ -53,6 +53,10 @@ pub enum GpuError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    #[error(transparent)]
+    Adaptive(#[from] crate::adaptive::AdaptiveError),
+    #[error("the topology given has {given} faces, the uploaded mesh {uploaded}")]
+    TopologyMismatch { uploaded: usize, given: usize },
 }
 
 impl From<UploadError> for GpuError {
@@ -461,9 +465,29 @@ impl<'g> GpuMesh<'g> {
         params: &wgpu::Buffer,
         samples: Option<&wgpu::Buffer>,
     ) -> wgpu::BindGroup {
+        self.bind_group_with(entry, layout, params, samples, &[])
+    }
+
+    /// [`GpuMesh::bind_group`] with per-call buffers (`extra`, by binding)
+    /// taking precedence over the mesh's own.
+    fn bind_group_with(
+        &self,
+        entry: &str,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        samples: Option<&wgpu::Buffer>,
+        extra: &[(u32, &wgpu::Buffer)],
+    ) -> wgpu::BindGroup {
         let used = self.bindings.get(entry).cloned().unwrap_or_default();
         let mut entries = Vec::new();
         for b in used {
+            if let Some((_, buf)) = extra.iter().find(|(k, _)| *k == b) {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: b,
+                    resource: buf.as_entire_binding(),
+                });
+                continue;
+            }
             let resource = match b {
                 binding::TABLE => wgpu::BindingResource::TextureView(&self.table_view),
                 binding::DISPLACE_MAP => wgpu::BindingResource::TextureView(&self.displace_view),
@@ -669,6 +693,271 @@ impl<'g> GpuMesh<'g> {
             level,
             faces,
             sides: self.scheme.sides,
+            positions,
+            normals,
+        })
+    }
+
+    /// Adaptive tessellation on the instanced path (quad schemes), the same
+    /// result as [`crate::adaptive::evaluate_cpu_adaptive`] bit for bit:
+    ///
+    /// 1. `adaptive_classify_main`, one dispatch per class: every patch's
+    ///    four power-of-two edge levels (the metric of `a`, computed on the
+    ///    GPU from the edge's end points or read from the explicit factors;
+    ///    largest level `max_level`) and its bucket (the largest of the four)
+    ///    into `patch_levels`;
+    /// 2. a small readback of `patch_levels` (5 u32 per patch) from which the
+    ///    host builds one entry list per (class, bucket) in `bucket_patches`
+    ///    — not GPU-driven: no atomic bucket counters or indirect arguments;
+    /// 3. `eval_adaptive_main`, one dispatch per (class, bucket) at the
+    ///    bucket's level (split at the device limits), boundary samples
+    ///    snapped onto the edges' own levels; read back in face order.
+    ///
+    /// A renderer draws step 3 with `eval_adaptive_vs` instead: one
+    /// instanced draw of the level's grid per (class, bucket).
+    pub fn evaluate_adaptive(
+        &self,
+        topo: &Topology,
+        a: &crate::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+        if self.scheme.adaptive.is_none() {
+            return Err(cpu::facet_error(self.scheme).into());
+        }
+        let faces = self.patch_faces.len();
+        if topo.corners.len() != faces {
+            return Err(GpuError::TopologyMismatch {
+                uploaded: faces,
+                given: topo.corners.len(),
+            });
+        }
+        let inp = crate::adaptive::edge_inputs(topo, a, max_level)?;
+        let dev = &self.gpu.device;
+        let storage = |label: &'static str, bytes: &[u8], extra: wgpu::BufferUsages| {
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (bytes.len() as u64).max(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            });
+            self.gpu.queue.write_buffer(&buf, 0, bytes);
+            buf
+        };
+        use crate::upload::{f32_bytes, u32_bytes};
+        let patches = self.patch_faces.len() as u64;
+        check(&self.limits, "patch_levels", patches * 20)?;
+        let face_edges = storage(
+            "face_edges",
+            &u32_bytes(&inp.face_edges),
+            wgpu::BufferUsages::empty(),
+        );
+        let edge_factors = storage(
+            "edge_factors",
+            &f32_bytes(&inp.edge_factors),
+            wgpu::BufferUsages::empty(),
+        );
+        let params_buf = storage(
+            "adaptive",
+            &f32_bytes(&inp.params),
+            wgpu::BufferUsages::empty(),
+        );
+        let levels_buf = storage(
+            "patch_levels",
+            &vec![0u8; patches as usize * 20],
+            wgpu::BufferUsages::COPY_SRC,
+        );
+        let extra = [
+            (binding::FACE_EDGES, &face_edges),
+            (binding::EDGE_FACTORS, &edge_factors),
+            (binding::ADAPTIVE, &params_buf),
+            (binding::PATCH_LEVELS, &levels_buf),
+        ];
+        let pipe = |entry: &str| {
+            self.gpu.scoped(|| {
+                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: None,
+                    module: &self.module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            })
+        };
+        let classify = pipe("adaptive_classify_main")?;
+        let eval = pipe("eval_adaptive_main")?;
+
+        // 1. classify, then read the levels back.
+        let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("patch_levels readback"),
+            size: (patches * 20).max(16),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.gpu.scoped(|| {
+            let chunk = self.chunk(1) as u32;
+            let mut groups = Vec::new();
+            for c in &self.classes {
+                let mut k = 0;
+                while k < c.count {
+                    let count = chunk.min(c.count - k);
+                    let p = self.params_buffer(&params_bytes(
+                        Mat4::IDENTITY,
+                        c.first + k,
+                        count,
+                        c.class,
+                        c.cp_base + k * c.points,
+                        max_level,
+                        0,
+                    ));
+                    let layout = classify.get_bind_group_layout(0);
+                    groups.push((
+                        self.bind_group_with("adaptive_classify_main", &layout, &p, None, &extra),
+                        count.div_ceil(64),
+                    ));
+                    k += count;
+                }
+            }
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("adaptive classify"),
+            });
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("adaptive classify"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&classify);
+                for (group, wgs) in &groups {
+                    pass.set_bind_group(0, group, &[]);
+                    pass.dispatch_workgroups(*wgs, 1, 1);
+                }
+            }
+            enc.copy_buffer_to_buffer(&levels_buf, 0, &staging, 0, patches * 20);
+            self.gpu.queue.submit([enc.finish()]);
+        })?;
+        let words: Vec<u32> = self
+            .read_bytes(&staging)?
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+
+        // 2. per face levels, and one entry list per (class, bucket).
+        let mut levels = vec![0u32; faces];
+        let mut edge_levels = vec![0u32; 4 * faces];
+        let mut lists: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
+        for c in &self.classes {
+            for k in 0..c.count {
+                let p = (c.first + k) as usize;
+                let w = &words[5 * p..5 * p + 5];
+                let face = self.patch_faces[p] as usize;
+                levels[face] = w[4];
+                edge_levels[4 * face..4 * face + 4].copy_from_slice(&w[..4]);
+                lists.entry((c.class, w[4])).or_default().extend([
+                    p as u32,
+                    c.cp_base + k * c.points,
+                    w[0],
+                    w[1],
+                    w[2],
+                    w[3],
+                ]);
+            }
+        }
+        let mut offsets = Vec::with_capacity(faces + 1);
+        let mut total = 0usize;
+        for &l in &levels {
+            offsets.push(total);
+            total += (self.scheme.grid_len)(l) as usize;
+        }
+        offsets.push(total);
+        let all: Vec<u32> = lists.values().flatten().copied().collect();
+        check(&self.limits, "bucket_patches", all.len() as u64 * 4)?;
+        let bucket_buf = storage(
+            "bucket_patches",
+            &u32_bytes(&all),
+            wgpu::BufferUsages::empty(),
+        );
+
+        // 3. one dispatch per (class, bucket), split at the limits.
+        let mut positions = vec![Vec3::ZERO; total];
+        let mut normals = vec![Vec3::ZERO; total];
+        let mut start = 0u32;
+        for (&(class, level), list) in &lists {
+            let n = (list.len() / 6) as u32;
+            let spp = (self.scheme.grid_len)(level) as u64;
+            if spp * 24 > self.limits.max_storage_buffer_binding_size {
+                return Err(GpuError::BufferTooLarge {
+                    what: "samples of one patch",
+                    needed: spp * 24,
+                    max: self.limits.max_storage_buffer_binding_size,
+                });
+            }
+            let by_binding = (self.limits.max_storage_buffer_binding_size / (spp * 24)).max(1);
+            let chunk = self.chunk(spp).min(by_binding) as u32;
+            let mut k = 0;
+            while k < n {
+                let count = chunk.min(n - k);
+                let bytes = count as u64 * spp * 24;
+                let samples = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples readback"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                self.gpu.scoped(|| {
+                    let p = self.params_buffer(&params_bytes(
+                        Mat4::IDENTITY,
+                        start + k,
+                        count,
+                        class,
+                        0,
+                        level,
+                        0,
+                    ));
+                    let layout = eval.get_bind_group_layout(0);
+                    let group = self.bind_group_with(
+                        "eval_adaptive_main",
+                        &layout,
+                        &p,
+                        Some(&samples),
+                        &[(binding::BUCKET_PATCHES, &bucket_buf)],
+                    );
+                    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("eval adaptive"),
+                    });
+                    {
+                        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("eval adaptive"),
+                            timestamp_writes: None,
+                        });
+                        pass.set_pipeline(&eval);
+                        pass.set_bind_group(0, &group, &[]);
+                        pass.dispatch_workgroups(((count as u64 * spp).div_ceil(64)) as u32, 1, 1);
+                    }
+                    enc.copy_buffer_to_buffer(&samples, 0, &staging, 0, bytes);
+                    self.gpu.queue.submit([enc.finish()]);
+                })?;
+                let floats = self.read(&staging)?;
+                for (i, s) in floats.chunks_exact(6).enumerate() {
+                    let entry = (k as u64 + i as u64 / spp) as usize;
+                    let face = self.patch_faces[list[6 * entry] as usize] as usize;
+                    let at = offsets[face] + (i as u64 % spp) as usize;
+                    positions[at] = Vec3::new(s[0], s[1], s[2]);
+                    normals[at] = Vec3::new(s[3], s[4], s[5]);
+                }
+                k += count;
+            }
+            start += n;
+        }
+        Ok(crate::adaptive::AdaptiveTessellation {
+            levels,
+            edge_levels,
+            offsets,
             positions,
             normals,
         })

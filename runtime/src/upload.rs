@@ -44,6 +44,11 @@ pub mod binding {
     pub const DISPLACE_INFO: u32 = 23;
     /// The displacement map texture (not in [`Upload::buffers`]).
     pub const DISPLACE_MAP: u32 = 24;
+    /// Adaptive classify output (WGSL instanced path): per-call buffers of
+    /// `gpu::GpuMesh::evaluate_adaptive`, not in [`Upload::buffers`].
+    pub const PATCH_LEVELS: u32 = 25;
+    /// Adaptive draw lists (WGSL instanced path), per call as well.
+    pub const BUCKET_PATCHES: u32 = 26;
 }
 
 /// Errors building an [`Upload`].

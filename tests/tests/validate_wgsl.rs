@@ -18,7 +18,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use tessgen_codegen::backend::wgsl::ENTRY_POINTS;
+use tessgen_codegen::backend::wgsl::{ADAPTIVE_ENTRY_POINTS, ENTRY_POINTS};
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, Target};
 use tessgen_macros::scheme;
 
@@ -284,8 +284,15 @@ fn translate(path: &str, module: &Module, info: &ModuleInfo) -> Result<(), Strin
 fn validate(file: &GeneratedFile) -> Result<(), String> {
     let src = text(file);
     let (module, info) = parse_validate(&file.path, &src)?;
+    // Quad schemes also have the adaptive instanced path's entries.
+    let adaptive = if TRI.contains(&file.path.as_str()) {
+        &[][..]
+    } else {
+        ADAPTIVE_ENTRY_POINTS
+    };
     let expected: Vec<(String, String)> = ENTRY_POINTS
         .iter()
+        .chain(adaptive)
         .map(|(n, s)| (n.to_string(), s.to_string()))
         .collect();
     let found = entry_points(&module);
@@ -455,6 +462,31 @@ fn entry_point_bindings() {
                 ],
                 // The wireframe flag.
                 "shade_fs" => &["10 params -"],
+                // Adaptive instanced path: the classify pass reads the
+                // patch corners, vertices, edge ids, factors and metric
+                // parameters, writes the levels (7 storage buffers, under
+                // WebGPU's default 8); the evaluation reads the draw list.
+                "adaptive_classify_main" => &[
+                    "6 corner_vertex read",
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "17 face_edges read",
+                    "18 edge_factors read",
+                    "19 adaptive read",
+                    "25 patch_levels read_write",
+                ],
+                "eval_adaptive_main" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "12 samples read_write",
+                    "26 bucket_patches read",
+                ],
+                "eval_adaptive_vs" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "26 bucket_patches read",
+                ],
                 other => panic!("{}: unexpected entry point {other}", f.path),
             };
             assert_eq!(got, want, "{}: {}", f.path, ep.name);

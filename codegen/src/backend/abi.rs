@@ -64,6 +64,8 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 22, name: "owners", kind: Kind::U32Buffer, resource: Some(Resource::Owners), written: false, doc: "ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4" },
     Binding { binding: 23, name: "displace_info", kind: Kind::F32Buffer, resource: Some(Resource::DisplaceInfo), written: false, doc: "displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused" },
     Binding { binding: 24, name: "displace_map", kind: Kind::Table, resource: Some(Resource::DisplaceMap), written: false, doc: "scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader" },
+    Binding { binding: 25, name: "patch_levels", kind: Kind::U32Buffer, resource: None, written: true, doc: "adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)" },
+    Binding { binding: 26, name: "bucket_patches", kind: Kind::U32Buffer, resource: None, written: false, doc: "adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw" },
 ];
 
 /// Layout of the `adaptive` buffer (binding 19): `(first float, count,
@@ -77,10 +79,11 @@ pub const ADAPTIVE: &[(u32, u32, &str)] = &[
     (22, 1, "target pixels per segment (screen-space metric): factor = projected length / this"),
     (23, 1, "smallest factor (clamp; NaN becomes this)"),
     (24, 1, "largest factor (clamp; at most the device's maxTessellationGenerationLevel)"),
+    (25, 1, "metric of tessgen_edge_factor_runtime (WGSL, Rust: no preprocessor): 0 screen space, 1 distance, 2 edge_factors buffer"),
 ];
 
 /// Floats in the `adaptive` buffer.
-pub const ADAPTIVE_LEN: u32 = 25;
+pub const ADAPTIVE_LEN: u32 = 26;
 
 /// Binding of a Plan resource.
 pub fn binding_of(r: Resource) -> &'static Binding {

@@ -213,6 +213,18 @@ pub struct ClassKernels {
     pub patch: fn(&Inputs, &mut [Vec3], u32, u32),
 }
 
+/// Adaptive tessellation of a quad scheme (power-of-two edge levels,
+/// buckets, snapped transitions): the functions the CPU runs and the WGSL
+/// classify and evaluation entries call.
+#[derive(Clone, Copy, Debug)]
+pub struct AdaptiveKernels {
+    /// `(inputs, cp, face, class, cp_base, k, max_level)`: level of edge k.
+    pub edge_level: fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32) -> u32,
+    /// `(cp, class, cp_base, iu, iv, level, l0, l1, l2, l3)`: `eval` with
+    /// boundary samples snapped onto the edges' own levels.
+    pub eval: fn(&[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
+}
+
 /// Entry points of one scheme.
 #[derive(Clone, Copy, Debug)]
 pub struct SchemeKernels {
@@ -232,6 +244,9 @@ pub struct SchemeKernels {
     /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
     /// displacement step (quad schemes; `None` for triangle schemes).
     pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
+    /// Adaptive tessellation on the instanced path (quad schemes; `None`
+    /// for triangle schemes).
+    pub adaptive: Option<AdaptiveKernels>,
     /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
     /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
     pub sides: u32,
@@ -296,6 +311,13 @@ pub struct SchemeKernels {
                 m.functions[d].name
             )),
             None => self.line("    eval_displaced: None,"),
+        }
+        match e.adaptive {
+            Some(a) => self.line(&format!(
+                "    adaptive: Some(AdaptiveKernels {{ edge_level: {}, eval: {} }}),",
+                m.functions[a.edge_level].name, m.functions[a.eval].name
+            )),
+            None => self.line("    adaptive: None,"),
         }
         self.line(&format!("    sides: {},", e.sides));
         for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {

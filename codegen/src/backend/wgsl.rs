@@ -61,6 +61,14 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     ("shade_fs", "fragment"),
 ];
 
+/// Entry points of adaptive tessellation on the instanced path, emitted for
+/// quad schemes only (`Entries::adaptive`).
+pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
+    ("adaptive_classify_main", "compute"),
+    ("eval_adaptive_main", "compute"),
+    ("eval_adaptive_vs", "vertex"),
+];
+
 /// WGSL keywords and reserved words (WGSL §15), then the predeclared types
 /// and built-in functions this printer uses: never used as a plain name.
 const RESERVED: &str = "\
@@ -162,6 +170,7 @@ impl<'a> Writer<'a> {
             globals.insert(g.to_string());
         }
         globals.extend(ENTRY_POINTS.iter().map(|(n, _)| n.to_string()));
+        globals.extend(ADAPTIVE_ENTRY_POINTS.iter().map(|(n, _)| n.to_string()));
         Writer {
             plan,
             module,
@@ -233,6 +242,7 @@ impl<'a> Writer<'a> {
         self.line("");
         self.module_items(module);
         self.entry_points();
+        self.adaptive_entry_points();
         let body = std::mem::replace(&mut self.out, head);
         self.section("Bindings");
         self.bindings();
@@ -783,6 +793,106 @@ impl<'a> Writer<'a> {
         self.line("    }");
         self.line("}");
         self.line("return vec4<f32>(color, 1.0f);");
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    /// Adaptive tessellation (quad schemes): a classify pass writing every
+    /// patch's edge levels and bucket, then one dispatch (`eval_adaptive_main`)
+    /// or instanced draw (`eval_adaptive_vs`) per (class, bucket) over the
+    /// bucket's entries in `bucket_patches`. The semantics are the Plan's
+    /// `patch_edge_level`, `tessgen_bucket_level` and `eval_adaptive`; these
+    /// entries only index buffers.
+    fn adaptive_entry_points(&mut self) {
+        let Some(a) = self.entries.adaptive else {
+            return;
+        };
+        let first = param("first");
+        let count = param("count");
+        let level = param("level");
+        let class = param("class");
+        let cp_base = param("cp_base");
+        let sample_ty = self.ty(&Ty::Struct(common::SAMPLE));
+        let edge_level = self.fn_name(FnRef::Local(a.edge_level));
+        let eval = self.fn_name(FnRef::Local(a.eval));
+        let bucket = self.fn_name(FnRef::Common(crate::lower::common_fn::BUCKET_LEVEL));
+        let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
+        self.line("");
+        self.line(
+            "// Adaptive classify: for patches first .. first + count of the dispatch's class, the",
+        );
+        self.line("// power-of-two level of each edge (patch_edge_level, largest level = params.level) and the");
+        self.line("// patch's bucket into patch_levels[5p ..] (p = first + k, the class-sorted patch index).");
+        self.compute_head("adaptive_classify_main");
+        self.early_return(&format!("(k >= {count})"));
+        self.line(&format!("let p: u32 = ({first} + k);"));
+        self.line("let face: u32 = patch_faces[p];");
+        self.points_of_class();
+        self.line(&format!("let cp: u32 = ({cp_base} + (k * points));"));
+        for e in 0..4 {
+            self.line(&format!(
+                "let l{e}: u32 = {edge_level}(face, {class}, cp, {e}u, {level});"
+            ));
+        }
+        for e in 0..4 {
+            self.line(&format!("patch_levels[((5u * p) + {e}u)] = l{e};"));
+        }
+        self.line(&format!(
+            "patch_levels[((5u * p) + 4u)] = {bucket}(l0, l1, l2, l3);"
+        ));
+        self.end_fn();
+
+        let entry = |w: &mut Self, index: &str| {
+            w.line(&format!("let e: u32 = (6u * ({first} + {index}));"));
+            w.line("let cp: u32 = bucket_patches[(e + 1u)];");
+            w.line(&format!(
+                "let result: {sample_ty} = {eval}({class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
+            ));
+        };
+        self.line("// One bucket of one class at its level params.level: grid_len(level) samples of each of");
+        self.line("// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into");
+        self.line("// samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
+        self.compute_head("eval_adaptive_main");
+        self.line(&format!("let spp: u32 = {grid_len}({level});"));
+        self.early_return(&format!("(k >= ({count} * spp))"));
+        self.line("let patch_index: u32 = (k / spp);");
+        self.line("let s: u32 = (k % spp);");
+        self.line(&format!("let iu: u32 = {grid_iu}(s, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(s, {level});"));
+        entry(self, "patch_index");
+        self.line(&format!("let o: u32 = (({} + k) * 6u);", param("out_base")));
+        let comps = [
+            "position.x",
+            "position.y",
+            "position.z",
+            "normal.x",
+            "normal.y",
+            "normal.z",
+        ];
+        for (i, c) in comps.iter().enumerate() {
+            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+        }
+        self.end_fn();
+
+        self.line("// Instanced adaptive draw of one bucket of one class: the level-params.level grid index");
+        self.line("// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.");
+        self.line("@vertex");
+        self.line(
+            "fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
+        );
+        self.indent += 1;
+        self.line(&format!("let iu: u32 = {grid_iu}(vi, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(vi, {level});"));
+        entry(self, "inst");
+        self.line("var out: VsOut;");
+        self.line("out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));");
+        self.line("out.world_position = result.position;");
+        self.line("out.normal = result.normal;");
+        self.line(&format!("out.patch_class = {class};"));
+        self.line(&format!(
+            "out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32({level}));"
+        ));
+        self.line("return out;");
         self.indent -= 1;
         self.line("}");
     }

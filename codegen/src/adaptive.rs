@@ -1,0 +1,222 @@
+//! Lowering of adaptive tessellation for targets without a hardware
+//! tessellator (the WGSL instanced path and the CPU): power-of-two edge
+//! levels, per-patch buckets and snapped transitions, as Plan functions so
+//! the CPU (generated Rust) and the GPU (generated WGSL) run one definition.
+//!
+//! * `tessgen_edge_level(factor, max_level)` (common): the smallest power
+//!   of two ≥ the factor, clamped to `max_level`. A function of the factor
+//!   alone; the factor (`tessgen_edge_factor_runtime`) is a function of the
+//!   edge alone (its end points in canonical order, or its global id), so
+//!   both patches of an edge get the same level.
+//! * `tessgen_bucket_level(l0, l1, l2, l3)` (common): a patch's bucket, the
+//!   largest of its four edge levels — one instanced draw (dispatch) per
+//!   bucket and class.
+//! * `patch_edge_level(face, class, cp_base, k, max_level)` (per scheme):
+//!   the level of edge k of a patch, its end points read through
+//!   `EDGE_CURVE` (the patch corners: shared control points, bit-identical
+//!   in both patches, watertight.md Rule 1) — what the classify pass runs.
+//! * `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3)` (per
+//!   scheme): `eval` at grid point `(iu, iv)` of the patch's bucket `level`,
+//!   a boundary sample `i` of edge k *snapped* onto the edge's own level
+//!   `L_e` (a power of two dividing `level`): `⌊i / (level / L_e)⌋` at level
+//!   `L_e`, which goes through the shared edge evaluator there. Both patches
+//!   of an edge therefore produce exactly the edge's `L_e + 1` points,
+//!   whatever their buckets; fine boundary triangles whose two boundary
+//!   corners snapped onto one point are degenerate (zero area), and the rest
+//!   stitch the two levels without T-junctions.
+
+use crate::plan::build::*;
+use crate::plan::{self, *};
+
+/// Float of the `adaptive` buffer that selects the metric at run time
+/// (targets without a preprocessor).
+pub const METRIC_SLOT: u32 = 25;
+/// `adaptive[METRIC_SLOT]` values.
+pub const METRIC_SCREEN: f64 = 0.0;
+pub const METRIC_DISTANCE: f64 = 1.0;
+pub const METRIC_BUFFER: f64 = 2.0;
+
+/// Doubling steps of `tessgen_edge_level`: levels up to 2^16.
+const LEVEL_STEPS: u32 = 16;
+
+/// `tessgen_edge_level(factor, max_level) -> u32`.
+pub fn edge_level_fn() -> Function {
+    let mut f = Function::new(
+        "tessgen_edge_level",
+        "Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power \
+         of two). A function of the factor alone, so both patches of an edge get the same level. \
+         A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN \
+         factor compares false and gives 1.",
+    );
+    let factor = f.param("factor", Ty::F32);
+    let max_level = f.param("max_level", Ty::U32);
+    f.ret = Some(Ty::U32);
+    let lv = f.local("level", Ty::U32);
+    let step = f.local("step", Ty::U32);
+    f.body = vec![
+        Stmt::Var(lv, u(1)),
+        Stmt::For(
+            step,
+            u(0),
+            u(LEVEL_STEPS),
+            vec![Stmt::If(
+                bin(
+                    BinOp::And,
+                    bin(BinOp::Lt, to_f32(l(lv)), l(factor)),
+                    bin(BinOp::Lt, l(lv), l(max_level)),
+                ),
+                vec![Stmt::Assign(lv, mul(l(lv), u(2)))],
+                vec![],
+            )],
+        ),
+        Stmt::Return(l(lv)),
+    ];
+    f
+}
+
+/// `tessgen_bucket_level(l0, l1, l2, l3) -> u32`.
+pub fn bucket_level_fn() -> Function {
+    let mut f = Function::new(
+        "tessgen_bucket_level",
+        "Bucket of a patch: the largest of its four edge levels (all powers of two, so each \
+         divides it). Patches of one bucket and class are one instanced draw.",
+    );
+    let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
+    f.ret = Some(Ty::U32);
+    let m = f.local("bucket", Ty::U32);
+    f.body.push(Stmt::Var(m, l(ls[0])));
+    for &lk in &ls[1..] {
+        f.body.push(Stmt::If(
+            bin(BinOp::Gt, l(lk), l(m)),
+            vec![Stmt::Assign(m, l(lk))],
+            vec![],
+        ));
+    }
+    f.body.push(Stmt::Return(l(m)));
+    f
+}
+
+/// `patch_edge_level(face, class, cp_base, k, max_level) -> u32` of a quad
+/// scheme; `curve_const` is the scheme's `EDGE_CURVE` constant.
+pub fn patch_edge_level_fn(curve_const: usize) -> Function {
+    let mut f = Function::new(
+        "patch_edge_level",
+        "Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the \
+         patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both \
+         patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id \
+         face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.",
+    );
+    let face = f.param("face", Ty::U32);
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let k = f.param("k", Ty::U32);
+    let max_level = f.param("max_level", Ty::U32);
+    f.ret = Some(Ty::U32);
+    let k1 = f.local("k1", Ty::U32);
+    let curve = f.local("curve", Ty::U32);
+    let a = f.local("a", Ty::Vec3);
+    let b = f.local("b", Ty::Vec3);
+    let va = f.local("va", Ty::U32);
+    let vb = f.local("vb", Ty::U32);
+    let edge = f.local("edge", Ty::U32);
+    let factor = f.local("factor", Ty::F32);
+    let corner = |c: usize| {
+        fetch(
+            Resource::ControlPoints,
+            add(
+                l(cp),
+                Expr::ConstIndex(curve_const, Box::new(add(l(curve), u(c as u32)))),
+            ),
+        )
+    };
+    f.body = vec![
+        Stmt::Let(k1, bin(BinOp::Rem, add(l(k), u(1)), u(4))),
+        Stmt::Let(curve, add(mul(l(class), u(16)), mul(l(k), u(4)))),
+        Stmt::Let(a, corner(0)),
+        Stmt::Let(b, corner(3)),
+        Stmt::Let(
+            va,
+            fetch(Resource::CornerVertex, add(mul(l(face), u(4)), l(k))),
+        ),
+        Stmt::Let(
+            vb,
+            fetch(Resource::CornerVertex, add(mul(l(face), u(4)), l(k1))),
+        ),
+        Stmt::Let(
+            edge,
+            fetch(Resource::FaceEdges, add(mul(l(face), u(4)), l(k))),
+        ),
+        Stmt::Let(
+            factor,
+            call(
+                FnRef::Common(crate::lower::common_fn::EDGE_FACTOR_RUNTIME),
+                vec![l(a), l(b), l(va), l(vb), l(edge)],
+            ),
+        ),
+        Stmt::Return(call(
+            FnRef::Common(crate::lower::common_fn::EDGE_LEVEL),
+            vec![l(factor), l(max_level)],
+        )),
+    ];
+    f
+}
+
+/// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`
+/// of a quad scheme; `eval` is the scheme's `eval`.
+pub fn eval_adaptive_fn(eval: usize) -> Function {
+    let mut f = Function::new(
+        "eval_adaptive",
+        "Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two \
+         levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior \
+         samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the \
+         edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge \
+         evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever \
+         their buckets (no T-junctions; triangles that collapse are degenerate).",
+    );
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let su = f.local("su", Ty::U32);
+    let sv = f.local("sv", Ty::U32);
+    let sl = f.local("sl", Ty::U32);
+    // i / (level / l_k): the coarser point of edge k.
+    let snap = |i: LocalId, k: usize| div(l(i), div(l(level), l(ls[k])));
+    let on_edge = |k: usize, u_: Expr, v_: Expr| {
+        vec![
+            Stmt::Assign(su, u_),
+            Stmt::Assign(sv, v_),
+            Stmt::Assign(sl, l(ls[k])),
+        ]
+    };
+    f.body = vec![
+        Stmt::Var(su, l(iu)),
+        Stmt::Var(sv, l(iv)),
+        Stmt::Var(sl, l(level)),
+        Stmt::If(
+            bin(BinOp::Eq, l(iv), u(0)),
+            on_edge(0, snap(iu, 0), u(0)),
+            vec![Stmt::If(
+                bin(BinOp::Eq, l(iu), l(level)),
+                on_edge(1, l(ls[1]), snap(iv, 1)),
+                vec![Stmt::If(
+                    bin(BinOp::Eq, l(iv), l(level)),
+                    on_edge(2, snap(iu, 2), l(ls[2])),
+                    vec![Stmt::If(
+                        bin(BinOp::Eq, l(iu), u(0)),
+                        on_edge(3, u(0), snap(iv, 3)),
+                        vec![],
+                    )],
+                )],
+            )],
+        ),
+        Stmt::Return(call(
+            FnRef::Local(eval),
+            vec![l(class), l(cp), l(su), l(sv), l(sl)],
+        )),
+    ];
+    f
+}
