@@ -203,3 +203,57 @@ fn without_ownership_the_displaced_tessellation_stages_crack() {
         }
     }
 }
+
+/// With `TESSGEN_ADAPTIVE` the evaluation stage's `level` is the
+/// tessellator's fixed-point denominator 2^16 and the displacement step
+/// runs unchanged on those integer coordinates (texture-coordinate weights
+/// `m/2^16`, `(2^16 − m)/2^16`, the owner's mirrored `2^16 − m`): random
+/// per-edge factors, integer and fractional-odd partitioning, the captured
+/// triangle soup welds closed across every seam; per-patch ownership opens.
+#[test]
+fn adaptive_displaced_tessellation_welds_closed() {
+    use tessgen_runtime::adaptive::{self, Adaptive, Metric, Partitioning};
+    let vk = device();
+    let mesh = common::mesh("catmark_cube_uv");
+    let (topo, positions) = topo_positions(&mesh);
+    let (_, edges) = adaptive::edge_ids(&topo);
+    let run = |scheme: &str, language, partitioning, ownership| {
+        let options = Options {
+            adaptive: Some(Adaptive {
+                metric: Metric::Buffer(adaptive::random_factors(edges, 0x7e55_6e11, 1.0, 12.0)),
+                partitioning,
+                min: 1.0,
+                max: 64.0,
+            }),
+            ..Options::new(language)
+        };
+        let d = displacement(ownership, 0.5);
+        let m = VkMesh::new_displaced(&vk, &mesh, &topo, &positions, scheme, &d, &options)
+            .unwrap_or_else(|e| panic!("{scheme}: {e}"));
+        let tris = m.evaluate_adaptive().expect("adaptive capture");
+        assert!(tris.iter().flatten().all(|p| p.is_finite()));
+        let soup: Vec<Vec3> = tris.iter().flatten().copied().collect();
+        let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);
+        (tris.len(), r.open_edges, r.overused_edges)
+    };
+    for scheme in ["pccm", "gregory"] {
+        for language in Language::ALL {
+            for p in [Partitioning::Integer, Partitioning::FractionalOdd] {
+                let (tris, open, over) = run(scheme, language, p, Ownership::LowestFace);
+                println!(
+                    "| {scheme} | {} | catmark_cube_uv | adaptive {p:?} | {tris} triangles | {open} |",
+                    language.name()
+                );
+                assert_eq!((open, over), (0, 0), "{scheme} {} {p:?}", language.name());
+            }
+        }
+        let (_, open, _) = run(
+            scheme,
+            Language::Glsl,
+            Partitioning::Integer,
+            Ownership::PerPatch,
+        );
+        println!("adaptive negative control {scheme} glsl: {open} open edges");
+        assert!(open > 0, "{scheme}: per-patch ownership stayed closed");
+    }
+}
