@@ -11,8 +11,15 @@
 //!   arguments: the same bits. The owner is read from
 //!   [`Resource::Owners`], which the runtime fills per face (lowest adjacent
 //!   face index owns). This needs every patch's control points in one global
-//!   buffer (CPU, WGSL, the compute entries of GLSL/HLSL), which is why the
-//!   hardware tessellation stages (`.tese`, `ds_main`) do not displace.
+//!   buffer: the CPU, WGSL and the GLSL compute evaluation have it as the
+//!   control-point resource itself. The hardware tessellation stages
+//!   (`.tese`, `ds_main`) see only their own patch's control points, so
+//!   they call `eval_displaced_tess` (built with `TESSGEN_DISPLACE`): the
+//!   own sample from the patch-local points, the owner's from
+//!   `eval_global`, a copy of `eval` ([`global_variant`]) whose fetches read
+//!   [`Resource::GlobalControlPoints`], the global buffer the compute patch
+//!   stage filled before the draw. Same function and arguments in every
+//!   patch of the edge, so the same bits.
 //! * **Texture coordinate (Rule 5)**: 16 per quad patch, selected with the
 //!   spec's branch-free `idx_k = e_k + 2·e_{k−1}` and interpolated with
 //!   bilinear weights formed from integers; on an edge the sum collapses

@@ -408,13 +408,14 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         let start = m.functions.len();
         let owner_eval = crate::displace::global_variant(&mut m, eval);
         let idx = m.functions.len();
-        m.functions
-            .push(crate::displace::eval_displaced_tess_fn(&crate::displace::Callees {
+        m.functions.push(crate::displace::eval_displaced_tess_fn(
+            &crate::displace::Callees {
                 eval,
                 owner_eval,
                 texcoord,
                 displace,
-            }));
+            },
+        ));
         TessDisplaced {
             eval_displaced: idx,
             functions: start..m.functions.len(),

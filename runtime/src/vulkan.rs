@@ -1055,11 +1055,7 @@ impl<'v> VkMesh<'v> {
                 what,
             )
             .or_else(|_| {
-                vk.memory_type(
-                    req.memory_type_bits,
-                    vk::MemoryPropertyFlags::empty(),
-                    what,
-                )
+                vk.memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::empty(), what)
             })?;
         img.memory = unsafe {
             d.allocate_memory(

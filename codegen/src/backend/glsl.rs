@@ -46,6 +46,9 @@ pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
     files
 }
 
+/// Bindings a file declares: `binding → (read here, written here)`.
+type Need = BTreeMap<u32, (bool, bool)>;
+
 /// The shader a file holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -527,7 +530,7 @@ impl<'a> Writer<'a> {
 
     /// The `TESSGEN_DISPLACE` build's additions to the evaluation stage:
     /// bindings and functions beyond the default build's (quad schemes).
-    fn displace_extras(&mut self) -> Option<(BTreeMap<u32, (bool, bool)>, Vec<FnRef>)> {
+    fn displace_extras(&mut self) -> Option<(Need, Vec<FnRef>)> {
         if self.stage != Stage::Tese || self.entries.tess_displaced.is_none() {
             return None;
         }
@@ -702,8 +705,12 @@ impl<'a> Writer<'a> {
         if let Some((extra, _)) = &extras {
             self.out
                 .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
-            self.line("// Displacement (quads): the global control-point buffer, filled by the compute");
-            self.line("// patch stage (patch_main) before the draw, for the owner's evaluation, and the");
+            self.line(
+                "// Displacement (quads): the global control-point buffer, filled by the compute",
+            );
+            self.line(
+                "// patch stage (patch_main) before the draw, for the owner's evaluation, and the",
+            );
             self.line("// displacement data (watertight.md Rules 4 and 5).");
             for b in abi::BINDINGS {
                 if let Some((_, written)) = extra.get(&b.binding) {
