@@ -232,7 +232,7 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
-    /// Quad schemes, cpu/wgpu: displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed.
+    /// Quad schemes, every backend: displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed.
     #[arg(long, value_name = "MAP.png")]
     displace: Option<PathBuf>,
     /// Displacement scale: position + scale · height · normal.
@@ -715,13 +715,26 @@ fn vulkan_tessellate(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     tags: Option<&TagFile>,
+    displacement: Option<&Displacement>,
 ) -> Result<tessgen_runtime::vulkan::VkOutput, String> {
-    use tessgen_runtime::vulkan::{self, Language, Options};
+    use tessgen_runtime::vulkan::{self, Language, Options, VkOutput};
     let language = if args.backend == Backend::Hlsl {
         Language::Hlsl
     } else {
         Language::Glsl
     };
+    if let Some(d) = displacement {
+        // The evaluation stage built with TESSGEN_DISPLACE.
+        return vulkan::tessellate_displaced(
+            mesh,
+            &args.scheme,
+            args.level.unwrap_or(1),
+            d,
+            &Options::new(language),
+        )
+        .map(VkOutput::Grid)
+        .map_err(|e| e.to_string());
+    }
     vulkan::tessellate_tagged(
         mesh,
         &args.scheme,
@@ -742,6 +755,7 @@ fn vulkan_tessellate(
     _mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     _tags: Option<&TagFile>,
+    _displacement: Option<&Displacement>,
 ) -> Result<VkOutput, String> {
     Err(format!(
         "--backend {} needs tessgen built with the `vulkan` feature",
@@ -780,14 +794,9 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     let (scheme, split) = (&args.scheme, args.split_quads);
     let displacement = match &args.displace {
         Some(path) => {
-            if tags.is_some()
-                || split
-                || args.backend == Backend::Glsl
-                || args.backend == Backend::Hlsl
-            {
+            if tags.is_some() || split {
                 return Err(
-                    "--displace works with quad schemes on --backend cpu or wgpu (no --tags, no --split-quads)"
-                        .into(),
+                    "--displace works with quad schemes (no --tags, no --split-quads)".into(),
                 );
             }
             Some(Displacement {
@@ -822,7 +831,8 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
                     .map_err(|e| e.to_string())
             }
             Backend::Glsl | Backend::Hlsl => {
-                vulkan_tessellate(&mesh, args, tags.as_ref()).map(Output::Vulkan)
+                vulkan_tessellate(&mesh, args, tags.as_ref(), displacement.as_ref())
+                    .map(Output::Vulkan)
             }
         },
     }

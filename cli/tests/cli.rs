@@ -650,7 +650,10 @@ fn tessellate_with_displacement_across_uv_seams() {
     for (backend, per_patch, closed) in [
         ("cpu", false, true),
         ("wgpu", false, true),
+        ("glsl", false, true),
+        ("hlsl", false, true),
         ("cpu", true, false),
+        ("glsl", true, false),
     ] {
         let out = tmp.path().join(format!("cube_{backend}_{per_patch}.obj"));
         let mut args: Vec<&std::ffi::OsStr> = vec![

@@ -11,8 +11,15 @@
 //!   arguments: the same bits. The owner is read from
 //!   [`Resource::Owners`], which the runtime fills per face (lowest adjacent
 //!   face index owns). This needs every patch's control points in one global
-//!   buffer (CPU, WGSL, the compute entries of GLSL/HLSL), which is why the
-//!   hardware tessellation stages (`.tese`, `ds_main`) do not displace.
+//!   buffer: the CPU, WGSL and the GLSL compute evaluation have it as the
+//!   control-point resource itself. The hardware tessellation stages
+//!   (`.tese`, `ds_main`) see only their own patch's control points, so
+//!   they call `eval_displaced_tess` (built with `TESSGEN_DISPLACE`): the
+//!   own sample from the patch-local points, the owner's from
+//!   `eval_global`, a copy of `eval` ([`global_variant`]) whose fetches read
+//!   [`Resource::GlobalControlPoints`], the global buffer the compute patch
+//!   stage filled before the draw. Same function and arguments in every
+//!   patch of the edge, so the same bits.
 //! * **Texture coordinate (Rule 5)**: 16 per quad patch, selected with the
 //!   spec's branch-free `idx_k = e_k + 2·e_{k−1}` and interpolated with
 //!   bilinear weights formed from integers; on an edge the sum collapses
@@ -225,14 +232,20 @@ pub fn displace_point_fn() -> Function {
 
 /// Indices (in the scheme module) of the functions `eval_displaced` calls.
 pub struct Callees {
+    /// The patch's own sample.
     pub eval: usize,
+    /// The owner's sample on the boundary: `eval` itself where every
+    /// patch's control points are in one buffer (CPU, compute entries), the
+    /// global-buffer copy `eval_global` in the tessellation stages.
+    pub owner_eval: usize,
     pub texcoord: usize,
     pub displace: usize,
 }
 
 /// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample`.
 pub fn eval_displaced_fn(c: &Callees) -> Function {
-    let mut f = Function::new(
+    displaced_fn(
+        c,
         "eval_displaced",
         "`eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). \
          On the patch boundary the normal is the owner's: `eval` of the owner patch at the \
@@ -240,7 +253,137 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
          the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's \
          own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the \
          undisplaced surface's.",
-    );
+    )
+}
+
+/// `eval_displaced_tess(face, class, cp_base, iu, iv, level) -> Sample`:
+/// the tessellation evaluation stages' displacement step. `cp_base` indexes
+/// the patch's own control points (0 in `tcs_cp` / HLSL `cp`); the owner's
+/// normal comes from `eval_global`, which reads the global control-point
+/// buffer at the owner record's `cp_base`.
+pub fn eval_displaced_tess_fn(c: &Callees) -> Function {
+    displaced_fn(
+        c,
+        "eval_displaced_tess",
+        "eval_displaced for the tessellation evaluation stage: the patch's own sample from its \
+         patch-local control points (`eval`, cp_base into the patch's array), the owner's normal \
+         on the boundary from `eval_global` on the global control-point buffer (filled by the \
+         compute patch stage), the same call and arguments as in every other patch of the edge \
+         or corner (watertight.md Rule 4).",
+    )
+}
+
+/// A copy of local function `root` (and of every local function it calls
+/// that reads the control points) whose control-point fetches read
+/// [`Resource::GlobalControlPoints`]; the copies are appended to `m`, named
+/// `<name>_global`. Returns the index of `root`'s copy.
+pub fn global_variant(m: &mut Module, root: usize) -> usize {
+    fn reads_cp(m: &Module, i: usize, seen: &mut Vec<usize>) -> bool {
+        if seen.contains(&i) {
+            return false;
+        }
+        seen.push(i);
+        let f = &m.functions[i];
+        f.resources().contains(&(Resource::ControlPoints, false))
+            || crate::backend::called(f).into_iter().any(|c| match c {
+                FnRef::Local(j) => reads_cp(m, j, seen),
+                FnRef::Common(_) => false,
+            })
+    }
+    fn expr(e: &mut Expr, map: &[(usize, usize)]) {
+        match e {
+            Expr::Fetch(r, i) => {
+                if *r == Resource::ControlPoints {
+                    *r = Resource::GlobalControlPoints;
+                }
+                expr(i, map);
+            }
+            Expr::CallFn(r, xs) => {
+                if let FnRef::Local(j) = r {
+                    if let Some(&(_, k)) = map.iter().find(|(a, _)| a == j) {
+                        *r = FnRef::Local(k);
+                    }
+                }
+                xs.iter_mut().for_each(|x| expr(x, map));
+            }
+            Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
+            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, map),
+            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::Texel(_, a, b) => {
+                expr(a, map);
+                expr(b, map);
+            }
+            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) => {}
+        }
+    }
+    fn stmts(s: &mut [Stmt], map: &[(usize, usize)]) {
+        for s in s {
+            match s {
+                Stmt::Let(_, e)
+                | Stmt::Var(_, e)
+                | Stmt::Assign(_, e)
+                | Stmt::Return(e)
+                | Stmt::AssignField(_, _, e) => expr(e, map),
+                Stmt::Store(_, i, v) => {
+                    expr(i, map);
+                    expr(v, map);
+                }
+                Stmt::If(c, a, b) => {
+                    expr(c, map);
+                    stmts(a, map);
+                    stmts(b, map);
+                }
+                Stmt::IfDef(_, a, b) => {
+                    stmts(a, map);
+                    stmts(b, map);
+                }
+                Stmt::For(_, a, b, body) => {
+                    expr(a, map);
+                    expr(b, map);
+                    stmts(body, map);
+                }
+            }
+        }
+    }
+    // Every local function reachable from root that reads control points,
+    // callees first (so printers that print in module order see them first).
+    fn collect(m: &Module, i: usize, out: &mut Vec<usize>) {
+        if out.contains(&i) || !reads_cp(m, i, &mut Vec::new()) {
+            return;
+        }
+        for c in crate::backend::called(&m.functions[i]) {
+            if let FnRef::Local(j) = c {
+                collect(m, j, out);
+            }
+        }
+        out.push(i);
+    }
+    let mut order = Vec::new();
+    collect(m, root, &mut order);
+    let base = m.functions.len();
+    let map: Vec<(usize, usize)> = order
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| (i, base + k))
+        .collect();
+    for &i in &order {
+        let mut g = m.functions[i].clone();
+        g.name = format!("{}_global", g.name);
+        g.doc = format!(
+            "{} (Copy reading the global control-point buffer: the owner patch's evaluation in \
+             the displacing tessellation stages.)",
+            g.doc
+        );
+        stmts(&mut g.body, &map);
+        m.functions.push(g);
+    }
+    map.iter()
+        .find(|(a, _)| *a == root)
+        .map(|&(_, k)| k)
+        .unwrap_or(root)
+}
+
+fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
+    let mut f = Function::new(name, doc);
     let face = f.param("face", Ty::U32);
     let class = f.param("class", Ty::U32);
     let cp = f.param("cp_base", Ty::U32);
@@ -351,7 +494,7 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
         Stmt::Let(
             os,
             call(
-                FnRef::Local(c.eval),
+                FnRef::Local(c.owner_eval),
                 vec![l(oclass), l(ocp), l(ou), l(ov), l(level)],
             ),
         ),

@@ -440,11 +440,12 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         m.functions.push(crate::displace::eval_displaced_fn(
             &crate::displace::Callees {
                 eval,
+                owner_eval: eval,
                 texcoord,
                 displace,
             },
         ));
-        idx
+        (idx, texcoord, displace)
     });
     // Adaptive tessellation on the instanced path (quad schemes).
     let adaptive = (sides == 4).then(|| {
@@ -458,6 +459,26 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             eval: eval_a,
         }
     });
+    // The tessellation stages' variant: own sample from the patch-local
+    // control points, the owner's from the global buffer.
+    let tess_displaced = eval_displaced.map(|(_, texcoord, displace)| {
+        let start = m.functions.len();
+        let owner_eval = crate::displace::global_variant(&mut m, eval);
+        let idx = m.functions.len();
+        m.functions.push(crate::displace::eval_displaced_tess_fn(
+            &crate::displace::Callees {
+                eval,
+                owner_eval,
+                texcoord,
+                displace,
+            },
+        ));
+        TessDisplaced {
+            eval_displaced: idx,
+            functions: start..m.functions.len(),
+        }
+    });
+    let eval_displaced = eval_displaced.map(|(idx, _, _)| idx);
     (
         m,
         Entries {
@@ -466,6 +487,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             eval,
             eval_domain,
             eval_displaced,
+            tess_displaced,
             sides,
             grid,
             grid_index,

@@ -41,6 +41,13 @@ pub enum Resource {
     CornerSector,
     /// `vec3` patch control points (written by the patch stage).
     ControlPoints,
+    /// The same `control_points` buffer (same binding), read as the global
+    /// buffer of every patch even in the tessellation stages, where
+    /// [`Resource::ControlPoints`] is the patch's own array (`tcs_cp`, HLSL
+    /// `cp`). The displacing evaluation stage reads the *owner* patch's
+    /// control points through it (watertight.md Rule 4); the buffer must
+    /// have been filled by the compute patch stage (`patch_main`).
+    GlobalControlPoints,
     /// `vec3` unit normal, by vertex (triangle schemes).
     Normals,
     /// `f32` scalar tags, 4 per vertex: tension θ, sharpness σ, bias β,
@@ -84,6 +91,7 @@ impl Resource {
             Resource::Positions
             | Resource::VertexOut
             | Resource::ControlPoints
+            | Resource::GlobalControlPoints
             | Resource::Normals
             | Resource::Crease => Ty::Vec3,
             Resource::Tags
@@ -106,7 +114,7 @@ impl Resource {
             Resource::VertexOut => "vertex_out",
             Resource::CornerVertex => "corner_vertex",
             Resource::CornerSector => "corner_sector",
-            Resource::ControlPoints => "control_points",
+            Resource::ControlPoints | Resource::GlobalControlPoints => "control_points",
             Resource::Normals => "normals",
             Resource::Tags => "tags",
             Resource::Crease => "crease",
@@ -249,6 +257,11 @@ pub enum Define {
     FractionalOdd,
     /// Partitioning `fractional_even`.
     FractionalEven,
+    /// The tessellation evaluation stage displaces its sample
+    /// ([`TessDisplaced`]): it then also binds the global control-point
+    /// buffer (filled by the compute patch stage before the draw), the
+    /// owners, texture coordinates, displacement parameters and map.
+    Displace,
 }
 
 impl Define {
@@ -263,6 +276,7 @@ impl Define {
             Define::MetricDistance => "TESSGEN_METRIC_DISTANCE",
             Define::FractionalOdd => "TESSGEN_FRACTIONAL_ODD",
             Define::FractionalEven => "TESSGEN_FRACTIONAL_EVEN",
+            Define::Displace => "TESSGEN_DISPLACE",
         }
     }
 }
@@ -488,6 +502,9 @@ pub struct Entries {
     /// `eval`, then the displacement step (quad schemes; `None` for
     /// triangle schemes, which have no per-patch texture coordinates yet).
     pub eval_displaced: Option<usize>,
+    /// The displacement step of the tessellation evaluation stages (quad
+    /// schemes; `None` for triangle schemes).
+    pub tess_displaced: Option<TessDisplaced>,
     /// Corners per facet: 4 (quad domain) or 3 (triangle domain).
     pub sides: u32,
     /// `grid_len(level)`, `grid_iu(s, level)`, `grid_iv(s, level)`: the
@@ -511,6 +528,35 @@ pub struct AdaptiveEntries {
     pub edge_level: usize,
     /// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`.
     pub eval: usize,
+}
+
+/// The displacing evaluation of the hardware tessellation stages (`.tese`,
+/// HLSL `ds_main`, built with [`Define::Displace`]). The stage evaluates its
+/// own sample from its patch-local control points, but the owner's normal
+/// on the boundary (watertight.md Rule 4) needs `eval` of *another* patch:
+/// that call goes to `eval_global`, a copy of `eval` (and of the surface
+/// functions it calls) whose control-point fetches read
+/// [`Resource::GlobalControlPoints`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct TessDisplaced {
+    /// `eval_displaced_tess(face, class, cp_base, iu, iv, level) -> Sample`:
+    /// `eval_displaced` with the own sample from `eval` (patch-local) and
+    /// the owner's from `eval_global`.
+    pub eval_displaced: usize,
+    /// Functions only the tessellation stages use (`eval_global`, its
+    /// surface copies, `eval_displaced_tess`): the targets without
+    /// tessellation stages (Rust, WGSL) do not print them.
+    pub functions: std::ops::Range<usize>,
+}
+
+impl Entries {
+    /// Whether scheme-module function `i` serves only the tessellation
+    /// stages ([`TessDisplaced::functions`]).
+    pub fn tess_only(&self, i: usize) -> bool {
+        self.tess_displaced
+            .as_ref()
+            .is_some_and(|t| t.functions.contains(&i))
+    }
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -89,6 +89,34 @@ layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
 
 #endif
 
+#ifdef TESSGEN_DISPLACE
+// Displacement (quads): the global control-point buffer, filled by the compute
+// patch stage (patch_main) before the draw, for the owner's evaluation, and the
+// displacement data (watertight.md Rules 4 and 5).
+// binding 8: patch control points, 3 f32 per point (written by the patch stage)
+layout(std430, set = 0, binding = 8) readonly buffer ControlPoints { float control_points[]; };
+
+// binding 11: face index of each patch, patches sorted by class
+layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
+
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+layout(std430, set = 0, binding = 21) readonly buffer Texcoords { float texcoords[]; };
+
+// binding 22: ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+layout(std430, set = 0, binding = 22) readonly buffer Owners { uint owners[]; };
+
+// binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
+layout(std430, set = 0, binding = 23) readonly buffer DisplaceInfo { float displace_info[]; };
+
+// binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
+layout(set = 0, binding = 24) uniform sampler2D displace_map;
+
+vec3 load_control_points(uint i) {
+    return vec3(control_points[(3u * i)], control_points[((3u * i) + 1u)], control_points[((3u * i) + 2u)]);
+}
+
+#endif
+
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
     float len2 = dot(x, x);
@@ -233,6 +261,237 @@ uint grid_index(uint iu, uint iv, uint level) {
     return ((iv * (level + 1u)) + iu);
 }
 
+#ifdef TESSGEN_DISPLACE
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5);
+    if (x < 0.0) {
+        x = 0.0;
+    }
+    if (x > (width - 1.0)) {
+        x = (width - 1.0);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if (x1 >= xn) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5);
+    if (y < 0.0) {
+        y = 0.0;
+    }
+    if (y > (height - 1.0)) {
+        y = (height - 1.0);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if (y1 >= yn) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0 - fx);
+    float gy = (1.0 - fy);
+    float a = ((texelFetch(displace_map, ivec2(int(x0), int(y0)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y0)), 0).x * fx));
+    float b = ((texelFetch(displace_map, ivec2(int(x0), int(y1)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y1)), 0).x * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise float lu = (float((level - iu)) / float(level));
+    precise float ru = (float(iu) / float(level));
+    precise float lv = (float((level - iv)) / float(level));
+    precise float rv = (float(iv) / float(level));
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint((iu == level));
+    precise uint e2 = uint((iv == level));
+    precise uint e3 = uint((iu == 0u));
+    precise float w0 = (lu * lv);
+    precise float w1 = (ru * lv);
+    precise float w2 = (ru * rv);
+    precise float w3 = (lu * rv);
+    precise uint base = (face * 32u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e3))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise uint p3 = (base + ((12u + (e3 + (2u * e2))) * 2u));
+    precise float s = ((((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)])) + (w3 * texcoords[(p3 + 0u)]));
+    precise float t = ((((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)])) + (w3 * texcoords[(p3 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
+    return (p + (n * d));
+}
+
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+}
+
+// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+    vec3 position = along_v.point;
+    vec3 urow0_0 = ((load_control_points((cp_base + 16u)) * lu) + (load_control_points((cp_base + 18u)) * ru));
+    vec3 urow0_1 = ((load_control_points((cp_base + 18u)) * lu) + ((-load_control_points((cp_base + 26u))) * ru));
+    vec3 urow0 = ((urow0_0 * lu) + (urow0_1 * ru));
+    vec3 urow1_0 = ((load_control_points((cp_base + 17u)) * lu) + (load_control_points((cp_base + 19u)) * ru));
+    vec3 urow1_1 = ((load_control_points((cp_base + 19u)) * lu) + ((-load_control_points((cp_base + 27u))) * ru));
+    vec3 urow1 = ((urow1_0 * lu) + (urow1_1 * ru));
+    vec3 urow2_0 = ((load_control_points((cp_base + 39u)) * lu) + ((-load_control_points((cp_base + 31u))) * ru));
+    vec3 urow2_1 = (((-load_control_points((cp_base + 31u))) * lu) + ((-load_control_points((cp_base + 29u))) * ru));
+    vec3 urow2 = ((urow2_0 * lu) + (urow2_1 * ru));
+    vec3 urow3_0 = ((load_control_points((cp_base + 38u)) * lu) + ((-load_control_points((cp_base + 30u))) * ru));
+    vec3 urow3_1 = (((-load_control_points((cp_base + 30u))) * lu) + ((-load_control_points((cp_base + 28u))) * ru));
+    vec3 urow3 = ((urow3_0 * lu) + (urow3_1 * ru));
+    Curve tangent_u = tessgen_cubic(urow0, urow1, urow2, urow3, lv, rv);
+    vec3 vcol0_0 = ((load_control_points((cp_base + 20u)) * lv) + ((-load_control_points((cp_base + 36u))) * rv));
+    vec3 vcol0_1 = (((-load_control_points((cp_base + 36u))) * lv) + ((-load_control_points((cp_base + 34u))) * rv));
+    vec3 vcol0 = ((vcol0_0 * lv) + (vcol0_1 * rv));
+    vec3 vcol1_0 = ((load_control_points((cp_base + 21u)) * lv) + ((-load_control_points((cp_base + 37u))) * rv));
+    vec3 vcol1_1 = (((-load_control_points((cp_base + 37u))) * lv) + ((-load_control_points((cp_base + 35u))) * rv));
+    vec3 vcol1 = ((vcol1_0 * lv) + (vcol1_1 * rv));
+    vec3 vcol2_0 = ((load_control_points((cp_base + 23u)) * lv) + (load_control_points((cp_base + 25u)) * rv));
+    vec3 vcol2_1 = ((load_control_points((cp_base + 25u)) * lv) + ((-load_control_points((cp_base + 33u))) * rv));
+    vec3 vcol2 = ((vcol2_0 * lv) + (vcol2_1 * rv));
+    vec3 vcol3_0 = ((load_control_points((cp_base + 22u)) * lv) + (load_control_points((cp_base + 24u)) * rv));
+    vec3 vcol3_1 = ((load_control_points((cp_base + 24u)) * lv) + ((-load_control_points((cp_base + 32u))) * rv));
+    vec3 vcol3 = ((vcol3_0 * lv) + (vcol3_1 * rv));
+    Curve tangent_v = tessgen_cubic(vcol0, vcol1, vcol2, vcol3, lu, ru);
+    return Sample(position, tessgen_normalize(cross(tangent_u.point, tangent_v.point)));
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    if (class_ == 0u) {
+        sample_ = ordinary_surface_global(cp_base, iu, iv, level);
+    } else {
+        sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
+    }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
+        uint edge = 3u;
+        uint t = (level - iv);
+        if (iv == 0u) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if (iu == level) {
+                edge = 1u;
+                t = iv;
+            } else {
+                if (iv == level) {
+                    edge = 2u;
+                    t = (level - iu);
+                }
+            }
+        }
+        uint curve = ((class_ * 16u) + (edge * 4u));
+        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// eval_displaced for the tessellation evaluation stage: the patch's own sample from its patch-local control points (`eval`, cp_base into the patch's array), the owner's normal on the boundary from `eval_global` on the global control-point buffer (filled by the compute patch stage), the same call and arguments as in every other patch of the edge or corner (watertight.md Rule 4).
+Sample eval_displaced_tess(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if (scale != 0.0) {
+        vec3 n = sample_.normal;
+        if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
+            uint slot = 3u;
+            uint t = (level - iv);
+            if (iv == 0u) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if (iu == level) {
+                    slot = 1u;
+                    t = iv;
+                } else {
+                    if (iv == level) {
+                        slot = 2u;
+                        t = (level - iu);
+                    }
+                }
+            }
+            if (t == 0u) {
+                slot = (slot + 4u);
+            } else {
+                if (t == level) {
+                    slot = (((slot + 1u) % 4u) + 4u);
+                }
+            }
+            uint rec = ((face * 32u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (level - t);
+            }
+            if (slot >= 4u) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if (owner_k == 1u) {
+                ou = level;
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = (level - ot);
+                    ov = level;
+                } else {
+                    if (owner_k == 3u) {
+                        ou = 0u;
+                        ov = (level - ot);
+                    }
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
+}
+
+#endif
 void main() {
     // The grid point as integers: equal_spacing at an integer level puts vertex i
     // at i/level, so rounding recovers i exactly. eval and the shared edge evaluator
@@ -252,7 +511,14 @@ void main() {
 #endif
     uint iu = uint(round((gl_TessCoord.y * float(level))));
     uint iv = uint(round((gl_TessCoord.x * float(level))));
+#ifdef TESSGEN_DISPLACE
+    // Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal
+    // on the boundary from the global control-point buffer.
+    uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
+    Sample result = eval_displaced_tess(face, params.class_, 0u, iu, iv, level);
+#else
     Sample result = eval(params.class_, 0u, iu, iv, level);
+#endif
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));

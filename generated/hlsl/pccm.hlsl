@@ -684,6 +684,76 @@ uint grid_index(uint iu, uint iv, uint level) {
     return ((iv * (level + 1u)) + iu);
 }
 
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5f);
+    if ((x < 0.0f)) {
+        x = 0.0f;
+    }
+    if ((x > (width - 1.0f))) {
+        x = (width - 1.0f);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if ((x1 >= xn)) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5f);
+    if ((y < 0.0f)) {
+        y = 0.0f;
+    }
+    if ((y > (height - 1.0f))) {
+        y = (height - 1.0f);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if ((y1 >= yn)) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0f - fx);
+    float gy = (1.0f - fy);
+    float a = ((displace_map.Load(int3(int(x0), int(y0), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y0), 0)) * fx));
+    float b = ((displace_map.Load(int3(int(x0), int(y1), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y1), 0)) * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise float lu = (float((level - iu)) / float(level));
+    precise float ru = (float(iu) / float(level));
+    precise float lv = (float((level - iv)) / float(level));
+    precise float rv = (float(iv) / float(level));
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint((iu == level));
+    precise uint e2 = uint((iv == level));
+    precise uint e3 = uint((iu == 0u));
+    precise float w0 = (lu * lv);
+    precise float w1 = (ru * lv);
+    precise float w2 = (ru * rv);
+    precise float w3 = (lu * rv);
+    precise uint base = (face * 32u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e3))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise uint p3 = (base + ((12u + (e3 + (2u * e2))) * 2u));
+    precise float s = ((((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)])) + (w3 * texcoords[(p3 + 0u)]));
+    precise float t = ((((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)])) + (w3 * texcoords[(p3 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise float3 tessgen_displace(float3 p, float3 n, float d) {
+    return (p + (n * d));
+}
+
 // Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
 uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
     uint k1 = ((k + 1u) % 4u);
@@ -726,6 +796,210 @@ Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uin
         }
     }
     return eval(cp, class_, cp_base, su, sv, sl);
+}
+
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(fetch_control_points((cp_base + 0u)), fetch_control_points((cp_base + 4u)), fetch_control_points((cp_base + 8u)), fetch_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(fetch_control_points((cp_base + 1u)), fetch_control_points((cp_base + 5u)), fetch_control_points((cp_base + 9u)), fetch_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(fetch_control_points((cp_base + 2u)), fetch_control_points((cp_base + 6u)), fetch_control_points((cp_base + 10u)), fetch_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(fetch_control_points((cp_base + 3u)), fetch_control_points((cp_base + 7u)), fetch_control_points((cp_base + 11u)), fetch_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point_, row1.point_, row2.point_, row3.point_, lv, rv);
+    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+    return make_Sample(along_v.point_, tessgen_normalize(cross(along_u.point_, along_v.tangent)));
+}
+
+// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    uint sum_uv = (iu + iv);
+    uint piece = 0u;
+    float la = 0.0f;
+    float lb = 0.0f;
+    float lc = 0.0f;
+    if ((iv <= iu)) {
+        if ((sum_uv <= level)) {
+            piece = 0u;
+            la = (float((level - sum_uv)) / nf);
+            lb = (float((iu - iv)) / nf);
+            lc = (float((2u * iv)) / nf);
+        } else {
+            piece = 1u;
+            la = (float((iu - iv)) / nf);
+            lb = (float((sum_uv - level)) / nf);
+            lc = (float((2u * (level - iu))) / nf);
+        }
+    } else {
+        if ((sum_uv >= level)) {
+            piece = 2u;
+            la = (float((sum_uv - level)) / nf);
+            lb = (float((iv - iu)) / nf);
+            lc = (float((2u * (level - iv))) / nf);
+        } else {
+            piece = 3u;
+            la = (float((iv - iu)) / nf);
+            lb = (float((level - sum_uv)) / nf);
+            lc = (float((2u * iu)) / nf);
+        }
+    }
+    uint ca = (cp_base + (piece * 6u));
+    uint cb = (cp_base + (((piece + 1u) % 4u) * 6u));
+    uint cprev = (cp_base + (((piece + 3u) % 4u) * 6u));
+    float3 va = fetch_control_points((ca + 0u));
+    float3 t0a = fetch_control_points((ca + 1u));
+    float3 t1a = fetch_control_points((ca + 2u));
+    float3 b211a = fetch_control_points((ca + 3u));
+    float3 b121a = fetch_control_points((ca + 4u));
+    float3 b112a = fetch_control_points((ca + 5u));
+    float3 vb = fetch_control_points((cb + 0u));
+    float3 t0b = fetch_control_points((cb + 1u));
+    float3 t1b = fetch_control_points((cb + 2u));
+    float3 b211b = fetch_control_points((cb + 3u));
+    float3 b112b = fetch_control_points((cb + 5u));
+    float3 b121p = fetch_control_points((cprev + 4u));
+    float3 b112p = fetch_control_points((cprev + 5u));
+    float3 n004 = ((((fetch_control_points((cp_base + 5u)) + fetch_control_points((cp_base + 11u))) + fetch_control_points((cp_base + 17u))) + fetch_control_points((cp_base + 23u))) / 4.0f);
+    float3 n013 = ((b112a + b112b) / 2.0f);
+    float3 n022 = ((b121a + b211b) / 2.0f);
+    float3 n031 = ((((vb * 2.0f) + (t1b * 3.0f)) + (t0b * 3.0f)) / 8.0f);
+    float3 n040 = vb;
+    float3 n103 = ((b112a + b112p) / 2.0f);
+    float3 n112 = b112a;
+    float3 n121 = b121a;
+    float3 n130 = ((vb + (t1b * 3.0f)) / 4.0f);
+    float3 n202 = ((b211a + b121p) / 2.0f);
+    float3 n211 = b211a;
+    float3 n220 = ((t0a + t1b) / 2.0f);
+    float3 n301 = ((((va * 2.0f) + (t0a * 3.0f)) + (t1a * 3.0f)) / 8.0f);
+    float3 n310 = ((va + (t0a * 3.0f)) / 4.0f);
+    float3 n400 = va;
+    float3 s3_300 = (((n400 * la) + (n310 * lb)) + (n301 * lc));
+    float3 s3_210 = (((n310 * la) + (n220 * lb)) + (n211 * lc));
+    float3 s3_201 = (((n301 * la) + (n211 * lb)) + (n202 * lc));
+    float3 s3_120 = (((n220 * la) + (n130 * lb)) + (n121 * lc));
+    float3 s3_111 = (((n211 * la) + (n121 * lb)) + (n112 * lc));
+    float3 s3_102 = (((n202 * la) + (n112 * lb)) + (n103 * lc));
+    float3 s3_030 = (((n130 * la) + (n040 * lb)) + (n031 * lc));
+    float3 s3_021 = (((n121 * la) + (n031 * lb)) + (n022 * lc));
+    float3 s3_012 = (((n112 * la) + (n022 * lb)) + (n013 * lc));
+    float3 s3_003 = (((n103 * la) + (n013 * lb)) + (n004 * lc));
+    float3 s2_200 = (((s3_300 * la) + (s3_210 * lb)) + (s3_201 * lc));
+    float3 s2_110 = (((s3_210 * la) + (s3_120 * lb)) + (s3_111 * lc));
+    float3 s2_101 = (((s3_201 * la) + (s3_111 * lb)) + (s3_102 * lc));
+    float3 s2_020 = (((s3_120 * la) + (s3_030 * lb)) + (s3_021 * lc));
+    float3 s2_011 = (((s3_111 * la) + (s3_021 * lb)) + (s3_012 * lc));
+    float3 s2_002 = (((s3_102 * la) + (s3_012 * lb)) + (s3_003 * lc));
+    float3 s1_100 = (((s2_200 * la) + (s2_110 * lb)) + (s2_101 * lc));
+    float3 s1_010 = (((s2_110 * la) + (s2_020 * lb)) + (s2_011 * lc));
+    float3 s1_001 = (((s2_101 * la) + (s2_011 * lb)) + (s2_002 * lc));
+    return make_Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_normalize(cross((s1_010 - s1_100), (s1_001 - s1_100))));
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+    if ((class_ == 0u)) {
+        sample_ = ordinary_surface_global(cp_base, iu, iv, level);
+    } else {
+        sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
+    }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
+        uint edge = 3u;
+        uint t = (level - iv);
+        if ((iv == 0u)) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if ((iu == level)) {
+                edge = 1u;
+                t = iv;
+            } else {
+                if ((iv == level)) {
+                    edge = 2u;
+                    t = (level - iu);
+                }
+            }
+        }
+        uint curve = ((class_ * 16u) + (edge * 4u));
+        float3 b0 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        float3 b1 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        float3 b2 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        float3 b3 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// eval_displaced for the tessellation evaluation stage: the patch's own sample from its patch-local control points (`eval`, cp_base into the patch's array), the owner's normal on the boundary from `eval_global` on the global control-point buffer (filled by the compute patch stage), the same call and arguments as in every other patch of the edge or corner (watertight.md Rule 4).
+Sample eval_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(cp, class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
+            uint slot = 3u;
+            uint t = (level - iv);
+            if ((iv == 0u)) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu == level)) {
+                    slot = 1u;
+                    t = iv;
+                } else {
+                    if ((iv == level)) {
+                        slot = 2u;
+                        t = (level - iu);
+                    }
+                }
+            }
+            if ((t == 0u)) {
+                slot = (slot + 4u);
+            } else {
+                if ((t == level)) {
+                    slot = (((slot + 1u) % 4u) + 4u);
+                }
+            }
+            uint rec = ((face * 32u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (level - t);
+            }
+            if ((slot >= 4u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = level;
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = (level - ot);
+                    ov = level;
+                } else {
+                    if ((owner_k == 3u)) {
+                        ou = 0u;
+                        ov = (level - ot);
+                    }
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
 }
 
 // ---- compute entry points ----
@@ -939,7 +1213,15 @@ DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<Hs
     }
     uint iu = (uint)round(uv.x * float(level));
     uint iv = (uint)round(uv.y * float(level));
+#ifdef TESSGEN_DISPLACE
+    // Displaced: this patch's sample from cp (cp_base 0), the owner's normal
+    // on the boundary from the global control-point buffer, filled by
+    // patch_main before the draw (watertight.md Rules 4 and 5).
+    uint face = patch_faces[(params.first + c.patch_id)];
+    Sample result = eval_displaced_tess(cp, face, params.class_, 0u, iu, iv, level);
+#else
     Sample result = eval(cp, params.class_, 0u, iu, iv, level);
+#endif
     DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.normal = result.normal;

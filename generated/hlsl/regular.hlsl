@@ -496,6 +496,76 @@ uint grid_index(uint iu, uint iv, uint level) {
     return ((iv * (level + 1u)) + iu);
 }
 
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5f);
+    if ((x < 0.0f)) {
+        x = 0.0f;
+    }
+    if ((x > (width - 1.0f))) {
+        x = (width - 1.0f);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if ((x1 >= xn)) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5f);
+    if ((y < 0.0f)) {
+        y = 0.0f;
+    }
+    if ((y > (height - 1.0f))) {
+        y = (height - 1.0f);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if ((y1 >= yn)) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0f - fx);
+    float gy = (1.0f - fy);
+    float a = ((displace_map.Load(int3(int(x0), int(y0), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y0), 0)) * fx));
+    float b = ((displace_map.Load(int3(int(x0), int(y1), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y1), 0)) * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise float lu = (float((level - iu)) / float(level));
+    precise float ru = (float(iu) / float(level));
+    precise float lv = (float((level - iv)) / float(level));
+    precise float rv = (float(iv) / float(level));
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint((iu == level));
+    precise uint e2 = uint((iv == level));
+    precise uint e3 = uint((iu == 0u));
+    precise float w0 = (lu * lv);
+    precise float w1 = (ru * lv);
+    precise float w2 = (ru * rv);
+    precise float w3 = (lu * rv);
+    precise uint base = (face * 32u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e3))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise uint p3 = (base + ((12u + (e3 + (2u * e2))) * 2u));
+    precise float s = ((((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)])) + (w3 * texcoords[(p3 + 0u)]));
+    precise float t = ((((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)])) + (w3 * texcoords[(p3 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise float3 tessgen_displace(float3 p, float3 n, float d) {
+    return (p + (n * d));
+}
+
 // Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
 uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
     uint k1 = ((k + 1u) % 4u);
@@ -538,6 +608,120 @@ Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uin
         }
     }
     return eval(cp, class_, cp_base, su, sv, sl);
+}
+
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(fetch_control_points((cp_base + 0u)), fetch_control_points((cp_base + 4u)), fetch_control_points((cp_base + 8u)), fetch_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(fetch_control_points((cp_base + 1u)), fetch_control_points((cp_base + 5u)), fetch_control_points((cp_base + 9u)), fetch_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(fetch_control_points((cp_base + 2u)), fetch_control_points((cp_base + 6u)), fetch_control_points((cp_base + 10u)), fetch_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(fetch_control_points((cp_base + 3u)), fetch_control_points((cp_base + 7u)), fetch_control_points((cp_base + 11u)), fetch_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point_, row1.point_, row2.point_, row3.point_, lv, rv);
+    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+    return make_Sample(along_v.point_, tessgen_normalize(cross(along_u.point_, along_v.tangent)));
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+    sample_ = ordinary_surface_global(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
+        uint edge = 3u;
+        uint t = (level - iv);
+        if ((iv == 0u)) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if ((iu == level)) {
+                edge = 1u;
+                t = iv;
+            } else {
+                if ((iv == level)) {
+                    edge = 2u;
+                    t = (level - iu);
+                }
+            }
+        }
+        uint curve = ((class_ * 16u) + (edge * 4u));
+        float3 b0 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        float3 b1 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        float3 b2 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        float3 b3 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// eval_displaced for the tessellation evaluation stage: the patch's own sample from its patch-local control points (`eval`, cp_base into the patch's array), the owner's normal on the boundary from `eval_global` on the global control-point buffer (filled by the compute patch stage), the same call and arguments as in every other patch of the edge or corner (watertight.md Rule 4).
+Sample eval_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(cp, class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
+            uint slot = 3u;
+            uint t = (level - iv);
+            if ((iv == 0u)) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu == level)) {
+                    slot = 1u;
+                    t = iv;
+                } else {
+                    if ((iv == level)) {
+                        slot = 2u;
+                        t = (level - iu);
+                    }
+                }
+            }
+            if ((t == 0u)) {
+                slot = (slot + 4u);
+            } else {
+                if ((t == level)) {
+                    slot = (((slot + 1u) % 4u) + 4u);
+                }
+            }
+            uint rec = ((face * 32u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (level - t);
+            }
+            if ((slot >= 4u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = level;
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = (level - ot);
+                    ov = level;
+                } else {
+                    if ((owner_k == 3u)) {
+                        ou = 0u;
+                        ov = (level - ot);
+                    }
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
 }
 
 // ---- compute entry points ----
@@ -743,7 +927,15 @@ DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<Hs
     }
     uint iu = (uint)round(uv.x * float(level));
     uint iv = (uint)round(uv.y * float(level));
+#ifdef TESSGEN_DISPLACE
+    // Displaced: this patch's sample from cp (cp_base 0), the owner's normal
+    // on the boundary from the global control-point buffer, filled by
+    // patch_main before the draw (watertight.md Rules 4 and 5).
+    uint face = patch_faces[(params.first + c.patch_id)];
+    Sample result = eval_displaced_tess(cp, face, params.class_, 0u, iu, iv, level);
+#else
     Sample result = eval(cp, params.class_, 0u, iu, iv, level);
+#endif
     DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.normal = result.normal;

@@ -35,9 +35,10 @@ pub mod binding {
     /// Not an ABI binding: the Vulkan harness's geometry-shader triangle
     /// capture of adaptive draws (`runtime::vulkan`).
     pub const TRIANGLES: u32 = 20;
-    /// Number of bindings the Vulkan harness lays out (0 ..= TRIANGLES); the
-    /// displacement bindings below are read only by `eval_displaced` (WGSL
-    /// entries, GLSL compute evaluation), not by the tessellation stages.
+    /// Bindings 0 ..= TRIANGLES. The displacement bindings below are read by
+    /// `eval_displaced` (WGSL entries, GLSL compute evaluation) and by the
+    /// tessellation evaluation stages built with `TESSGEN_DISPLACE`; the
+    /// Vulkan harness lays out every binding through DISPLACE_MAP.
     pub const COUNT: u32 = 21;
     pub const TEXCOORDS: u32 = 21;
     pub const OWNERS: u32 = 22;
@@ -98,7 +99,7 @@ pub struct Upload {
     pub num_positions: u32,
     /// Storage buffers by binding (the table and Params are not here).
     pub buffers: Vec<UploadBuffer>,
-    /// The displacement map (binding 20, an `R32Float` texture); a 1×1 zero
+    /// The displacement map (binding 24, an `R32Float` texture); a 1×1 zero
     /// map while displacement is off.
     pub displace_map: crate::displace::DisplaceMap,
 }

@@ -68,6 +68,44 @@ pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
 /// Define that makes the evaluation stage write its samples (always set by
 /// this harness).
 pub const CAPTURE: &str = "TESSGEN_CAPTURE";
+/// Define of the displacing evaluation stage (quad schemes; set by
+/// [`VkMesh::new_displaced`]): the harness then also runs the compute patch
+/// stage into the global control-point buffer before the draws, which the
+/// evaluation stage reads for the owner patch's normal.
+pub const DISPLACE: &str = "TESSGEN_DISPLACE";
+
+/// Descriptor bindings the harness lays out: every ABI binding up to the
+/// displacement map (24), the harness's triangle capture (20) included.
+const LAYOUT_BINDINGS: u32 = binding::DISPLACE_MAP + 1;
+
+/// A 2-D `R32_SFLOAT` image with its memory and view (the stencil table,
+/// the displacement map).
+#[derive(Clone, Copy)]
+struct Img {
+    image: vk::Image,
+    memory: vk::DeviceMemory,
+    view: vk::ImageView,
+}
+
+impl Default for Img {
+    fn default() -> Self {
+        Img {
+            image: vk::Image::null(),
+            memory: vk::DeviceMemory::null(),
+            view: vk::ImageView::null(),
+        }
+    }
+}
+
+impl Img {
+    fn destroy(&self, d: &ash::Device) {
+        unsafe {
+            d.destroy_image_view(self.view, None);
+            d.destroy_image(self.image, None);
+            d.free_memory(self.memory, None);
+        }
+    }
+}
 
 /// How to build the shaders.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -776,9 +814,10 @@ pub struct VkMesh<'v> {
     buffers: Vec<(u32, Buf)>,
     dummy: Option<Buf>,
     params: Option<Buf>,
-    image: vk::Image,
-    image_memory: vk::DeviceMemory,
-    view: vk::ImageView,
+    /// The stencil table (binding 9).
+    table_img: Img,
+    /// The displacement map (binding 24; 1×1 zero unless displacing).
+    map_img: Img,
     sampler: vk::Sampler,
     set_layout: vk::DescriptorSetLayout,
     pool: vk::DescriptorPool,
@@ -788,7 +827,12 @@ pub struct VkMesh<'v> {
     framebuffer: vk::Framebuffer,
     modules: Vec<vk::ShaderModule>,
     vertex_pipeline: vk::Pipeline,
+    /// The compute patch stage (displacing builds only): fills the global
+    /// control-point buffer the evaluation stage reads owners from.
+    patch_pipeline: vk::Pipeline,
     draw_pipeline: vk::Pipeline,
+    /// The displacement map to upload (taken from the [`Upload`]).
+    displace_map: crate::displace::DisplaceMap,
 }
 
 impl<'v> VkMesh<'v> {
@@ -800,6 +844,49 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
+        let upload = Self::quad_upload(vk, topo, positions, scheme, options)?;
+        Self::build(vk, upload, options)
+    }
+
+    /// A quad mesh with displacement ([`crate::displace`]): the texture
+    /// coordinates come from `mesh` (the OBJ's `vt`), the owners are
+    /// recorded in this upload's class-sorted control-point layout, and the
+    /// shaders are built with [`DISPLACE`]: the harness runs the compute
+    /// patch stage into the global control-point buffer, then the draws,
+    /// whose evaluation stage displaces each captured sample.
+    pub fn new_displaced(
+        vk: &'v Vulkan,
+        mesh: &crate::Mesh,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme: &str,
+        d: &crate::displace::Displacement,
+        options: &Options,
+    ) -> Result<Self, VkError> {
+        let upload = Self::quad_upload(vk, topo, positions, scheme, options)?;
+        let (class, cp_base) = upload.face_layout();
+        let data = crate::displace::build(mesh, topo, &class, &cp_base, d)
+            .map_err(cpu::TessError::from)?;
+        let mut options = options.clone();
+        if !options.defines.iter().any(|x| x == DISPLACE) {
+            options.defines.push(DISPLACE.into());
+        }
+        Self::build(vk, upload.with_displacement(&data), &options)
+    }
+
+    /// Whether the shaders are built with [`DISPLACE`].
+    fn displaced(&self) -> bool {
+        self.options.defines.iter().any(|x| x == DISPLACE)
+    }
+
+    /// The upload of a quad mesh, with the adaptive buffers if asked for.
+    fn quad_upload(
+        vk: &'v Vulkan,
+        topo: &Topology,
+        positions: &[Vec3],
+        scheme: &str,
+        options: &Options,
+    ) -> Result<Upload, VkError> {
         let mut upload = Upload::quad(topo, positions, scheme)?;
         if let Some(a) = &options.adaptive {
             if upload.scheme.sides != 4 {
@@ -838,7 +925,7 @@ impl<'v> VkMesh<'v> {
                 buf(binding::ADAPTIVE, "adaptive", f32_bytes(&a.params())),
             ]);
         }
-        Self::build(vk, upload, options)
+        Ok(upload)
     }
 
     /// A triangle mesh for a triangle scheme.
@@ -865,9 +952,8 @@ impl<'v> VkMesh<'v> {
             buffers: Vec::new(),
             dummy: None,
             params: None,
-            image: vk::Image::null(),
-            image_memory: vk::DeviceMemory::null(),
-            view: vk::ImageView::null(),
+            table_img: Img::default(),
+            map_img: Img::default(),
             sampler: vk::Sampler::null(),
             set_layout: vk::DescriptorSetLayout::null(),
             pool: vk::DescriptorPool::null(),
@@ -877,7 +963,9 @@ impl<'v> VkMesh<'v> {
             framebuffer: vk::Framebuffer::null(),
             modules: Vec::new(),
             vertex_pipeline: vk::Pipeline::null(),
+            patch_pipeline: vk::Pipeline::null(),
             draw_pipeline: vk::Pipeline::null(),
+            displace_map: upload.displace_map.clone(),
         }
     }
 
@@ -909,24 +997,31 @@ impl<'v> VkMesh<'v> {
         mesh.params =
             Some(vk.buffer("params", PARAMS_SIZE, vk::BufferUsageFlags::UNIFORM_BUFFER)?);
         mesh.table()?;
+        mesh.map()?;
         mesh.descriptors()?;
         mesh.pipelines()?;
         mesh.construct()?;
         Ok(mesh)
     }
 
-    /// The stencil table as an `R32_SFLOAT` image (x = ring slot, y = row).
-    fn table(&mut self) -> Result<(), VkError> {
+    /// An `R32_SFLOAT` image of `width × height` texels (row-major), in
+    /// shader-read layout; handles go into `img` as soon as they exist, so
+    /// an error part-way leaves them for the caller to destroy.
+    fn r32_image(
+        &self,
+        img: &mut Img,
+        what: &'static str,
+        width: u32,
+        height: u32,
+        texels: &[f32],
+    ) -> Result<(), VkError> {
         let vk = self.vk;
         let d = &vk.device;
-        let table = kernels::table();
-        let width = kernels::common::TABLE_WIDTH;
-        let height = (table.len() as u32 / width).max(1);
         let max = vk.limits.max_image_dimension_2d;
         if width.max(height) > max {
             return Err(VkError::Limit {
                 scheme: self.scheme.name.into(),
-                what: "stencil table texels along one side (maxImageDimension2D)",
+                what: "image texels along one side (maxImageDimension2D)",
                 needed: width.max(height) as u64,
                 max: max as u64,
             });
@@ -936,7 +1031,7 @@ impl<'v> VkMesh<'v> {
             height,
             depth: 1,
         };
-        self.image = unsafe {
+        img.image = unsafe {
             d.create_image(
                 &vk::ImageCreateInfo::default()
                     .image_type(vk::ImageType::TYPE_2D)
@@ -952,21 +1047,17 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreateImage"))?;
-        let req = unsafe { d.get_image_memory_requirements(self.image) };
+        let req = unsafe { d.get_image_memory_requirements(img.image) };
         let ty = vk
             .memory_type(
                 req.memory_type_bits,
                 vk::MemoryPropertyFlags::DEVICE_LOCAL,
-                "the stencil table",
+                what,
             )
             .or_else(|_| {
-                vk.memory_type(
-                    req.memory_type_bits,
-                    vk::MemoryPropertyFlags::empty(),
-                    "the stencil table",
-                )
+                vk.memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::empty(), what)
             })?;
-        self.image_memory = unsafe {
+        img.memory = unsafe {
             d.allocate_memory(
                 &vk::MemoryAllocateInfo::default()
                     .allocation_size(req.size)
@@ -975,11 +1066,11 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkAllocateMemory"))?;
-        unsafe { d.bind_image_memory(self.image, self.image_memory, 0) }
+        unsafe { d.bind_image_memory(img.image, img.memory, 0) }
             .map_err(call("vkBindImageMemory"))?;
-        let bytes: Vec<u8> = table.iter().flat_map(|w| w.to_le_bytes()).collect();
+        let bytes: Vec<u8> = texels.iter().flat_map(|w| w.to_le_bytes()).collect();
         let staging = vk.buffer(
-            "stencil table staging",
+            "image staging",
             bytes.len() as u64,
             vk::BufferUsageFlags::TRANSFER_SRC,
         )?;
@@ -991,7 +1082,7 @@ impl<'v> VkMesh<'v> {
             base_array_layer: 0,
             layer_count: 1,
         };
-        let image = self.image;
+        let image = img.image;
         let copied = vk.submit(|d, cb| unsafe {
             let to_dst = vk::ImageMemoryBarrier::default()
                 .old_layout(vk::ImageLayout::UNDEFINED)
@@ -1046,10 +1137,10 @@ impl<'v> VkMesh<'v> {
         });
         staging.destroy(d);
         copied?;
-        self.view = unsafe {
+        img.view = unsafe {
             d.create_image_view(
                 &vk::ImageViewCreateInfo::default()
-                    .image(self.image)
+                    .image(img.image)
                     .view_type(vk::ImageViewType::TYPE_2D)
                     .format(vk::Format::R32_SFLOAT)
                     .subresource_range(range),
@@ -1057,6 +1148,20 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreateImageView"))?;
+        Ok(())
+    }
+
+    /// The stencil table as an `R32_SFLOAT` image (x = ring slot, y = row).
+    fn table(&mut self) -> Result<(), VkError> {
+        let table = kernels::table();
+        let width = kernels::common::TABLE_WIDTH;
+        let height = (table.len() as u32 / width).max(1);
+        let mut img = Img::default();
+        let made = self.r32_image(&mut img, "the stencil table", width, height, table);
+        self.table_img = img;
+        made?;
+        let vk = self.vk;
+        let d = &vk.device;
         self.sampler = unsafe {
             d.create_sampler(
                 &vk::SamplerCreateInfo::default()
@@ -1071,12 +1176,33 @@ impl<'v> VkMesh<'v> {
         Ok(())
     }
 
+    /// The displacement map (binding 24) as an `R32_SFLOAT` image; a 1×1
+    /// zero map while displacement is off. Read with exact texel fetches.
+    fn map(&mut self) -> Result<(), VkError> {
+        let m = self.displace_map.clone();
+        let mut img = Img::default();
+        let made = self.r32_image(
+            &mut img,
+            "the displacement map",
+            m.width.max(1),
+            m.height.max(1),
+            &m.texels,
+        );
+        self.map_img = img;
+        made
+    }
+
     /// Descriptor type of a binding as the emitted language declares it:
-    /// GLSL's table is a `sampler2D`, HLSL's a `Texture2D` (`.Load`).
+    /// GLSL's table and displacement map are `sampler2D`s, HLSL's
+    /// `Texture2D`s (`.Load`).
     fn descriptor_type(&self, b: u32) -> vk::DescriptorType {
         match (b, self.options.language) {
-            (binding::TABLE, Language::Glsl) => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-            (binding::TABLE, Language::Hlsl) => vk::DescriptorType::SAMPLED_IMAGE,
+            (binding::TABLE | binding::DISPLACE_MAP, Language::Glsl) => {
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER
+            }
+            (binding::TABLE | binding::DISPLACE_MAP, Language::Hlsl) => {
+                vk::DescriptorType::SAMPLED_IMAGE
+            }
             (binding::PARAMS, _) => vk::DescriptorType::UNIFORM_BUFFER,
             _ => vk::DescriptorType::STORAGE_BUFFER,
         }
@@ -1085,7 +1211,7 @@ impl<'v> VkMesh<'v> {
     /// One set with every ABI binding, visible to every stage.
     fn descriptors(&mut self) -> Result<(), VkError> {
         let d = &self.vk.device;
-        let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..binding::COUNT)
+        let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..LAYOUT_BINDINGS)
             .map(|b| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(b)
@@ -1104,7 +1230,7 @@ impl<'v> VkMesh<'v> {
         let sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: binding::COUNT,
+                descriptor_count: LAYOUT_BINDINGS,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -1112,7 +1238,8 @@ impl<'v> VkMesh<'v> {
             },
             vk::DescriptorPoolSize {
                 ty: self.descriptor_type(binding::TABLE),
-                descriptor_count: 1,
+                // The stencil table and the displacement map.
+                descriptor_count: 2,
             },
         ];
         self.pool = unsafe {
@@ -1140,14 +1267,19 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreatePipelineLayout"))?;
-        for b in 0..binding::COUNT {
+        for b in 0..LAYOUT_BINDINGS {
             if b == binding::SAMPLES {
                 continue;
             }
-            if b == binding::TABLE {
+            if b == binding::TABLE || b == binding::DISPLACE_MAP {
+                let view = if b == binding::TABLE {
+                    self.table_img.view
+                } else {
+                    self.map_img.view
+                };
                 let info = [vk::DescriptorImageInfo::default()
                     .sampler(self.sampler)
-                    .image_view(self.view)
+                    .image_view(view)
                     .image_layout(vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL)];
                 let w = vk::WriteDescriptorSet::default()
                     .dst_set(self.set)
@@ -1196,6 +1328,7 @@ impl<'v> VkMesh<'v> {
             Language::Glsl => (
                 match stage {
                     "comp" => format!("glsl/{s}_vertex_stage.comp"),
+                    "patch" => format!("glsl/{s}_patch.comp"),
                     other => format!("glsl/{s}.{other}"),
                 },
                 None,
@@ -1206,6 +1339,7 @@ impl<'v> VkMesh<'v> {
                     "vert" => "vs_main",
                     "tesc" => "hs_main",
                     "tese" => "ds_main",
+                    "patch" => "patch_main",
                     _ => "vertex_stage_main",
                 }),
             ),
@@ -1231,7 +1365,15 @@ impl<'v> VkMesh<'v> {
         } else {
             self.shader(stage)?
         };
-        let words = compile(source, &file, stage, entry, &self.options.all_defines())?;
+        // The compute patch stage is a compute shader like the vertex stage.
+        let glslang_stage = if stage == "patch" { "comp" } else { stage };
+        let words = compile(
+            source,
+            &file,
+            glslang_stage,
+            entry,
+            &self.options.all_defines(),
+        )?;
         let m = unsafe {
             self.vk
                 .device
@@ -1244,6 +1386,7 @@ impl<'v> VkMesh<'v> {
             Some("vs_main") => c"vs_main",
             Some("hs_main") => c"hs_main",
             Some("ds_main") => c"ds_main",
+            Some("patch_main") => c"patch_main",
             Some(_) => c"vertex_stage_main",
         };
         Ok((m, name))
@@ -1260,6 +1403,22 @@ impl<'v> VkMesh<'v> {
                 .stage(stage)
                 .layout(self.layout);
             self.vertex_pipeline = unsafe {
+                self.vk
+                    .device
+                    .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
+            }
+            .map_err(|(_, e)| call("vkCreateComputePipelines")(e))?[0];
+        }
+        if self.displaced() {
+            let (m, name) = self.module("patch")?;
+            let stage = vk::PipelineShaderStageCreateInfo::default()
+                .stage(vk::ShaderStageFlags::COMPUTE)
+                .module(m)
+                .name(name);
+            let ci = vk::ComputePipelineCreateInfo::default()
+                .stage(stage)
+                .layout(self.layout);
+            self.patch_pipeline = unsafe {
                 self.vk
                     .device
                     .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
@@ -1374,8 +1533,50 @@ impl<'v> VkMesh<'v> {
     }
 
     /// Run the vertex stage (quad schemes); the control stage builds each
-    /// patch's control points inside every draw.
+    /// patch's control points inside every draw. Displacing builds also run
+    /// the compute patch stage, class by class, into the global
+    /// control-point buffer (binding 8) at the class-sorted layout the
+    /// owner records name: the evaluation stage evaluates owner patches
+    /// from it.
     pub fn construct(&self) -> Result<(), VkError> {
+        self.vertex_stage()?;
+        if !self.displaced() {
+            return Ok(());
+        }
+        let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
+        for c in &self.classes {
+            let mut done = 0;
+            while done < c.count {
+                let count = per.min(c.count - done);
+                self.set_params([
+                    c.first + done,
+                    count,
+                    c.class,
+                    c.cp_base + done * c.points,
+                    1,
+                    0,
+                ]);
+                let (pipe, layout, set) = (self.patch_pipeline, self.layout, self.set);
+                self.vk.submit(|d, cb| unsafe {
+                    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
+                    d.cmd_bind_descriptor_sets(
+                        cb,
+                        vk::PipelineBindPoint::COMPUTE,
+                        layout,
+                        0,
+                        &[set],
+                        &[],
+                    );
+                    d.cmd_dispatch(cb, count.div_ceil(64), 1, 1);
+                })?;
+                done += count;
+            }
+        }
+        Ok(())
+    }
+
+    /// The vertex stage as a compute dispatch (quad schemes).
+    fn vertex_stage(&self) -> Result<(), VkError> {
         let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
         let mut first = 0;
         while first < self.num_vertices {
@@ -1696,9 +1897,11 @@ impl Drop for VkMesh<'_> {
             d.destroy_descriptor_pool(self.pool, None);
             d.destroy_descriptor_set_layout(self.set_layout, None);
             d.destroy_sampler(self.sampler, None);
-            d.destroy_image_view(self.view, None);
-            d.destroy_image(self.image, None);
-            d.free_memory(self.image_memory, None);
+        }
+        self.table_img.destroy(d);
+        self.map_img.destroy(d);
+        unsafe {
+            d.destroy_pipeline(self.patch_pipeline, None);
         }
         for (_, b) in &self.buffers {
             b.destroy(d);
@@ -1792,4 +1995,32 @@ pub fn tessellate_tagged(
     let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
     let m = VkMesh::new_tri(&vk, &tri, kernels.name, options)?;
     m.evaluate_triangles(level).map(VkOutput::Triangles)
+}
+
+/// Like [`cpu::tessellate_displaced`] through the Vulkan tessellation
+/// pipeline (quad schemes): the emitted evaluation stage built with
+/// [`DISPLACE`] displaces every sample (see [`VkMesh::new_displaced`]).
+pub fn tessellate_displaced(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    d: &crate::displace::Displacement,
+    options: &Options,
+) -> Result<Tessellation, VkError> {
+    let kernels = cpu::scheme(scheme)?;
+    if kernels.sides != 4 {
+        return Err(cpu::facet_error(kernels).into());
+    }
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let vk = Vulkan::new()?;
+    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+    let positions: Vec<Vec3> = mesh
+        .positions
+        .iter()
+        .map(|p| Vec3::from_array(*p))
+        .collect();
+    let m = VkMesh::new_displaced(&vk, mesh, &topo, &positions, kernels.name, d, options)?;
+    m.evaluate(level)
 }

@@ -87,6 +87,11 @@ pub const ADAPTIVE_LEN: u32 = 26;
 
 /// Binding of a Plan resource.
 pub fn binding_of(r: Resource) -> &'static Binding {
+    // The global view of the control points is the same buffer.
+    let r = match r {
+        Resource::GlobalControlPoints => Resource::ControlPoints,
+        r => r,
+    };
     BINDINGS
         .iter()
         .find(|b| b.resource == Some(r))

@@ -110,6 +110,8 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
         let _ = writeln!(s, "| {first}..{} | {doc} |", first + count);
     }
     s.push('\n');
+    s.push_str("### Displacement in the tessellation stages (`-DTESSGEN_DISPLACE`)\n\n");
+    s.push_str("Quad schemes: the GLSL `.tese` and HLSL `ds_main` built with `-DTESSGEN_DISPLACE` call `eval_displaced_tess`: the patch's own sample from its patch-local control points, then the displacement step of `eval_displaced` (bindings 21–24), whose owner normal on the patch boundary comes from `eval_global`, reading the global `control_points` buffer (binding 8). Run the compute patch stage (`patch_main`, class-sorted layout, the `cp_base` the owner records name) before the draw. The stage then also binds `patch_faces` (11), `control_points` (8, read-only) and bindings 21–24. Without the define the stages are unchanged. Works with `-DTESSGEN_ADAPTIVE` too.\n\n");
     s.push_str("## Stencil table texture\n\n");
     let _ = writeln!(
         s,

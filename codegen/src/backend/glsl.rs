@@ -46,6 +46,9 @@ pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
     files
 }
 
+/// Bindings a file declares: `binding → (read here, written here)`.
+type Need = BTreeMap<u32, (bool, bool)>;
+
 /// The shader a file holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stage {
@@ -301,6 +304,9 @@ pub struct Writer<'a> {
     globals: HashSet<String>,
     /// Names of the locals of the function being printed.
     locals: Vec<String>,
+    /// Whether `roots` gives the `TESSGEN_DISPLACE` build's entry (the
+    /// displacing evaluation stage) instead of the default one.
+    displace: bool,
 }
 
 impl<'a> Writer<'a> {
@@ -339,6 +345,7 @@ impl<'a> Writer<'a> {
             indent: 0,
             globals,
             locals: Vec::new(),
+            displace: false,
         }
     }
 
@@ -397,9 +404,14 @@ impl<'a> Writer<'a> {
                 }
                 r
             }
-            Stage::Tese => match self.entries.eval_domain {
-                Some(d) => vec![FnRef::Local(d)],
-                None => vec![
+            Stage::Tese => match (self.entries.eval_domain, &self.entries.tess_displaced) {
+                (Some(d), _) => vec![FnRef::Local(d)],
+                (None, Some(t)) if self.displace => vec![
+                    FnRef::Local(t.eval_displaced),
+                    FnRef::Local(self.entries.grid[0]),
+                    FnRef::Local(self.entries.grid_index),
+                ],
+                (None, _) => vec![
                     FnRef::Local(self.entries.eval),
                     FnRef::Local(self.entries.grid[0]),
                     FnRef::Local(self.entries.grid_index),
@@ -505,9 +517,33 @@ impl<'a> Writer<'a> {
                     add(by_name("patch_faces"), false);
                 }
             }
-            Stage::Vert | Stage::Tese => {}
+            Stage::Tese => {
+                if self.displace {
+                    // The patch's face, for its texture coordinates and owners.
+                    add(by_name("patch_faces"), false);
+                }
+            }
+            Stage::Vert => {}
         }
         need
+    }
+
+    /// The `TESSGEN_DISPLACE` build's additions to the evaluation stage:
+    /// bindings and functions beyond the default build's (quad schemes).
+    fn displace_extras(&mut self) -> Option<(Need, Vec<FnRef>)> {
+        if self.stage != Stage::Tese || self.entries.tess_displaced.is_none() {
+            return None;
+        }
+        let (need, fns) = (self.bindings(), self.reachable());
+        self.displace = true;
+        let (need_d, fns_d) = (self.bindings(), self.reachable());
+        self.displace = false;
+        let extra = need_d
+            .into_iter()
+            .filter(|(b, _)| !need.contains_key(b))
+            .collect();
+        let fns = fns_d.into_iter().filter(|r| !fns.contains(r)).collect();
+        Some((extra, fns))
     }
 
     /// Largest control-point count over the scheme's classes.
@@ -665,10 +701,40 @@ impl<'a> Writer<'a> {
             self.line("");
         }
         self.helpers(&need);
+        let extras = self.displace_extras();
+        if let Some((extra, _)) = &extras {
+            self.out
+                .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
+            self.line(
+                "// Displacement (quads): the global control-point buffer, filled by the compute",
+            );
+            self.line(
+                "// patch stage (patch_main) before the draw, for the owner's evaluation, and the",
+            );
+            self.line("// displacement data (watertight.md Rules 4 and 5).");
+            for b in abi::BINDINGS {
+                if let Some((_, written)) = extra.get(&b.binding) {
+                    self.binding(b, *written);
+                }
+            }
+            self.helpers(extra);
+            self.out.push_str("#endif\n");
+            self.line("");
+        }
         for r in self.reachable() {
             let (m, f) = self.function(r);
             self.plan_function(m, f);
             self.line("");
+        }
+        if let Some((_, fns)) = &extras {
+            self.out
+                .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
+            for r in fns {
+                let (m, f) = self.function(*r);
+                self.plan_function(m, f);
+                self.line("");
+            }
+            self.out.push_str("#endif\n");
         }
         self.main();
     }
@@ -908,11 +974,31 @@ impl<'a> Writer<'a> {
                 self.line(&format!(
                     "uint iv = uint(round((gl_TessCoord.{cv} * float({level}))));"
                 ));
-                self.line(&format!(
+                let eval_call = format!(
                     "{} result = {}({class}, 0u, iu, iv, {level});",
                     self.ty(&Ty::Struct(common::SAMPLE)),
                     self.fn_name(FnRef::Local(self.entries.eval))
-                ));
+                );
+                match &self.entries.tess_displaced {
+                    Some(t) => {
+                        self.out
+                            .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
+                        self.line("// Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal");
+                        self.line("// on the boundary from the global control-point buffer.");
+                        self.line(&format!(
+                            "uint face = patch_faces[({first} + uint(gl_PrimitiveID))];"
+                        ));
+                        self.line(&format!(
+                            "{} result = {}(face, {class}, 0u, iu, iv, {level});",
+                            self.ty(&Ty::Struct(common::SAMPLE)),
+                            self.fn_name(FnRef::Local(t.eval_displaced))
+                        ));
+                        self.out.push_str("#else\n");
+                        self.line(&eval_call);
+                        self.out.push_str("#endif\n");
+                    }
+                    None => self.line(&eval_call),
+                }
                 self.line("te_normal = result.normal;");
                 self.line("te_position = result.position;");
                 self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");

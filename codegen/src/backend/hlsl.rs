@@ -490,12 +490,13 @@ impl<'a> Writer<'a> {
             self.line("    return s;");
             self.line("}");
         }
-        // The displacement step (eval_displaced and the three functions
-        // lowered just before it) evaluates owner patches from the global
-        // control-point buffer; HLSL's evaluation reads a patch-local array,
-        // so HLSL does not displace (yet) and does not print them.
+        // `eval_displaced` evaluates owner patches at their cp_base in one
+        // control-point array, but HLSL's evaluation reads a patch-local
+        // array (`cp`), so it is not printed; the domain shader displaces
+        // through `eval_displaced_tess`, whose owner evaluation
+        // (`eval_global`) reads the global buffer (TESSGEN_DISPLACE).
         let skip = match self.entries.eval_displaced {
-            Some(d) if std::ptr::eq(m, self.module) => d.saturating_sub(3)..d + 1,
+            Some(d) if std::ptr::eq(m, self.module) => d..d + 1,
             _ => 0..0,
         };
         for (i, f) in m.functions.iter().enumerate() {
@@ -1047,11 +1048,28 @@ impl<'a> Writer<'a> {
             ),
             None => (
                 String::new(),
-                format!(
-                    "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
-                     uint iv = (uint)round(uv.{cv} * float(level));\n    \
-                     {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
-                ),
+                match &self.entries.tess_displaced {
+                    Some(t) => format!(
+                        "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
+                         uint iv = (uint)round(uv.{cv} * float(level));\n\
+                         #ifdef {displace}\n    \
+                         // Displaced: this patch's sample from cp (cp_base 0), the owner's normal\n    \
+                         // on the boundary from the global control-point buffer, filled by\n    \
+                         // patch_main before the draw (watertight.md Rules 4 and 5).\n    \
+                         uint face = patch_faces[(params.first + c.patch_id)];\n    \
+                         {eval_ret} result = {}(cp, face, params.{class}, 0u, iu, iv, level);\n\
+                         #else\n    \
+                         {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);\n\
+                         #endif",
+                        ident(&self.module.functions[t.eval_displaced].name),
+                        displace = Define::Displace.name(),
+                    ),
+                    None => format!(
+                        "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
+                         uint iv = (uint)round(uv.{cv} * float(level));\n    \
+                         {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
+                    ),
+                },
                 format!(
                     "    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw\n    \
                      // being patch out_base + c.patch_id, sample grid_index(iu, iv).\n    \

@@ -148,7 +148,11 @@ impl<'a> Writer<'a> {
         if entries.is_none() {
             self.rust_support();
         }
-        for f in &m.functions {
+        for (i, f) in m.functions.iter().enumerate() {
+            // Tessellation-stage-only functions (no such stage here).
+            if entries.is_some_and(|e| e.tess_only(i)) {
+                continue;
+            }
             self.line("");
             self.function(m, f);
         }

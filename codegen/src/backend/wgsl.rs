@@ -359,7 +359,11 @@ impl<'a> Writer<'a> {
             self.line("}");
             self.line("");
         }
-        for f in &m.functions {
+        for (i, f) in m.functions.iter().enumerate() {
+            // Tessellation-stage-only functions (WGSL has no such stage).
+            if std::ptr::eq(m, self.module) && self.entries.tess_only(i) {
+                continue;
+            }
             self.function(m, f);
             self.line("");
         }
