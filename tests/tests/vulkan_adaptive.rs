@@ -205,7 +205,7 @@ fn random_cases(cases: &[(&str, &[&str], bool)]) {
                             r.open
                         ));
                     }
-                    if !(r.parity <= PARITY) {
+                    if r.parity > PARITY {
                         bad.push(format!(
                             "{scheme} {name} {language:?} {p:?}: parity {:.2e} × diag",
                             r.parity
@@ -291,7 +291,7 @@ fn computed_metrics_weld_closed() {
                         r.open,
                         r.parity
                     );
-                    if r.open != 0 || !r.closed || !(r.parity <= PARITY) {
+                    if r.open != 0 || !r.closed || r.parity > PARITY {
                         bad.push(format!(
                             "{scheme} {metric_label} {language:?} {p:?}: {} open, parity {:.2e}",
                             r.open, r.parity
