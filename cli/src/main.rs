@@ -214,7 +214,7 @@ struct TessellateArgs {
     #[arg(long, value_name = "N", required_unless_present = "adaptive",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
     level: Option<u32>,
-    /// Adaptive tessellation with per-edge factors (quad schemes): `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). glsl/hlsl: the hardware tessellator's triangles; cpu/wgpu: power-of-two edge levels, patches bucketed by level, snapped transitions. Writes an OBJ triangle soup.
+    /// Adaptive tessellation with per-edge factors: `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). glsl/hlsl: the hardware tessellator's triangles, every scheme (triangle schemes on a triangle mesh or with --split-quads); cpu/wgpu: quad schemes, power-of-two edge levels, patches bucketed by level, snapped transitions. Writes an OBJ triangle soup.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
     /// Partitioning of the adaptive factors: integer, fractional-odd, fractional-even.
@@ -496,6 +496,10 @@ fn inspect(args: &InspectArgs) -> CmdResult {
 /// triangles as an OBJ triangle soup (`v` per triangle corner, `f` per
 /// triangle), welded exactly with `--check-watertight`.
 fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> CmdResult {
+    let tags = match &args.tags {
+        Some(path) => Some(load_tags(path, mesh)?),
+        None => None,
+    };
     let start = Instant::now();
     let tris = match args.backend {
         Backend::Cpu => cpu_adaptive(mesh, args),
@@ -508,7 +512,7 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
                 a.max_level,
             )
         }),
-        _ => vulkan_adaptive(mesh, args),
+        _ => vulkan_adaptive(mesh, args, tags.as_ref()),
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
@@ -556,10 +560,11 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
     }
 }
 
-/// The eye of the computed adaptive metrics: 2.5 bounding-box diagonals
+/// The metric of `--adaptive`: random factors for `edges` edges, or the
+/// distance/screen metric with the eye at 2.5 bounding-box diagonals
 /// from the mesh centre (azimuth 30°, elevation 20°), looking at the centre.
 fn adaptive_metric(
-    topo: &Topology,
+    edges: u32,
     positions: &[glam::Vec3],
     args: &TessellateArgs,
 ) -> tessgen_runtime::adaptive::Metric {
@@ -574,7 +579,6 @@ fn adaptive_metric(
     let eye = center + Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()) * 2.5 * diag;
     match args.adaptive.clone() {
         Some(AdaptiveArg::Random { seed, lo, hi }) => {
-            let (_, edges) = adaptive::edge_ids(topo);
             Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
         }
         Some(AdaptiveArg::Distance(k)) => Metric::Distance { eye, scale: k },
@@ -627,7 +631,11 @@ fn instanced_adaptive(
         max_level *= 2;
     }
     let adaptive = tessgen_runtime::adaptive::Adaptive {
-        metric: adaptive_metric(&topo, &positions, args),
+        metric: adaptive_metric(
+            tessgen_runtime::adaptive::edge_ids(&topo).1,
+            &positions,
+            args,
+        ),
         partitioning: Partitioning::Integer,
         min: 1.0,
         max: max_level as f32,
@@ -665,9 +673,10 @@ fn cpu_adaptive(
 fn vulkan_adaptive(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
+    tags: Option<&TagFile>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
     use glam::Vec3;
-    use tessgen_runtime::adaptive::Adaptive;
+    use tessgen_runtime::adaptive::{self, Adaptive};
     use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
     let language = match args.backend {
         Backend::Glsl => Language::Glsl,
@@ -679,13 +688,33 @@ fn vulkan_adaptive(
             ))
         }
     };
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    if tags.is_some() && kernels.name != "stpn" {
+        return Err(cpu::TessError::TagsUnused {
+            scheme: kernels.name.into(),
+        }
+        .to_string());
+    }
+    // Triangle schemes tessellate the triangle mesh (`--split-quads`), quad
+    // schemes the quad topology; both number their edges for the factors.
+    let (topo, tri) = if kernels.sides == 3 {
+        let tri = cpu::tri_mesh(mesh, args.split_quads, tags).map_err(|e| e.to_string())?;
+        (None, Some(tri))
+    } else {
+        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+        (Some(topo), None)
+    };
+    let edges = match (&topo, &tri) {
+        (Some(t), _) => adaptive::edge_ids(t).1,
+        (_, Some(t)) => t.edge_ids().1,
+        _ => 0,
+    };
     let positions: Vec<Vec3> = mesh
         .positions
         .iter()
         .map(|p| Vec3::from_array(*p))
         .collect();
-    let metric = adaptive_metric(&topo, &positions, args);
+    let metric = adaptive_metric(edges, &positions, args);
     let options = Options {
         adaptive: Some(Adaptive {
             metric,
@@ -696,15 +725,24 @@ fn vulkan_adaptive(
         ..Options::new(language)
     };
     let vk = Vulkan::new().map_err(|e| e.to_string())?;
-    let m =
-        VkMesh::new(&vk, &topo, &positions, &args.scheme, &options).map_err(|e| e.to_string())?;
-    m.evaluate_adaptive().map_err(|e| e.to_string())
+    let m = match &tri {
+        Some(t) => VkMesh::new_tri(&vk, t, &args.scheme, &options),
+        None => {
+            let topo = topo.ok_or("no quad topology")?;
+            VkMesh::new(&vk, &topo, &positions, &args.scheme, &options)
+        }
+    }
+    .map_err(|e| e.to_string())?;
+    Ok(m.evaluate_adaptive()
+        .map_err(|e| e.to_string())?
+        .triangles())
 }
 
 #[cfg(not(feature = "vulkan"))]
 fn vulkan_adaptive(
     _mesh: &tessgen_runtime::Mesh,
     _args: &TessellateArgs,
+    _tags: Option<&TagFile>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
     Err("--adaptive needs tessgen built with the `vulkan` feature".into())
 }

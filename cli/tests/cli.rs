@@ -471,6 +471,52 @@ fn tessellate_adaptive() {
     assert!(stderr(&o).contains("unknown partitioning"), "{}", all(&o));
 }
 
+/// `--adaptive` with triangle schemes (`--split-quads`): per-edge factors
+/// through the triangle tessellation shaders weld closed, stpn with its
+/// crease tags too.
+#[test]
+fn tessellate_adaptive_triangle_schemes() {
+    let tmp = TempDir::new("tess-adaptive-tri");
+    let torus = mesh("catmark_torus.obj");
+    let tags = mesh("catmark_torus_crease.tags");
+    let out = tmp.path().join("adaptive_tri.obj");
+    for (scheme, backend, metric, partitioning, with_tags) in [
+        ("stpn", "glsl", "random:7:1:9", "fractional-odd", true),
+        ("pn", "hlsl", "screen:8", "integer", false),
+    ] {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "tessellate".as_ref(),
+            torus.as_os_str(),
+            "--scheme".as_ref(),
+            scheme.as_ref(),
+            "--split-quads".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--adaptive".as_ref(),
+            metric.as_ref(),
+            "--partitioning".as_ref(),
+            partitioning.as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ];
+        if with_tags {
+            args.extend(["--tags".as_ref(), tags.as_os_str()]);
+        }
+        let o = tessgen(args);
+        assert_ok(&o);
+        assert!(
+            stdout(&o).contains("closed 2-manifold"),
+            "{scheme} {backend}: {}",
+            all(&o)
+        );
+        let text = std::fs::read_to_string(&out).unwrap();
+        let f = count_lines(&text, "f ");
+        assert!(f > 64, "{scheme} {backend}: {f} triangles");
+        assert_eq!(count_lines(&text, "v "), 3 * f);
+    }
+}
+
 /// `--scheme stpn --tags FILE`: the creased torus welds closed on every
 /// backend; tags for another scheme, and a bad tag line, are errors that
 /// name the file and line.

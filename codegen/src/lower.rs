@@ -42,6 +42,42 @@ pub const EDGE_FACTOR_RUNTIME_FN: &str = "tessgen_edge_factor_runtime";
 /// is exact in f32 and `2^16 − m` is the neighbour's coordinate.
 pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
 
+/// Which patch edges feed a hardware tessellator's factors in adaptive
+/// builds: `(outer, inner)`, `outer[s]` the edge (k: `v_k → v_{k+1}`) whose
+/// factor goes to outer factor slot `s`, `inner[s]` the edges whose largest
+/// factor is inside factor `s`.
+///
+/// Conventions (Vulkan and D3D alike): a triangle domain's outer slot `s` is
+/// the edge where barycentric coordinate `s` is 0 — with `(x, y, z)`
+/// weighing corners 0, 1, 2 that is edge 1 (`x = 0`), edge 2 (`y = 0`),
+/// edge 0 (`z = 0`) — and its one inside factor is the largest of the three
+/// edges. A quad domain's outer slots are the edges `a = 0, b = 0, a = 1,
+/// b = 1` of its coordinates `(a, b)`, and inside factor 0 subdivides along
+/// `a` (the edges `b = 0`, `b = 1`). HLSL takes `(u, v) = (a, b)`
+/// (`first_is_u`), GLSL `(u, v) = (b, a)` (the axis swap that keeps the
+/// winding counter-clockwise); our edges are 0: `v = 0`, 1: `u = 1`,
+/// 2: `v = 1`, 3: `u = 0`. Every factor depends on its edge alone (Rule 3),
+/// the inside ones only on the patch's own edges.
+pub fn hw_factor_edges(sides: u32, first_is_u: bool) -> (Vec<usize>, Vec<Vec<usize>>) {
+    if sides == 3 {
+        return (vec![1, 2, 0], vec![vec![0, 1, 2]]);
+    }
+    let outer = if first_is_u {
+        vec![3, 0, 1, 2]
+    } else {
+        vec![0, 3, 2, 1]
+    };
+    let sorted = |mut v: Vec<usize>| {
+        v.sort_unstable();
+        v
+    };
+    let inner = vec![
+        sorted(vec![outer[1], outer[3]]),
+        sorted(vec![outer[0], outer[2]]),
+    ];
+    (outer, inner)
+}
+
 /// Name of the single shared edge evaluator.
 pub const EDGE_FN: &str = "tessgen_edge";
 

@@ -88,6 +88,12 @@ layout(location = 1) out vec3 te_position;
 layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
 
 #endif
+#if defined(TESSGEN_CAPTURE) && defined(TESSGEN_ADAPTIVE)
+// Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,
+// for a harness that records the output triangles.
+layout(location = 2) out vec3 te_domain;
+layout(location = 3) flat out uint te_patch;
+#endif
 
 #ifdef TESSGEN_DISPLACE
 // Displacement (quads): the global control-point buffer, filled by the compute
@@ -532,5 +538,9 @@ void main() {
     samples[(o + 3u)] = result.normal.x;
     samples[(o + 4u)] = result.normal.y;
     samples[(o + 5u)] = result.normal.z;
+#elif defined(TESSGEN_CAPTURE)
+    // Adaptive capture: the domain point in (u, v) and the patch of every vertex.
+    te_domain = vec3(gl_TessCoord.y, gl_TessCoord.x, 0.0);
+    te_patch = (params.first + uint(gl_PrimitiveID));
 #endif
 }

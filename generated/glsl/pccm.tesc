@@ -72,7 +72,7 @@ layout(std140, set = 0, binding = 10) uniform Params {
 // binding 11: face index of each patch, patches sorted by class
 layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
 
-// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k (triangles: 3f + k); both faces of an edge hold the same id (adaptive tessellation)
 layout(std430, set = 0, binding = 17) readonly buffer FaceEdges { uint face_edges[]; };
 
 // binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)

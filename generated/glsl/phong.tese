@@ -6,8 +6,16 @@
 #version 450
 
 // Triangle schemes: gl_TessCoord is barycentric; (x, y, z) weigh corners
-// (0, 1, 2) and `ccw` follows the corner order.
+// (0, 1, 2) and `ccw` follows the corner order. Partitioning: integer
+// (equal_spacing) unless the build defines TESSGEN_FRACTIONAL_ODD or
+// TESSGEN_FRACTIONAL_EVEN (adaptive builds).
+#if defined(TESSGEN_FRACTIONAL_ODD)
+layout(triangles, fractional_odd_spacing, ccw) in;
+#elif defined(TESSGEN_FRACTIONAL_EVEN)
+layout(triangles, fractional_even_spacing, ccw) in;
+#else
 layout(triangles, equal_spacing, ccw) in;
+#endif
 
 // Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
 const uint TABLE_WIDTH = 65u;
@@ -189,7 +197,16 @@ void main() {
     // an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the
     // hardware's inner rings (ring k: level − 2k segments per side) are not the
     // barycentric lattice, so it evaluates the surface at gl_TessCoord itself.
-    Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, params.level);
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed
+    // point, so on an edge round(y·2^16), round(z·2^16) are exact and the neighbour,
+    // whose tessellator mirrors the edge's points (1 − t is exact in fixed point),
+    // hands the shared edge evaluator exactly the swapped integer pair.
+    uint level = 65536u;
+#else
+    uint level = params.level;
+#endif
+    Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
     te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));

@@ -63,6 +63,15 @@ layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_fa
 // binding 13: unit normal per vertex, 3 f32 (triangle schemes)
 layout(std430, set = 0, binding = 13) readonly buffer Normals { float normals[]; };
 
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k (triangles: 3f + k); both faces of an edge hold the same id (adaptive tessellation)
+layout(std430, set = 0, binding = 17) readonly buffer FaceEdges { uint face_edges[]; };
+
+// binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
+layout(std430, set = 0, binding = 18) readonly buffer EdgeFactors { float edge_factors[]; };
+
+// binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
+layout(std430, set = 0, binding = 19) readonly buffer Adaptive { float adaptive[]; };
+
 // Control points of this patch, written once by the control stage, packed:
 // point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
 // in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),
@@ -78,12 +87,60 @@ void store_tcs_cp(uint i, vec3 v) {
     tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
 }
 
+vec3 load_tcs_cp(uint i) {
+    uint c = (3u * i);
+    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+}
+
 vec3 load_positions(uint i) {
     return vec3(positions[(3u * i)], positions[((3u * i) + 1u)], positions[((3u * i) + 2u)]);
 }
 
 vec3 load_normals(uint i) {
     return vec3(normals[(3u * i)], normals[((3u * i) + 1u)], normals[((3u * i) + 2u)]);
+}
+
+// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+precise float tessgen_edge_factor(vec3 a, vec3 b, uint va, uint vb, uint edge) {
+    precise vec3 p = a;
+    precise vec3 q = b;
+    if (vb < va) {
+        p = b;
+        q = a;
+    }
+    precise float factor = 1.0;
+#ifdef TESSGEN_METRIC_BUFFER
+    factor = edge_factors[edge];
+#else
+#ifdef TESSGEN_METRIC_DISTANCE
+    precise vec3 d = (q - p);
+    precise vec3 mid = ((p + q) * 0.5);
+    precise float dist = sqrt(dot((mid - vec3(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - vec3(adaptive[16u], adaptive[17u], adaptive[18u]))));
+    if (dist > 0.0) {
+        factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
+    } else {
+        factor = adaptive[24u];
+    }
+#else
+    precise float wp = (dot(vec3(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
+    precise float wq = (dot(vec3(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
+    if ((wp > 0.0) && (wq > 0.0)) {
+        precise float dx = ((((dot(vec3(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(vec3(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5));
+        precise float dy = ((((dot(vec3(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(vec3(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5));
+        factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
+    } else {
+        factor = adaptive[24u];
+    }
+#endif
+#endif
+    if (factor >= adaptive[23u]) {
+    } else {
+        factor = adaptive[23u];
+    }
+    if (factor > adaptive[24u]) {
+        factor = adaptive[24u];
+    }
+    return factor;
 }
 
 // Patch stage of `pn` for triangle triangles: the 16 control points of a tri_cubic patch from the corners' positions and normals, written from `cp_base`.
@@ -129,9 +186,25 @@ void main() {
     triangle_patch(face, 0u);
     // One factor per edge that depends only on the edge (here the uniform level),
     // so both patches of an edge get the same parameters (watertight.md Rule 3).
-    // Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0).
+    // Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0),
+    // i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0), 0 (v0 -> v1).
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
+    // shared control points), their global vertices and the global edge id,
+    // all data of the edge alone. Inner level: the largest of the three.
+    float f[3];
+    for (uint k = 0u; k < 3u; k = (k + 1u)) {
+        uint curve = ((params.class_ * 12u) + (k * 4u));
+        f[k] = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 3u) + k)], corner_vertex[((face * 3u) + ((k + 1u) % 3u))], face_edges[((face * 3u) + k)]);
+    }
+    gl_TessLevelOuter[0] = f[1];
+    gl_TessLevelOuter[1] = f[2];
+    gl_TessLevelOuter[2] = f[0];
+    gl_TessLevelInner[0] = max(max(f[0], f[1]), f[2]);
+#else
     gl_TessLevelOuter[0] = float(params.level);
     gl_TessLevelOuter[1] = float(params.level);
     gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelInner[0] = float(params.level);
+#endif
 }

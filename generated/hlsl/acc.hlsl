@@ -83,7 +83,7 @@ struct Params {
 // binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 [[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
 
-// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k (triangles: 3f + k); both faces of an edge hold the same id (adaptive tessellation)
 [[vk::binding(17, 0)]] StructuredBuffer<uint> face_edges : register(t17);
 
 // binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
@@ -1009,7 +1009,8 @@ struct HsControlPoint {
 // Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,
 // [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on
 // its edge so both patches of an edge get the same parameters
-// (watertight.md Rule 3); for now every factor is the uniform level.
+// (watertight.md Rule 3): the uniform level, or in adaptive builds a factor
+// per edge.
 struct HsConstants {
     float edges[4] : SV_TessFactor;
     float inside[2] : SV_InsideTessFactor;
@@ -1095,6 +1096,12 @@ struct DsOut {
     float4 position : SV_Position;
     float3 normal : NORMAL;
     float3 world : WORLD_POSITION;
+#if defined(TESSGEN_CAPTURE) && defined(TESSGEN_ADAPTIVE)
+    // Adaptive capture: the domain point (u, v, 0) and the patch of every
+    // vertex, for a harness that records the output triangles.
+    float3 domain : TESSGEN_DOMAIN;
+    nointerpolation uint patch_index : TESSGEN_PATCH;
+#endif
 };
 
 // Hardware domain location (u, v) is our convention as is: u along v0 -> v1,
@@ -1143,6 +1150,10 @@ DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<Hs
     samples[(at + 3u)] = result.normal.x;
     samples[(at + 4u)] = result.normal.y;
     samples[(at + 5u)] = result.normal.z;
+#elif defined(TESSGEN_CAPTURE)
+    // Adaptive capture: the domain point and the patch of every vertex.
+    o.domain = float3(uv.x, uv.y, 0.0f);
+    o.patch_index = (params.first + c.patch_id);
 #endif
     return o;
 }

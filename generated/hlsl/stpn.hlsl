@@ -83,7 +83,7 @@ struct Params {
 // binding 16: side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 [[vk::binding(16, 0)]] StructuredBuffer<float> corner_side : register(t16);
 
-// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+// binding 17: global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k (triangles: 3f + k); both faces of an edge hold the same id (adaptive tessellation)
 [[vk::binding(17, 0)]] StructuredBuffer<uint> face_edges : register(t17);
 
 // binding 18: explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)
@@ -665,8 +665,8 @@ struct HsControlPoint {
 
 // Per-patch outputs. Tess factors: edges[k] is the edge opposite corner k
 // (barycentric coordinate k = 0). A factor must depend only on its edge so
-// both patches of an edge get the same parameters (watertight.md Rule 3);
-// for now every factor is the uniform level.
+// both patches of an edge get the same parameters (watertight.md Rule 3):
+// the uniform level, or in adaptive builds a factor per edge.
 struct HsConstants {
     float edges[3] : SV_TessFactor;
     float inside : SV_InsideTessFactor;
@@ -698,15 +698,38 @@ HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
     }
     c.patch_id = patch_id;
     float level = float(params.level);
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
+    // shared control points), their global vertices and the global edge id, all
+    // data of the edge alone. Inside factor: the largest of the three.
+    float f[3];
+    for (uint e = 0u; e < 3u; e += 1u) {
+        uint curve = ((params.class_ * 12u) + (e * 4u));
+        f[e] = tessgen_edge_factor(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 3u) + e)], corner_vertex[((face * 3u) + ((e + 1u) % 3u))], face_edges[((face * 3u) + e)]);
+    }
+    c.edges[0] = f[1];
+    c.edges[1] = f[2];
+    c.edges[2] = f[0];
+    c.inside = max(max(f[0], f[1]), f[2]);
+#else
     c.edges[0] = level;
     c.edges[1] = level;
     c.edges[2] = level;
     c.inside = level;
+#endif
     return c;
 }
 
 [domain("tri")]
+// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or
+// TESSGEN_FRACTIONAL_EVEN (adaptive builds only).
+#if defined(TESSGEN_FRACTIONAL_ODD)
+[partitioning("fractional_odd")]
+#elif defined(TESSGEN_FRACTIONAL_EVEN)
+[partitioning("fractional_even")]
+#else
 [partitioning("integer")]
+#endif
 [outputtopology("triangle_ccw")]
 [outputcontrolpoints(1)]
 [patchconstantfunc("hs_patch_constants")]
@@ -737,7 +760,15 @@ struct DsOut {
 // not the barycentric lattice, so the surface is evaluated at the raw point.
 [domain("tri")]
 DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
+    // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp
+    // come from integers; the neighbour's tessellator mirrors the edge's points
+    // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.
+    uint level = 65536u;
+#else
     uint level = params.level;
+#endif
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {
         uint k = (3u * j);

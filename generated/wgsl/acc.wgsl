@@ -85,7 +85,7 @@ struct Params {
 // side sign ±1 of corner i of triangle f at 3f + i: which crease normal the triangle uses — scalar-tagged PN
 @group(0) @binding(16) var<storage, read> corner_side: array<f32>;
 
-// global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k; both faces of an edge hold the same id (adaptive tessellation)
+// global edge id of edge k (v_k -> v_{k+1}) of face f at 4f + k (triangles: 3f + k); both faces of an edge hold the same id (adaptive tessellation)
 @group(0) @binding(17) var<storage, read> face_edges: array<u32>;
 
 // explicit tessellation factor per global edge id (adaptive, TESSGEN_METRIC_BUFFER)

@@ -16,6 +16,12 @@ use glam::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write;
 
+/// The fixed-point denominator of adaptive evaluation (`2^16`, codegen's
+/// `lower::ADAPTIVE_LEVEL`): the hardware tessellator's domain coordinates
+/// are 16.16 fixed point, so the evaluation stages of adaptive builds pass
+/// `round(coordinate · 2^16)` and level `2^16` to `eval` / `eval_domain`.
+pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
+
 /// Floats per captured vertex: position xyz, normal xyz, domain xyz, patch
 /// (its u32 bits).
 pub const VERTEX_FLOATS: usize = 10;
@@ -25,7 +31,9 @@ pub const VERTEX_FLOATS: usize = 10;
 /// them, sorted).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct CapturedPatch {
-    /// Barycentric `(x, y, z)` of corners 0, 1, 2, as the tessellator gave it.
+    /// Triangle patches: barycentric `(x, y, z)` of corners 0, 1, 2, as the
+    /// tessellator gave it. Quad patches (adaptive draws): `(u, v, 0)` in
+    /// the patch's own convention.
     pub domain: Vec<[f32; 3]>,
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
@@ -152,6 +160,49 @@ impl TriangleCapture {
         Ok(TriangleCapture { level, patches })
     }
 
+    /// Parity with the CPU: evaluate the generated Rust at every captured
+    /// vertex's domain point, as the evaluation stage did (triangles:
+    /// `eval_domain(x, y, z, level)`; quads: `eval(round(u·level),
+    /// round(v·level), level)`), and return the largest distance `|captured −
+    /// CPU|` over all vertices (NaN if either side is NaN). `patches` are the CPU's patches of the
+    /// same mesh (patch `k` of the capture is face `k`). `Err` names the
+    /// first face whose CPU patch is missing or whose scheme cannot
+    /// evaluate a raw triangle domain point.
+    pub fn max_deviation(&self, patches: &crate::cpu::Patches) -> Result<f32, usize> {
+        let k = patches.scheme;
+        let level = self.level;
+        let mut worst = 0.0f32;
+        for (face, p) in self.patches.iter().enumerate() {
+            for (d, pos) in p.domain.iter().zip(&p.positions) {
+                let s = if k.sides == 3 {
+                    crate::cpu::eval_domain(patches, face, *d, level).ok_or(face)?
+                } else {
+                    let class = *patches.face_class.get(face).ok_or(face)?;
+                    let (a, b) = (
+                        *patches.cp_offsets.get(face).ok_or(face)? as usize,
+                        *patches.cp_offsets.get(face + 1).ok_or(face)? as usize,
+                    );
+                    let to_int = |x: f32| (x * level as f32).round() as u32;
+                    (k.eval)(
+                        &patches.control_points[a..b],
+                        class,
+                        0,
+                        to_int(d[0]),
+                        to_int(d[1]),
+                        level,
+                    )
+                };
+                let dev = (s.position - *pos).length();
+                if dev.is_nan() {
+                    // A NaN on either side is no agreement.
+                    return Ok(f32::NAN);
+                }
+                worst = worst.max(dev);
+            }
+        }
+        Ok(worst)
+    }
+
     pub fn vertex_count(&self) -> usize {
         self.patches.iter().map(|p| p.positions.len()).sum()
     }
@@ -164,16 +215,21 @@ impl TriangleCapture {
     /// [`crate::weld`]): 0 open edges means the hardware's output is a
     /// closed surface.
     pub fn weld(&self) -> WeldReport {
-        let soup: Vec<Vec3> = self
-            .patches
+        let soup: Vec<Vec3> = self.triangles().into_iter().flatten().collect();
+        weld_triangles(&soup, 3, &[[0, 1, 2]])
+    }
+
+    /// Every captured triangle as world positions, patch by patch (a
+    /// triangle soup for OBJ output or [`weld_triangles`]).
+    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
+        self.patches
             .iter()
             .flat_map(|p| {
                 p.triangles
                     .iter()
-                    .flat_map(move |t| t.map(|k| p.positions[k as usize]))
+                    .map(move |t| t.map(|k| p.positions[k as usize]))
             })
-            .collect();
-        weld_triangles(&soup, 3, &[[0, 1, 2]])
+            .collect()
     }
 
     /// OBJ text in the layout of [`crate::obj`]: per patch `g patch_<k>`

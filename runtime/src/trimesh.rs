@@ -256,6 +256,24 @@ impl TriMesh {
         edge_uses(&self.triangles).len()
     }
 
+    /// Global edge id of edge k (`v_k → v_{k+1}`) of every triangle, at
+    /// `3t + k`, numbered in order of first use; the two triangles of an
+    /// edge get the same id. Returns `(ids, number of edges)`: the
+    /// `face_edges` buffer of adaptive tessellation (the triangle
+    /// counterpart of [`crate::adaptive::edge_ids`]).
+    pub fn edge_ids(&self) -> (Vec<u32>, u32) {
+        let mut ids = Vec::with_capacity(3 * self.triangles.len());
+        let mut seen: std::collections::HashMap<(u32, u32), u32> = Default::default();
+        for t in &self.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let next = seen.len() as u32;
+                ids.push(*seen.entry((a.min(b), a.max(b))).or_insert(next));
+            }
+        }
+        (ids, seen.len() as u32)
+    }
+
     /// Number of boundary edges (used by one triangle).
     pub fn num_boundary_edges(&self) -> usize {
         edge_uses(&self.triangles)

@@ -33,7 +33,7 @@ pub mod binding {
     pub const EDGE_FACTORS: u32 = 18;
     pub const ADAPTIVE: u32 = 19;
     /// Not an ABI binding: the Vulkan harness's geometry-shader triangle
-    /// capture of adaptive draws (`runtime::vulkan`).
+    /// capture of triangle schemes and adaptive draws (`runtime::vulkan`).
     pub const TRIANGLES: u32 = 20;
     /// Bindings 0 ..= TRIANGLES. The displacement bindings below are read by
     /// `eval_displaced` (WGSL entries, GLSL compute evaluation) and by the

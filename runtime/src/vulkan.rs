@@ -25,7 +25,7 @@
 //! (`glslang-tools`).
 
 use crate::adaptive::{self, Adaptive, Metric};
-use crate::capture::{CaptureError, TriangleCapture, VERTEX_FLOATS};
+use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::topology::Topology;
@@ -137,36 +137,6 @@ impl Options {
     }
 }
 
-/// The harness's capture of adaptive draws: a geometry shader after the
-/// emitted evaluation stage appends every tessellated triangle (the
-/// evaluation stage's world position, location 1: GLSL `te_position`,
-/// HLSL `DsOut.world`) to the `triangles` buffer. Fractional and adaptive
-/// patterns are not a grid, so samples cannot be indexed by (iu, iv); the
-/// triangles are what an exact weld needs. Emits nothing (rasterizer
-/// discard).
-const CAPTURE_GEOM: &str = r#"#version 450
-layout(triangles) in;
-layout(points, max_vertices = 1) out;
-layout(location = 1) in vec3 te_position[];
-layout(std430, set = 0, binding = 20) buffer Triangles {
-    uint count;
-    uint capacity;
-    uint pad0;
-    uint pad1;
-    float tri[];
-};
-void main() {
-    uint k = atomicAdd(count, 1u);
-    if (k < capacity) {
-        for (uint i = 0u; i < 3u; i++) {
-            tri[9u * k + 3u * i + 0u] = te_position[i].x;
-            tri[9u * k + 3u * i + 1u] = te_position[i].y;
-            tri[9u * k + 3u * i + 2u] = te_position[i].z;
-        }
-    }
-}
-"#;
-
 /// Errors of the Vulkan harness.
 #[derive(Debug, thiserror::Error)]
 pub enum VkError {
@@ -227,14 +197,10 @@ pub enum VkError {
     },
     #[error(transparent)]
     Capture(#[from] CaptureError),
-    #[error("scheme `{0}`: adaptive tessellation is implemented for quad schemes only")]
-    AdaptiveNeedsQuads(String),
     #[error("explicit edge factors: the mesh has {expected} edges, {got} factors were given")]
     EdgeFactorCount { expected: usize, got: usize },
     #[error("adaptive draws need VkMesh::evaluate_adaptive (the samples are not a grid)")]
     AdaptiveNotGrid,
-    #[error("adaptive capture: {written} triangles did not fit the {capacity} reserved")]
-    TriangleOverflow { written: u64, capacity: u64 },
 }
 
 impl From<UploadError> for VkError {
@@ -618,15 +584,19 @@ impl Buf {
     }
 }
 
-/// The harness's geometry shader for triangle schemes (not a generated
-/// file): it receives every triangle the tessellator emitted, with the
-/// evaluation stage's outputs at the locations both emitted languages write
-/// (GLSL `te_normal` 0, `te_position` 1, and with `-DTESSGEN_CAPTURE`
-/// `te_domain` 2, `te_patch` 3; HLSL `DsOut` in declaration order), and
-/// appends it to the capture buffer (binding 12): a `u32` triangle counter
-/// bumped atomically, the capacity, then `VERTEX_FLOATS` floats per vertex.
-/// A triangle past the capacity is counted but not written, so the host
-/// can tell an overflow from a full buffer.
+/// The harness's one geometry shader (not a generated file), for every
+/// draw whose tessellated vertices are not a grid: triangle schemes (their
+/// inner rings are not the lattice) and adaptive draws of any scheme. It
+/// receives every triangle the tessellator emitted, with the evaluation
+/// stage's outputs at the locations both emitted languages write (GLSL
+/// `te_normal` 0, `te_position` 1, and with `-DTESSGEN_CAPTURE` `te_domain`
+/// 2, `te_patch` 3; HLSL `DsOut` in declaration order), and appends it to
+/// the capture buffer (binding 20, `binding::TRIANGLES`): a `u32` triangle
+/// counter bumped atomically, the capacity, then `VERTEX_FLOATS` floats per
+/// vertex. A triangle past the capacity is counted but not written, so the
+/// host can tell an overflow from a full buffer. The domain point is
+/// barycentric `(x, y, z)` for triangles and `(u, v, 0)` for quads, so the
+/// host can evaluate the CPU surface at every captured vertex (parity).
 const CAPTURE_GEOMETRY_SHADER: &str = r#"#version 450
 layout(triangles) in;
 layout(points, max_vertices = 1) out;
@@ -636,7 +606,7 @@ layout(location = 1) in vec3 te_position[];
 layout(location = 2) in vec3 te_domain[];
 layout(location = 3) flat in uint te_patch[];
 
-layout(std430, set = 0, binding = 12) buffer Capture {
+layout(std430, set = 0, binding = 20) buffer Capture {
     uint triangles;
     uint capacity;
     uint pad0;
@@ -664,6 +634,48 @@ void main() {
     }
 }
 "#;
+
+/// The adaptive buffers (bindings 17–19) for `face_edges` ids at
+/// `sides·f + k` over `edges` edges: the ids, the explicit factors, the
+/// metric parameters. [`Metric::PerFaceEdge`] (the negative control) gives
+/// every face edge its own id instead.
+fn adaptive_buffers(
+    vk: &Vulkan,
+    a: &Adaptive,
+    mut ids: Vec<u32>,
+    mut edges: u32,
+) -> Result<Vec<UploadBuffer>, VkError> {
+    if !vk.geometry_shader {
+        return Err(VkError::NoGeometryShader);
+    }
+    if let Metric::PerFaceEdge(_) = &a.metric {
+        edges = ids.len() as u32;
+        ids = (0..edges).collect();
+    }
+    if let Metric::Buffer(f) | Metric::PerFaceEdge(f) = &a.metric {
+        if f.len() != edges as usize {
+            return Err(VkError::EdgeFactorCount {
+                expected: edges as usize,
+                got: f.len(),
+            });
+        }
+    }
+    let buf = |binding, label, bytes| UploadBuffer {
+        binding,
+        label,
+        bytes,
+        read_back: false,
+    };
+    Ok(vec![
+        buf(binding::FACE_EDGES, "face_edges", u32_bytes(&ids)),
+        buf(
+            binding::EDGE_FACTORS,
+            "edge_factors",
+            f32_bytes(a.edge_factors()),
+        ),
+        buf(binding::ADAPTIVE, "adaptive", f32_bytes(&a.params())),
+    ])
+}
 
 /// Bytes before the captured vertices in the capture buffer (counter,
 /// capacity, padding).
@@ -889,41 +901,8 @@ impl<'v> VkMesh<'v> {
     ) -> Result<Upload, VkError> {
         let mut upload = Upload::quad(topo, positions, scheme)?;
         if let Some(a) = &options.adaptive {
-            if upload.scheme.sides != 4 {
-                return Err(VkError::AdaptiveNeedsQuads(upload.scheme.name.into()));
-            }
-            if !vk.geometry_shader {
-                return Err(VkError::NoGeometryShader);
-            }
-            let (mut ids, mut edges) = adaptive::edge_ids(topo);
-            if let Metric::PerFaceEdge(_) = &a.metric {
-                // Negative control: every face edge its own id.
-                edges = ids.len() as u32;
-                ids = (0..edges).collect();
-            }
-            if let Metric::Buffer(f) | Metric::PerFaceEdge(f) = &a.metric {
-                if f.len() != edges as usize {
-                    return Err(VkError::EdgeFactorCount {
-                        expected: edges as usize,
-                        got: f.len(),
-                    });
-                }
-            }
-            let buf = |binding, label, bytes| UploadBuffer {
-                binding,
-                label,
-                bytes,
-                read_back: false,
-            };
-            upload.buffers.extend([
-                buf(binding::FACE_EDGES, "face_edges", u32_bytes(&ids)),
-                buf(
-                    binding::EDGE_FACTORS,
-                    "edge_factors",
-                    f32_bytes(a.edge_factors()),
-                ),
-                buf(binding::ADAPTIVE, "adaptive", f32_bytes(&a.params())),
-            ]);
+            let (ids, edges) = adaptive::edge_ids(topo);
+            upload.buffers.extend(adaptive_buffers(vk, a, ids, edges)?);
         }
         Ok(upload)
     }
@@ -935,10 +914,12 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
-        if options.adaptive.is_some() {
-            return Err(VkError::AdaptiveNeedsQuads(scheme.into()));
+        let mut upload = Upload::tri(mesh, scheme)?;
+        if let Some(a) = &options.adaptive {
+            let (ids, edges) = mesh.edge_ids();
+            upload.buffers.extend(adaptive_buffers(vk, a, ids, edges)?);
         }
-        Self::build(vk, Upload::tri(mesh, scheme)?, options)
+        Self::build(vk, upload, options)
     }
 
     fn empty(vk: &'v Vulkan, upload: &Upload, options: &Options) -> Self {
@@ -1428,27 +1409,14 @@ impl<'v> VkMesh<'v> {
         let (vert, vn) = self.module("vert")?;
         let (tesc, cn) = self.module("tesc")?;
         let (tese, en) = self.module("tese")?;
-        // Triangle schemes: the harness's geometry shader records the
-        // tessellator's output triangles (see CAPTURE_GEOMETRY_SHADER).
-        let geom = if self.scheme.sides == 3 {
+        // Triangle schemes and adaptive draws: the harness's geometry
+        // shader records the tessellator's output triangles (see
+        // CAPTURE_GEOMETRY_SHADER).
+        let geom = if self.scheme.sides == 3 || self.options.adaptive.is_some() {
             if !self.vk.geometry_shader {
                 return Err(VkError::NoGeometryShader);
             }
             Some(self.module("geom")?)
-        } else if self.options.adaptive.is_some() {
-            // Adaptive draws: the harness's small capture of world positions.
-            if !self.vk.geometry_shader {
-                return Err(VkError::NoGeometryShader);
-            }
-            let words = compile(CAPTURE_GEOM, "harness_capture.geom", "geom", None, &[])?;
-            let m = unsafe {
-                self.vk
-                    .device
-                    .create_shader_module(&vk::ShaderModuleCreateInfo::default().code(&words), None)
-            }
-            .map_err(call("vkCreateShaderModule"))?;
-            self.modules.push(m);
-            Some((m, c"main"))
         } else {
             None
         };
@@ -1714,14 +1682,57 @@ impl<'v> VkMesh<'v> {
     /// tessellator's inner vertices are not the barycentric lattice, so this
     /// is not a grid like [`Self::evaluate`]'s.
     pub fn evaluate_triangles(&self, level: u32) -> Result<TriangleCapture, VkError> {
+        if self.options.adaptive.is_some() {
+            return Err(VkError::AdaptiveNotGrid);
+        }
         if self.scheme.sides != 3 {
             return Err(VkError::QuadDomain {
                 scheme: self.scheme.name.into(),
             });
         }
         self.check_level(level)?;
-        let per_patch_tris = triangles_per_patch(level);
-        let per_patch = per_patch_tris * 3 * VERTEX_FLOATS as u64 * 4;
+        self.capture(
+            level,
+            level,
+            triangles_per_patch(level),
+            patches_per_draw(level),
+        )
+    }
+
+    /// Run an adaptive draw ([`Options::adaptive`], quad or triangle
+    /// scheme) and capture every tessellated triangle with the same
+    /// geometry shader as [`Self::evaluate_triangles`]: per vertex the
+    /// position, normal, domain point (quads `(u, v, 0)`, triangles
+    /// barycentric) and patch. The capture's `level` is the fixed-point
+    /// denominator `2^16` the evaluation stage used, so
+    /// [`TriangleCapture::max_deviation`] can evaluate the CPU at the same
+    /// points. Weld with [`TriangleCapture::weld`].
+    pub fn evaluate_adaptive(&self) -> Result<TriangleCapture, VkError> {
+        let Some(a) = &self.options.adaptive else {
+            return Err(VkError::AdaptiveNotGrid);
+        };
+        // At most 2·(ceil(max) + 2)² triangles per patch (the inside factor
+        // is at most the largest edge factor, a fractional pattern adds one
+        // transition ring; a triangle patch emits fewer than a quad), and
+        // at most (m + 1)² vertices: draws stay under lavapipe's 16-bit
+        // vertex numbering with a geometry shader (see patches_per_draw).
+        let m = a.max.max(1.0).ceil() as u64 + 2;
+        let per_draw = (u16::MAX as u64 / ((m + 1) * (m + 1))).max(1);
+        self.capture(1, ADAPTIVE_LEVEL, 2 * m * m, per_draw)
+    }
+
+    /// Draw every patch (`Params.level = level`; adaptive builds ignore it)
+    /// with the capture geometry shader bound to `binding::TRIANGLES`, in
+    /// readback chunks of at most `tris_per_patch` triangles per patch and
+    /// draws of at most `per_draw` patches; the capture records `record_level`.
+    fn capture(
+        &self,
+        level: u32,
+        record_level: u32,
+        tris_per_patch: u64,
+        per_draw: u64,
+    ) -> Result<TriangleCapture, VkError> {
+        let per_patch = tris_per_patch * 3 * VERTEX_FLOATS as u64 * 4;
         let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20) - CAPTURE_HEADER;
         if per_patch > cap {
             return Err(VkError::Limit {
@@ -1739,23 +1750,23 @@ impl<'v> VkMesh<'v> {
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
         let result = (|| {
-            self.write_buffer(binding::SAMPLES, &buf);
+            self.write_buffer(binding::TRIANGLES, &buf);
+            if let Some(d) = &self.dummy {
+                // The evaluation stage writes no grid samples here.
+                self.write_buffer(binding::SAMPLES, d);
+            }
             let mut raw = Vec::new();
             let mut p0 = 0u64;
             while p0 < total {
                 let n = chunk.min(total - p0);
-                let capacity = n * per_patch_tris;
-                let mut header = Vec::with_capacity(16);
-                for w in [0u32, capacity as u32, 0, 0] {
-                    header.extend_from_slice(&w.to_le_bytes());
-                }
-                buf.write(&header);
-                self.draw_chunk(level, p0, n, patches_per_draw(level))?;
+                let capacity = n * tris_per_patch;
+                buf.write(&u32_bytes(&[0, capacity as u32, 0, 0]));
+                self.draw_chunk(level, p0, n, per_draw)?;
                 let head = buf.read_f32(4);
                 let emitted = head[0].to_bits() as u64;
                 if emitted > capacity {
                     return Err(VkError::CaptureOverflow {
-                        level,
+                        level: record_level,
                         patches: n,
                         emitted,
                         capacity,
@@ -1766,7 +1777,7 @@ impl<'v> VkMesh<'v> {
                 p0 += n;
             }
             Ok(TriangleCapture::from_raw(
-                level,
+                record_level,
                 &raw,
                 &self.patch_faces,
                 self.patch_faces.len(),
@@ -1774,71 +1785,6 @@ impl<'v> VkMesh<'v> {
         })();
         buf.destroy(&self.vk.device);
         result
-    }
-
-    /// Run an adaptive draw ([`Options::adaptive`]) and read back every
-    /// tessellated triangle (world positions, in no particular order), for
-    /// an exact weld with [`crate::weld::weld_triangles`].
-    pub fn evaluate_adaptive(&self) -> Result<Vec<[Vec3; 3]>, VkError> {
-        let Some(a) = &self.options.adaptive else {
-            return Err(VkError::AdaptiveNotGrid);
-        };
-        // At most 2·(ceil(max) + 2)² triangles per quad patch (the inside
-        // factor is at most the largest edge factor, a fractional pattern
-        // adds one transition ring).
-        let m = a.max.max(1.0).ceil() as u64 + 2;
-        let capacity = (self.patch_faces.len() as u64 * 2 * m * m).max(1);
-        let bytes = 16 + capacity * 36;
-        let cap = self.vk.limits.max_storage_buffer_range as u64;
-        if bytes > cap {
-            return Err(VkError::Limit {
-                scheme: self.scheme.name.into(),
-                what: "bytes of captured triangles (maxStorageBufferRange)",
-                needed: bytes,
-                max: cap,
-            });
-        }
-        let tris = self
-            .vk
-            .buffer("triangles", bytes, vk::BufferUsageFlags::STORAGE_BUFFER)?;
-        let result = self.draw_adaptive(&tris, capacity);
-        tris.destroy(&self.vk.device);
-        result
-    }
-
-    fn draw_adaptive(&self, tris: &Buf, capacity: u64) -> Result<Vec<[Vec3; 3]>, VkError> {
-        let mut header = u32_bytes(&[0, capacity as u32, 0, 0]);
-        header.extend(f32_bytes(&[]));
-        tris.write(&header[..16]);
-        self.write_buffer(binding::TRIANGLES, tris);
-        if let Some(d) = &self.dummy {
-            self.write_buffer(binding::SAMPLES, d);
-        }
-        // The same per-class draws as the uniform path, kept under
-        // lavapipe's 16-bit vertex numbering with a geometry shader: a quad
-        // patch at factors ≤ m emits at most (m + 1)² vertices.
-        let Some(a) = &self.options.adaptive else {
-            return Err(VkError::AdaptiveNotGrid);
-        };
-        let m = a.max.max(1.0).ceil() as u64 + 2;
-        let per_draw = (u16::MAX as u64 / ((m + 1) * (m + 1))).max(1);
-        self.draw_chunk(1, 0, self.patch_faces.len() as u64, per_draw)?;
-        let head = tris.read_f32(4);
-        let written = head[0].to_bits() as u64;
-        if written > capacity {
-            return Err(VkError::TriangleOverflow { written, capacity });
-        }
-        let floats = tris.read_f32(4 + written as usize * 9);
-        Ok(floats[4..]
-            .chunks_exact(9)
-            .map(|t| {
-                [
-                    Vec3::new(t[0], t[1], t[2]),
-                    Vec3::new(t[3], t[4], t[5]),
-                    Vec3::new(t[6], t[7], t[8]),
-                ]
-            })
-            .collect())
     }
 
     fn evaluate_into(

@@ -230,7 +230,7 @@ fn adaptive_displaced_tessellation_welds_closed() {
         let d = displacement(ownership, 0.5);
         let m = VkMesh::new_displaced(&vk, &mesh, &topo, &positions, scheme, &d, &options)
             .unwrap_or_else(|e| panic!("{scheme}: {e}"));
-        let tris = m.evaluate_adaptive().expect("adaptive capture");
+        let tris = m.evaluate_adaptive().expect("adaptive capture").triangles();
         assert!(tris.iter().flatten().all(|p| p.is_finite()));
         let soup: Vec<Vec3> = tris.iter().flatten().copied().collect();
         let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);

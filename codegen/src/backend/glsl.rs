@@ -399,7 +399,7 @@ impl<'a> Writer<'a> {
                     .iter()
                     .map(|p| FnRef::Local(p.function))
                     .collect();
-                if self.stage == Stage::Tesc && self.entries.sides == 4 {
+                if self.stage == Stage::Tesc {
                     r.push(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR));
                 }
                 r
@@ -505,7 +505,7 @@ impl<'a> Writer<'a> {
             }
             Stage::Tesc | Stage::CompPatch => {
                 add(by_name("patch_faces"), false);
-                if self.stage == Stage::Tesc && self.entries.sides == 4 {
+                if self.stage == Stage::Tesc {
                     // The adaptive factors' edge ids and end-point vertices.
                     add(by_name("face_edges"), false);
                     add(by_name("corner_vertex"), false);
@@ -584,8 +584,16 @@ impl<'a> Writer<'a> {
                 self.line(
                     "// Triangle schemes: gl_TessCoord is barycentric; (x, y, z) weigh corners",
                 );
-                self.line("// (0, 1, 2) and `ccw` follows the corner order.");
+                self.line("// (0, 1, 2) and `ccw` follows the corner order. Partitioning: integer");
+                self.line("// (equal_spacing) unless the build defines TESSGEN_FRACTIONAL_ODD or");
+                self.line("// TESSGEN_FRACTIONAL_EVEN (adaptive builds).");
+                self.out.push_str(&format!(
+                    "#if defined({})\nlayout(triangles, fractional_odd_spacing, ccw) in;\n#elif defined({})\nlayout(triangles, fractional_even_spacing, ccw) in;\n#else\n",
+                    Define::FractionalOdd.name(),
+                    Define::FractionalEven.name()
+                ));
                 self.line("layout(triangles, equal_spacing, ccw) in;");
+                self.out.push_str("#endif\n");
             }
             Stage::Tese => {
                 self.line(
@@ -669,7 +677,7 @@ impl<'a> Writer<'a> {
                 self.line("}");
                 self.line("");
             }
-            if self.stage == Stage::Tese || (self.stage == Stage::Tesc && self.entries.sides == 4) {
+            if self.stage.tess() {
                 self.line("vec3 load_tcs_cp(uint i) {");
                 self.line("    uint c = (3u * i);");
                 self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
@@ -698,6 +706,20 @@ impl<'a> Writer<'a> {
                 self.binding(b, true);
             }
             self.out.push_str("#endif\n");
+            if self.entries.sides == 4 {
+                // Adaptive patterns are not a grid: like the triangle
+                // capture, export the domain point and the patch.
+                self.out.push_str(&format!(
+                    "#if defined({}) && defined({})\n",
+                    Define::Capture.name(),
+                    Define::Adaptive.name()
+                ));
+                self.line("// Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,");
+                self.line("// for a harness that records the output triangles.");
+                self.line("layout(location = 2) out vec3 te_domain;");
+                self.line("layout(location = 3) flat out uint te_patch;");
+                self.out.push_str("#endif\n");
+            }
             self.line("");
         }
         self.helpers(&need);
@@ -858,47 +880,61 @@ impl<'a> Writer<'a> {
                 self.line(
                     "// so both patches of an edge get the same parameters (watertight.md Rule 3).",
                 );
-                if self.entries.sides == 3 {
-                    self.line("// Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0).");
-                    for k in 0..3 {
-                        self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
-                    }
-                    self.line(&format!("gl_TessLevelInner[0] = float({level});"));
+                let sides = self.entries.sides;
+                if sides == 3 {
+                    self.line("// Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0),");
+                    self.line("// i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0), 0 (v0 -> v1).");
                 } else {
                     self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
                     self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
-                    self.out
-                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
-                    self.line("// Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,");
+                }
+                let (outer, inner) = crate::lower::hw_factor_edges(sides, false);
+                self.out
+                    .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
+                self.line(
+                    "// Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,",
+                );
+                self.line(
+                    "// shared control points), their global vertices and the global edge id,",
+                );
+                if sides == 3 {
                     self.line(
-                        "// shared control points), their global vertices and the global edge id,",
+                        "// all data of the edge alone. Inner level: the largest of the three.",
                     );
+                } else {
                     self.line(
                         "// all data of the edge alone. Inner levels: the larger of the two edges",
                     );
                     self.line("// running in that direction (inner[0] subdivides along x = v: edges 1, 3).");
-                    self.line("float f[4];");
-                    self.line("for (uint k = 0u; k < 4u; k = (k + 1u)) {");
-                    self.line(&format!("    uint curve = (({class} * 16u) + (k * 4u));"));
-                    self.line(&format!(
-                        "    f[k] = {}(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 4u) + k)], corner_vertex[((face * 4u) + ((k + 1u) % 4u))], face_edges[((face * 4u) + k)]);",
-                        self.fn_name(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR))
-                    ));
-                    self.line("}");
-                    for (k, e) in [0, 3, 2, 1].iter().enumerate() {
-                        self.line(&format!("gl_TessLevelOuter[{k}] = f[{e}];"));
-                    }
-                    self.line("gl_TessLevelInner[0] = max(f[1], f[3]);");
-                    self.line("gl_TessLevelInner[1] = max(f[0], f[2]);");
-                    self.out.push_str("#else\n");
-                    for k in 0..4 {
-                        self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
-                    }
-                    for k in 0..2 {
-                        self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
-                    }
-                    self.out.push_str("#endif\n");
                 }
+                self.line(&format!("float f[{sides}];"));
+                self.line(&format!("for (uint k = 0u; k < {sides}u; k = (k + 1u)) {{"));
+                self.line(&format!(
+                    "    uint curve = (({class} * {}u) + (k * 4u));",
+                    4 * sides
+                ));
+                self.line(&format!(
+                    "    f[k] = {}(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * {sides}u) + k)], corner_vertex[((face * {sides}u) + ((k + 1u) % {sides}u))], face_edges[((face * {sides}u) + k)]);",
+                    self.fn_name(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR))
+                ));
+                self.line("}");
+                for (k, e) in outer.iter().enumerate() {
+                    self.line(&format!("gl_TessLevelOuter[{k}] = f[{e}];"));
+                }
+                for (k, es) in inner.iter().enumerate() {
+                    self.line(&format!(
+                        "gl_TessLevelInner[{k}] = {};",
+                        super::max_of_factors(es)
+                    ));
+                }
+                self.out.push_str("#else\n");
+                for k in 0..outer.len() {
+                    self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
+                }
+                for k in 0..inner.len() {
+                    self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
+                }
+                self.out.push_str("#endif\n");
             }
             Stage::Tese => {
                 if let Some(d) = self.entries.eval_domain {
@@ -909,8 +945,20 @@ impl<'a> Writer<'a> {
                     self.line("// an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the");
                     self.line("// hardware's inner rings (ring k: level − 2k segments per side) are not the");
                     self.line("// barycentric lattice, so it evaluates the surface at gl_TessCoord itself.");
+                    self.out
+                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
+                    self.line("// Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed");
+                    self.line("// point, so on an edge round(y·2^16), round(z·2^16) are exact and the neighbour,");
+                    self.line("// whose tessellator mirrors the edge's points (1 − t is exact in fixed point),");
+                    self.line(
+                        "// hands the shared edge evaluator exactly the swapped integer pair.",
+                    );
+                    self.line(&format!("uint level = {}u;", crate::lower::ADAPTIVE_LEVEL));
+                    self.out.push_str("#else\n");
+                    self.line(&format!("uint level = {level};"));
+                    self.out.push_str("#endif\n");
                     self.line(&format!(
-                        "{} result = {}({class}, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, {level});",
+                        "{} result = {}({class}, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);",
                         self.ty(&Ty::Struct(common::SAMPLE)),
                         self.fn_name(FnRef::Local(d))
                     ));
@@ -1017,6 +1065,13 @@ impl<'a> Writer<'a> {
                 for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
                     self.line(&format!("samples[(o + {i}u)] = result.{c};"));
                 }
+                self.out
+                    .push_str(&format!("#elif defined({})\n", Define::Capture.name()));
+                self.line("// Adaptive capture: the domain point in (u, v) and the patch of every vertex.");
+                self.line(&format!(
+                    "te_domain = vec3(gl_TessCoord.{cu}, gl_TessCoord.{cv}, 0.0);"
+                ));
+                self.line(&format!("te_patch = ({first} + uint(gl_PrimitiveID));"));
                 self.out.push_str("#endif\n");
             }
             Stage::CompVertex => {

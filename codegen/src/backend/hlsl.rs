@@ -935,13 +935,14 @@ impl<'a> Writer<'a> {
         let factor_doc = if tri {
             "// Per-patch outputs. Tess factors: edges[k] is the edge opposite corner k\n\
              // (barycentric coordinate k = 0). A factor must depend only on its edge so\n\
-             // both patches of an edge get the same parameters (watertight.md Rule 3);\n\
-             // for now every factor is the uniform level."
+             // both patches of an edge get the same parameters (watertight.md Rule 3):\n\
+             // the uniform level, or in adaptive builds a factor per edge."
         } else {
             "// Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,\n\
              // [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on\n\
              // its edge so both patches of an edge get the same parameters\n\
-             // (watertight.md Rule 3); for now every factor is the uniform level."
+             // (watertight.md Rule 3): the uniform level, or in adaptive builds a factor\n\
+             // per edge."
         };
         let inside_decl = if tri {
             "float inside : SV_InsideTessFactor;"
@@ -959,33 +960,49 @@ impl<'a> Writer<'a> {
             })
             .collect();
         let adaptive = Define::Adaptive.name();
-        let set_factors = if tri {
-            uniform_factors
-        } else {
+        let set_factors = {
             let edge_factor = ident(crate::lower::EDGE_FACTOR_FN);
+            let (outer, inner) = crate::lower::hw_factor_edges(edges, true);
+            let inside_doc = if tri {
+                "data of the edge alone. Inside factor: the largest of the three."
+            } else {
+                "data of the edge alone. Inside factors: the larger of the two edges running\n\
+                 \x20   // in that direction (inside[0] subdivides along u: edges 0 and 2)."
+            };
+            let mut assign: String = outer
+                .iter()
+                .enumerate()
+                .map(|(k, e)| format!("    c.edges[{k}] = f[{e}];\n"))
+                .collect();
+            if tri {
+                assign.push_str(&format!(
+                    "    c.inside = {};\n",
+                    super::max_of_factors(&inner[0])
+                ));
+            } else {
+                for (k, es) in inner.iter().enumerate() {
+                    assign.push_str(&format!(
+                        "    c.inside[{k}] = {};\n",
+                        super::max_of_factors(es)
+                    ));
+                }
+            }
             format!(
                 "#ifdef {adaptive}\n\
                  \x20   // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,\n\
                  \x20   // shared control points), their global vertices and the global edge id, all\n\
-                 \x20   // data of the edge alone. Inside factors: the larger of the two edges running\n\
-                 \x20   // in that direction (inside[0] subdivides along u: edges 0 and 2).\n\
-                 \x20   float f[4];\n\
-                 \x20   for (uint e = 0u; e < 4u; e += 1u) {{\n\
-                 \x20       uint curve = ((params.{class} * 16u) + (e * 4u));\n\
-                 \x20       f[e] = {edge_factor}(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 4u) + e)], corner_vertex[((face * 4u) + ((e + 1u) % 4u))], face_edges[((face * 4u) + e)]);\n\
+                 \x20   // {inside_doc}\n\
+                 \x20   float f[{edges}];\n\
+                 \x20   for (uint e = 0u; e < {edges}u; e += 1u) {{\n\
+                 \x20       uint curve = ((params.{class} * {per_class}u) + (e * 4u));\n\
+                 \x20       f[e] = {edge_factor}(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * {edges}u) + e)], corner_vertex[((face * {edges}u) + ((e + 1u) % {edges}u))], face_edges[((face * {edges}u) + e)]);\n\
                  \x20   }}\n\
-                 \x20   c.edges[0] = f[3];\n\
-                 \x20   c.edges[1] = f[0];\n\
-                 \x20   c.edges[2] = f[1];\n\
-                 \x20   c.edges[3] = f[2];\n\
-                 \x20   c.inside[0] = max(f[0], f[2]);\n\
-                 \x20   c.inside[1] = max(f[1], f[3]);\n\
-                 #else\n{uniform_factors}#endif\n"
+                 {assign}\
+                 #else\n{uniform_factors}#endif\n",
+                per_class = 4 * edges
             )
         };
-        let partitioning = if tri {
-            "[partitioning(\"integer\")]".to_string()
-        } else {
+        let partitioning = {
             format!(
                 "// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or\n\
                  // TESSGEN_FRACTIONAL_EVEN (adaptive builds only).\n\
@@ -994,9 +1011,7 @@ impl<'a> Writer<'a> {
                 Define::FractionalEven.name()
             )
         };
-        let ds_level = if tri {
-            "    uint level = params.level;".to_string()
-        } else {
+        let ds_level = {
             format!(
                 "#ifdef {adaptive}\n\
                  \x20   // Adaptive (any partitioning): the coordinate on the tessellator's 16.16\n\
@@ -1047,7 +1062,14 @@ impl<'a> Writer<'a> {
                 "    o.domain = uv;\n    o.patch_index = (params.first + c.patch_id);".to_string(),
             ),
             None => (
-                String::new(),
+                format!(
+                    "#if defined({capture}) && defined({adaptive})\n    \
+                     // Adaptive capture: the domain point (u, v, 0) and the patch of every\n    \
+                     // vertex, for a harness that records the output triangles.\n    \
+                     float3 domain : TESSGEN_DOMAIN;\n    \
+                     nointerpolation uint patch_index : TESSGEN_PATCH;\n\
+                     #endif\n"
+                ),
                 match &self.entries.tess_displaced {
                     Some(t) => format!(
                         "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
@@ -1079,7 +1101,11 @@ impl<'a> Writer<'a> {
                      samples[(at + 2u)] = result.{position}.z;\n    \
                      samples[(at + 3u)] = result.{normal}.x;\n    \
                      samples[(at + 4u)] = result.{normal}.y;\n    \
-                     samples[(at + 5u)] = result.{normal}.z;"
+                     samples[(at + 5u)] = result.{normal}.z;\n\
+                     #elif defined({capture})\n    \
+                     // Adaptive capture: the domain point and the patch of every vertex.\n    \
+                     o.domain = float3(uv.x, uv.y, 0.0f);\n    \
+                     o.patch_index = (params.first + c.patch_id);"
                 ),
             ),
         };

@@ -141,6 +141,18 @@ pub fn binop(op: crate::plan::BinOp) -> &'static str {
     }
 }
 
+/// The largest of the adaptive factors `f[e]` of `edges` (an inside
+/// factor, [`crate::lower::hw_factor_edges`]): `max(max(f[a], f[b]), f[c])`,
+/// the same spelling in GLSL and HLSL.
+pub fn max_of_factors(edges: &[usize]) -> String {
+    let mut it = edges.iter();
+    let mut s = it.next().map(|e| format!("f[{e}]")).unwrap_or_default();
+    for e in it {
+        s = format!("max({s}, f[{e}])");
+    }
+    s
+}
+
 /// Lines of a dispatch over a scheme's patch classes, in C-family syntax
 /// (WGSL, GLSL, HLSL): `if (class == 0u) { s0 } else if … else { sN }`, the
 /// last class unconditional, like the Plan's own `eval` dispatch. One
