@@ -763,7 +763,9 @@ fn tessellate_triangle_schemes_with_displacement() {
         ("phong", "cpu", false, true),
         ("pn", "cpu", true, false),
     ] {
-        let out = tmp.path().join(format!("cube_{scheme}_{backend}_{per_patch}.obj"));
+        let out = tmp
+            .path()
+            .join(format!("cube_{scheme}_{backend}_{per_patch}.obj"));
         let mut args: Vec<&std::ffi::OsStr> = vec![
             "tessellate".as_ref(),
             cube.as_os_str(),

@@ -189,7 +189,10 @@ pub fn texcoord_fn(height: usize, sides: u32) -> Function {
             add(
                 l(base),
                 mul(
-                    add(u(4 * k as u32), add(l(e[k]), mul(u(2), l(e[(k + n - 1) % n])))),
+                    add(
+                        u(4 * k as u32),
+                        add(l(e[k]), mul(u(2), l(e[(k + n - 1) % n]))),
+                    ),
                     u(2),
                 ),
             ),

@@ -470,7 +470,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         let height = m.functions.len();
         m.functions.push(crate::displace::height_fn());
         let texcoord = m.functions.len();
-        m.functions.push(crate::displace::texcoord_fn(height, sides));
+        m.functions
+            .push(crate::displace::texcoord_fn(height, sides));
         let displace = m.functions.len();
         m.functions.push(crate::displace::displace_point_fn());
         let idx = m.functions.len();
