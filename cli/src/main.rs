@@ -232,7 +232,7 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
-    /// Quad schemes, every backend: displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed.
+    /// Displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed. Quad schemes on every backend; triangle schemes (pn, stpn, phong; with --split-quads for quad meshes) on cpu and wgpu.
     #[arg(long, value_name = "MAP.png")]
     displace: Option<PathBuf>,
     /// Displacement scale: position + scale · height · normal.
@@ -832,9 +832,15 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     let (scheme, split) = (&args.scheme, args.split_quads);
     let displacement = match &args.displace {
         Some(path) => {
-            if tags.is_some() || split {
+            if tags.is_some() {
+                return Err("--displace does not take --tags".into());
+            }
+            let tri = cpu::scheme(scheme).map_err(|e| e.to_string())?.sides == 3;
+            if tri && matches!(args.backend, Backend::Glsl | Backend::Hlsl) {
                 return Err(
-                    "--displace works with quad schemes (no --tags, no --split-quads)".into(),
+                    "--displace with a triangle scheme runs on --backend cpu|wgpu (the \
+                     triangle tessellation stages do not displace yet)"
+                        .into(),
                 );
             }
             Some(Displacement {
@@ -851,11 +857,11 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     };
     let start = Instant::now();
     let out = match (args.backend, &displacement) {
-        (Backend::Cpu, Some(d)) => cpu::tessellate_displaced(&mesh, scheme, level, d)
+        (Backend::Cpu, Some(d)) => cpu::tessellate_displaced_any(&mesh, scheme, level, split, d)
             .map(Output::Grid)
             .map_err(|e| e.to_string()),
         (Backend::Wgpu, Some(d)) => {
-            tessgen_runtime::gpu::tessellate_displaced(&mesh, scheme, level, d)
+            tessgen_runtime::gpu::tessellate_displaced_any(&mesh, scheme, level, split, d)
                 .map(Output::Grid)
                 .map_err(|e| e.to_string())
         }

@@ -747,3 +747,71 @@ fn tessellate_with_displacement_across_uv_seams() {
     assert!(!o.status.success());
     assert!(all(&o).contains("face 0 corner 0"), "{}", all(&o));
 }
+
+#[test]
+fn tessellate_triangle_schemes_with_displacement() {
+    let tmp = TempDir::new("tess-displace-tri");
+    let cube = mesh("catmark_cube_uv.obj");
+    let map = cube
+        .parent()
+        .and_then(|p| p.parent())
+        .map(|d| d.join("displace").join("atlas_seams.png"))
+        .unwrap();
+    for (scheme, backend, per_patch, closed) in [
+        ("pn", "cpu", false, true),
+        ("pn", "wgpu", false, true),
+        ("phong", "cpu", false, true),
+        ("pn", "cpu", true, false),
+    ] {
+        let out = tmp
+            .path()
+            .join(format!("cube_{scheme}_{backend}_{per_patch}.obj"));
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "tessellate".as_ref(),
+            cube.as_os_str(),
+            "--scheme".as_ref(),
+            scheme.as_ref(),
+            "--split-quads".as_ref(),
+            "--level".as_ref(),
+            "5".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--displace".as_ref(),
+            map.as_os_str(),
+            "--displace-scale".as_ref(),
+            "0.4".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ];
+        if per_patch {
+            args.push("--displace-per-patch".as_ref());
+        }
+        let o = tessgen(args);
+        if closed {
+            assert_ok(&o);
+            assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+        } else {
+            assert!(stdout(&o).contains("NOT watertight"), "{}", all(&o));
+        }
+    }
+    // The triangle tessellation stages do not displace: a clear refusal.
+    let out = tmp.path().join("glsl.obj");
+    let o = tessgen([
+        "tessellate".as_ref(),
+        cube.as_os_str(),
+        "--scheme".as_ref(),
+        "pn".as_ref(),
+        "--split-quads".as_ref(),
+        "--level".as_ref(),
+        "2".as_ref(),
+        "--backend".as_ref(),
+        "glsl".as_ref(),
+        "--displace".as_ref(),
+        map.as_os_str(),
+        "--out".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(!o.status.success());
+    assert!(all(&o).contains("--backend cpu|wgpu"), "{}", all(&o));
+}

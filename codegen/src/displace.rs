@@ -20,11 +20,20 @@
 //!   [`Resource::GlobalControlPoints`], the global buffer the compute patch
 //!   stage filled before the draw. Same function and arguments in every
 //!   patch of the edge, so the same bits.
-//! * **Texture coordinate (Rule 5)**: 16 per quad patch, selected with the
-//!   spec's branch-free `idx_k = e_k + 2·e_{k−1}` and interpolated with
-//!   bilinear weights formed from integers; on an edge the sum collapses
-//!   exactly to `l·a + r·b` of the edge owner's pair (`1·x = x`, `0·x = 0`,
-//!   `x + 0 = x`), which both sides form with mirrored integers.
+//! * **Texture coordinate (Rule 5)**: 16 per quad patch, 12 per triangle
+//!   (4 per corner either way), selected with the spec's branch-free
+//!   `idx_k = e_k + 2·e_{k−1}` and interpolated with bilinear (quads) or
+//!   barycentric (triangles) weights formed from integers; on an edge the
+//!   sum collapses exactly to `l·a + r·b` of the edge owner's pair
+//!   (`1·x = x`, `0·x = 0`, `x + 0 = x`), which both sides form with
+//!   mirrored integers.
+//! * **Triangles** (`pn`, `stpn`, `phong`): the same step on the domain
+//!   `(level − iu − iv, iu, iv)`; the owner's barycentrics of a shared point
+//!   are a permutation of ours, so the owner's coordinates are found through
+//!   its edge index and mirrored edge parameter (as for quads), never by
+//!   permuting float weights. Only `eval_displaced` is made for triangles:
+//!   their tessellation stages evaluate the hardware's float domain point
+//!   (`eval_domain`), so `eval_displaced_tess` stays quad-only.
 //! * **Height**: texel fetches and bilinear weights in the Plan (no hardware
 //!   filtering), so every backend computes the same formula.
 //!
@@ -48,17 +57,65 @@ fn let_(f: &mut Function, name: &str, ty: Ty, e: Expr) -> LocalId {
     id
 }
 
+/// Texture-coordinate floats per face: 4 `(s, t)` pairs per corner
+/// (quads 16 pairs = 32, triangles 12 pairs = 24; watertight.md Rule 5).
+pub fn texcoord_stride(sides: u32) -> u32 {
+    8 * sides
+}
+
+/// Owner-record u32 per face: 4 per edge and 4 per corner (quads 32,
+/// triangles 24).
+pub fn owner_stride(sides: u32) -> u32 {
+    8 * sides
+}
+
+/// The integer barycentric weights, edge predicates and boundary test of a
+/// facet's domain, shared by the texture-coordinate selection and the
+/// owner-record lookup so both name the edges alike.
+///
+/// * quads: corner k at `(0,0), (1,0), (1,1), (0,1)`; edge k is
+///   `v = 0`, `u = 1`, `v = 1`, `u = 0`;
+/// * triangles: barycentric `(level − iu − iv, iu, iv)` of corners 0, 1, 2
+///   (`runtime::trimesh`); edge k runs corner k → k+1 and is where corner
+///   k+2's weight is zero: `iv = 0`, `iu + iv = level`, `iu = 0`.
+fn edge_predicates(iu: LocalId, iv: LocalId, level: LocalId, sides: u32) -> Vec<Expr> {
+    if sides == 4 {
+        vec![
+            eq(l(iv), u(0)),
+            eq(l(iu), l(level)),
+            eq(l(iv), l(level)),
+            eq(l(iu), u(0)),
+        ]
+    } else {
+        vec![
+            eq(l(iv), u(0)),
+            eq(add(l(iu), l(iv)), l(level)),
+            eq(l(iu), u(0)),
+        ]
+    }
+}
+
 /// `tessgen_height_at(face, iu, iv, level) -> f32`: the height at the
-/// interpolated texture coordinate (`height` = index of `tessgen_height`).
-pub fn texcoord_fn(height: usize) -> Function {
-    let mut f = Function::new(
-        "tessgen_height_at",
+/// interpolated texture coordinate (`height` = index of `tessgen_height`),
+/// for a facet of `sides` corners (4: 16 coordinates per quad, 3: 12 per
+/// triangle).
+pub fn texcoord_fn(height: usize, sides: u32) -> Function {
+    let doc = if sides == 4 {
         "Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): \
          corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, \
          edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. \
          On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner \
-         to the vertex owner's one. Returns the displacement height there (tessgen_height).",
-    );
+         to the vertex owner's one. Returns the displacement height there (tessgen_height)."
+    } else {
+        "Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of \
+         triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair \
+         idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex \
+         owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted \
+         by the barycentric weights, each formed from integers. On edge k corner k+2's weight \
+         is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner \
+         to the vertex owner's one. Returns the displacement height there (tessgen_height)."
+    };
+    let mut f = Function::new("tessgen_height_at", doc);
     f.precise = true;
     let face = f.param("face", Ty::U32);
     let iu = f.param("iu", Ty::U32);
@@ -66,36 +123,64 @@ pub fn texcoord_fn(height: usize) -> Function {
     let level = f.param("level", Ty::U32);
     f.ret = Some(Ty::F32);
     let lf = to_f32(l(level));
-    let lu = let_(
+    // Quads: the four 1-D weights first (formed from integers), then the
+    // edge predicates, then the bilinear weights; triangles: the edge
+    // predicates, then the three barycentric weights.
+    let lin = (sides == 4).then(|| {
+        [
+            let_(
+                &mut f,
+                "lu",
+                Ty::F32,
+                div(to_f32(sub(l(level), l(iu))), lf.clone()),
+            ),
+            let_(&mut f, "ru", Ty::F32, div(to_f32(l(iu)), lf.clone())),
+            let_(
+                &mut f,
+                "lv",
+                Ty::F32,
+                div(to_f32(sub(l(level), l(iv))), lf.clone()),
+            ),
+            let_(&mut f, "rv", Ty::F32, div(to_f32(l(iv)), lf.clone())),
+        ]
+    });
+    // Edge predicates, exact (integer comparisons).
+    let e: Vec<LocalId> = edge_predicates(iu, iv, level, sides)
+        .into_iter()
+        .enumerate()
+        .map(|(k, p)| let_(&mut f, &format!("e{k}"), Ty::U32, boolu(p)))
+        .collect();
+    let w: Vec<LocalId> = match lin {
+        Some([lu, ru, lv, rv]) => vec![
+            let_(&mut f, "w0", Ty::F32, mul(l(lu), l(lv))),
+            let_(&mut f, "w1", Ty::F32, mul(l(ru), l(lv))),
+            let_(&mut f, "w2", Ty::F32, mul(l(ru), l(rv))),
+            let_(&mut f, "w3", Ty::F32, mul(l(lu), l(rv))),
+        ],
+        // Each barycentric weight from its own integer: on edge k the
+        // opposite corner's is 0/level = 0 exactly and the edge's pair is
+        // (level − t)/level, t/level, which the neighbour forms from the
+        // mirrored integer.
+        None => vec![
+            let_(
+                &mut f,
+                "w0",
+                Ty::F32,
+                div(to_f32(sub(sub(l(level), l(iu)), l(iv))), lf.clone()),
+            ),
+            let_(&mut f, "w1", Ty::F32, div(to_f32(l(iu)), lf.clone())),
+            let_(&mut f, "w2", Ty::F32, div(to_f32(l(iv)), lf)),
+        ],
+    };
+    let n = sides as usize;
+    let base = let_(
         &mut f,
-        "lu",
-        Ty::F32,
-        div(to_f32(sub(l(level), l(iu))), lf.clone()),
+        "base",
+        Ty::U32,
+        mul(l(face), u(texcoord_stride(sides))),
     );
-    let ru = let_(&mut f, "ru", Ty::F32, div(to_f32(l(iu)), lf.clone()));
-    let lv = let_(
-        &mut f,
-        "lv",
-        Ty::F32,
-        div(to_f32(sub(l(level), l(iv))), lf.clone()),
-    );
-    let rv = let_(&mut f, "rv", Ty::F32, div(to_f32(l(iv)), lf));
-    // Edge predicates e0 (v = 0), e1 (u = 1), e2 (v = 1), e3 (u = 0), exact.
-    let e = [
-        let_(&mut f, "e0", Ty::U32, boolu(eq(l(iv), u(0)))),
-        let_(&mut f, "e1", Ty::U32, boolu(eq(l(iu), l(level)))),
-        let_(&mut f, "e2", Ty::U32, boolu(eq(l(iv), l(level)))),
-        let_(&mut f, "e3", Ty::U32, boolu(eq(l(iu), u(0)))),
-    ];
-    let w = [
-        let_(&mut f, "w0", Ty::F32, mul(l(lu), l(lv))),
-        let_(&mut f, "w1", Ty::F32, mul(l(ru), l(lv))),
-        let_(&mut f, "w2", Ty::F32, mul(l(ru), l(rv))),
-        let_(&mut f, "w3", Ty::F32, mul(l(lu), l(rv))),
-    ];
-    let base = let_(&mut f, "base", Ty::U32, mul(l(face), u(32)));
     let mut at = Vec::new();
-    for k in 0..4 {
+    for k in 0..n {
         // Pair (4k + idx_k), idx_k = e_k + 2·e_(k−1).
         let idx = let_(
             &mut f,
@@ -104,7 +189,10 @@ pub fn texcoord_fn(height: usize) -> Function {
             add(
                 l(base),
                 mul(
-                    add(u(4 * k as u32), add(l(e[k]), mul(u(2), l(e[(k + 3) % 4])))),
+                    add(
+                        u(4 * k as u32),
+                        add(l(e[k]), mul(u(2), l(e[(k + n - 1) % n]))),
+                    ),
                     u(2),
                 ),
             ),
@@ -119,7 +207,10 @@ pub fn texcoord_fn(height: usize) -> Function {
                 fetch(Resource::TexCoords, add(l(at[k]), u(c as u32))),
             )
         };
-        let sum = add(add(add(term(0), term(1)), term(2)), term(3));
+        let mut sum = add(term(0), term(1));
+        for k in 2..n {
+            sum = add(sum, term(k));
+        }
         comps.push(l(let_(&mut f, name, Ty::F32, sum)));
     }
     f.body.push(Stmt::Return(call(FnRef::Local(height), comps)));
@@ -242,10 +333,12 @@ pub struct Callees {
     pub displace: usize,
 }
 
-/// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample`.
-pub fn eval_displaced_fn(c: &Callees) -> Function {
+/// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample` of a
+/// facet with `sides` corners (4 quads, 3 triangles).
+pub fn eval_displaced_fn(c: &Callees, sides: u32) -> Function {
     displaced_fn(
         c,
+        sides,
         "eval_displaced",
         "`eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). \
          On the patch boundary the normal is the owner's: `eval` of the owner patch at the \
@@ -264,6 +357,7 @@ pub fn eval_displaced_fn(c: &Callees) -> Function {
 pub fn eval_displaced_tess_fn(c: &Callees) -> Function {
     displaced_fn(
         c,
+        4,
         "eval_displaced_tess",
         "eval_displaced for the tessellation evaluation stage: the patch's own sample from its \
          patch-local control points (`eval`, cp_base into the patch's array), the owner's normal \
@@ -382,7 +476,7 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
         .unwrap_or(root)
 }
 
-fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
+fn displaced_fn(c: &Callees, sides: u32, name: &str, doc: &str) -> Function {
     let mut f = Function::new(name, doc);
     let face = f.param("face", Ty::U32);
     let class = f.param("class", Ty::U32);
@@ -408,7 +502,8 @@ fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
     let mut on = Vec::new();
     let n = f.local("n", Ty::Vec3);
     on.push(Stmt::Var(n, Expr::Field(Box::new(l(sample)), 1)));
-    // Boundary: slot 0–3 = edge k at t (from v_k), 4–7 = corner k.
+    // Boundary: slot 0..sides = edge k at t (from v_k), sides..2·sides =
+    // corner k.
     let slot = f.local("slot", Ty::U32);
     let t = f.local("t", Ty::U32);
     let rec = f.local("rec", Ty::U32);
@@ -419,39 +514,114 @@ fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
     let ou = f.local("ou", Ty::U32);
     let ov = f.local("ov", Ty::U32);
     let os = f.local("owner_sample", Ty::Struct(plan::common::SAMPLE));
-    let boundary = vec![
-        Stmt::Var(slot, u(3)),
-        Stmt::Var(t, sub(l(level), l(iv))),
-        Stmt::If(
-            eq(l(iv), u(0)),
-            vec![Stmt::Assign(slot, u(0)), Stmt::Assign(t, l(iu))],
-            vec![Stmt::If(
-                eq(l(iu), l(level)),
-                vec![Stmt::Assign(slot, u(1)), Stmt::Assign(t, l(iv))],
+    // Our edge and the parameter t along it (from v_k), as `eval` picks
+    // them: quads edge 0 (v = 0, t = u), 1 (u = 1, t = v), 2 (v = 1,
+    // t = level − u), 3 (u = 0, t = level − v); triangles edge 0 (iv = 0,
+    // t = iu), 1 (iu + iv = level, t = iv), 2 (iu = 0, t = level − iv).
+    let mut boundary = if sides == 4 {
+        vec![
+            Stmt::Var(slot, u(3)),
+            Stmt::Var(t, sub(l(level), l(iv))),
+            Stmt::If(
+                eq(l(iv), u(0)),
+                vec![Stmt::Assign(slot, u(0)), Stmt::Assign(t, l(iu))],
                 vec![Stmt::If(
-                    eq(l(iv), l(level)),
+                    eq(l(iu), l(level)),
+                    vec![Stmt::Assign(slot, u(1)), Stmt::Assign(t, l(iv))],
+                    vec![Stmt::If(
+                        eq(l(iv), l(level)),
+                        vec![
+                            Stmt::Assign(slot, u(2)),
+                            Stmt::Assign(t, sub(l(level), l(iu))),
+                        ],
+                        vec![],
+                    )],
+                )],
+            ),
+        ]
+    } else {
+        vec![
+            Stmt::Var(slot, u(2)),
+            Stmt::Var(t, sub(l(level), l(iv))),
+            Stmt::If(
+                eq(l(iv), u(0)),
+                vec![Stmt::Assign(slot, u(0)), Stmt::Assign(t, l(iu))],
+                vec![Stmt::If(
+                    eq(add(l(iu), l(iv)), l(level)),
+                    vec![Stmt::Assign(slot, u(1)), Stmt::Assign(t, l(iv))],
+                    vec![],
+                )],
+            ),
+        ]
+    };
+    // Owner edge k at parameter ot, in the owner's integer coordinates.
+    // Quads: k = 0 (ot, 0), 1 (level, ot), 2 (level − ot, level),
+    // 3 (0, level − ot). Triangles (the owner's barycentrics are a
+    // permutation of ours, so go through its edge): k = 0 (ot, 0),
+    // 1 (level − ot, ot), 2 (0, level − ot).
+    let owner_coords = if sides == 4 {
+        vec![
+            Stmt::Var(ou, l(ot)),
+            Stmt::Var(ov, u(0)),
+            Stmt::If(
+                eq(l(ok), u(1)),
+                vec![Stmt::Assign(ou, l(level)), Stmt::Assign(ov, l(ot))],
+                vec![Stmt::If(
+                    eq(l(ok), u(2)),
                     vec![
-                        Stmt::Assign(slot, u(2)),
-                        Stmt::Assign(t, sub(l(level), l(iu))),
+                        Stmt::Assign(ou, sub(l(level), l(ot))),
+                        Stmt::Assign(ov, l(level)),
+                    ],
+                    vec![Stmt::If(
+                        eq(l(ok), u(3)),
+                        vec![
+                            Stmt::Assign(ou, u(0)),
+                            Stmt::Assign(ov, sub(l(level), l(ot))),
+                        ],
+                        vec![],
+                    )],
+                )],
+            ),
+        ]
+    } else {
+        vec![
+            Stmt::Var(ou, l(ot)),
+            Stmt::Var(ov, u(0)),
+            Stmt::If(
+                eq(l(ok), u(1)),
+                vec![
+                    Stmt::Assign(ou, sub(l(level), l(ot))),
+                    Stmt::Assign(ov, l(ot)),
+                ],
+                vec![Stmt::If(
+                    eq(l(ok), u(2)),
+                    vec![
+                        Stmt::Assign(ou, u(0)),
+                        Stmt::Assign(ov, sub(l(level), l(ot))),
                     ],
                     vec![],
                 )],
-            )],
-        ),
+            ),
+        ]
+    };
+    boundary.extend([
         // Corners: the start (t = 0) or end (t = level) of the edge.
         Stmt::If(
             eq(l(t), u(0)),
-            vec![Stmt::Assign(slot, add(l(slot), u(4)))],
+            vec![Stmt::Assign(slot, add(l(slot), u(sides)))],
             vec![Stmt::If(
                 eq(l(t), l(level)),
                 vec![Stmt::Assign(
                     slot,
-                    add(bin(BinOp::Rem, add(l(slot), u(1)), u(4)), u(4)),
+                    add(bin(BinOp::Rem, add(l(slot), u(1)), u(sides)), u(sides)),
                 )],
                 vec![],
             )],
         ),
-        Stmt::Let(rec, add(mul(l(face), u(32)), mul(l(slot), u(4)))),
+        Stmt::Let(
+            rec,
+            add(mul(l(face), u(owner_stride(sides))), mul(l(slot), u(4))),
+        ),
         Stmt::Let(oclass, fetch(Resource::Owners, l(rec))),
         Stmt::Let(ocp, fetch(Resource::Owners, add(l(rec), u(1)))),
         Stmt::Let(ok, fetch(Resource::Owners, add(l(rec), u(2)))),
@@ -464,33 +634,13 @@ fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
             vec![],
         ),
         Stmt::If(
-            bin(BinOp::Ge, l(slot), u(4)),
+            bin(BinOp::Ge, l(slot), u(sides)),
             vec![Stmt::Assign(ot, u(0))],
             vec![],
         ),
-        // Edge k of the owner at parameter ot: k = 0 (ot, 0), 1 (level, ot),
-        // 2 (level − ot, level), 3 (0, level − ot).
-        Stmt::Var(ou, l(ot)),
-        Stmt::Var(ov, u(0)),
-        Stmt::If(
-            eq(l(ok), u(1)),
-            vec![Stmt::Assign(ou, l(level)), Stmt::Assign(ov, l(ot))],
-            vec![Stmt::If(
-                eq(l(ok), u(2)),
-                vec![
-                    Stmt::Assign(ou, sub(l(level), l(ot))),
-                    Stmt::Assign(ov, l(level)),
-                ],
-                vec![Stmt::If(
-                    eq(l(ok), u(3)),
-                    vec![
-                        Stmt::Assign(ou, u(0)),
-                        Stmt::Assign(ov, sub(l(level), l(ot))),
-                    ],
-                    vec![],
-                )],
-            )],
-        ),
+    ]);
+    boundary.extend(owner_coords);
+    boundary.extend([
         Stmt::Let(
             os,
             call(
@@ -499,12 +649,21 @@ fn displaced_fn(c: &Callees, name: &str, doc: &str) -> Function {
             ),
         ),
         Stmt::Assign(n, Expr::Field(Box::new(l(os)), 1)),
-    ];
-    let on_boundary = bin(
-        BinOp::Or,
-        bin(BinOp::Or, eq(l(iu), u(0)), eq(l(iu), l(level))),
-        bin(BinOp::Or, eq(l(iv), u(0)), eq(l(iv), l(level))),
-    );
+    ]);
+    let p = edge_predicates(iu, iv, level, sides);
+    let on_boundary = if sides == 4 {
+        bin(
+            BinOp::Or,
+            bin(BinOp::Or, p[3].clone(), p[1].clone()),
+            bin(BinOp::Or, p[0].clone(), p[2].clone()),
+        )
+    } else {
+        bin(
+            BinOp::Or,
+            bin(BinOp::Or, p[0].clone(), p[2].clone()),
+            p[1].clone(),
+        )
+    };
     on.push(Stmt::If(on_boundary, boundary, vec![]));
     let hgt = f.local("h", Ty::F32);
     on.push(Stmt::Let(

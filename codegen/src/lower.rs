@@ -464,12 +464,14 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     m.functions.extend(grid_fns(sides));
     let grid_index = m.functions.len();
     m.functions.push(grid_index_fn(sides));
-    // The displacement step (quad schemes: 16 texture coordinates per patch).
-    let eval_displaced = (sides == 4).then(|| {
+    // The displacement step (16 texture coordinates per quad patch, 12 per
+    // triangle).
+    let eval_displaced = {
         let height = m.functions.len();
         m.functions.push(crate::displace::height_fn());
         let texcoord = m.functions.len();
-        m.functions.push(crate::displace::texcoord_fn(height));
+        m.functions
+            .push(crate::displace::texcoord_fn(height, sides));
         let displace = m.functions.len();
         m.functions.push(crate::displace::displace_point_fn());
         let idx = m.functions.len();
@@ -480,9 +482,10 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
                 texcoord,
                 displace,
             },
+            sides,
         ));
         (idx, texcoord, displace)
-    });
+    };
     // Adaptive tessellation on the instanced path (quad schemes).
     let adaptive = (sides == 4).then(|| {
         let edge_level = m.functions.len();
@@ -497,7 +500,10 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     });
     // The tessellation stages' variant: own sample from the patch-local
     // control points, the owner's from the global buffer.
-    let tess_displaced = eval_displaced.map(|(_, texcoord, displace)| {
+    // Triangle tessellation stages evaluate the hardware's float domain
+    // point (`eval_domain`) and have no displaced variant (yet).
+    let tess_displaced = (sides == 4).then(|| {
+        let (_, texcoord, displace) = eval_displaced;
         let start = m.functions.len();
         let owner_eval = crate::displace::global_variant(&mut m, eval);
         let idx = m.functions.len();
@@ -514,7 +520,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             functions: start..m.functions.len(),
         }
     });
-    let eval_displaced = eval_displaced.map(|(idx, _, _)| idx);
+    let eval_displaced = Some(eval_displaced.0);
     (
         m,
         Entries {

@@ -60,10 +60,10 @@ layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_fa
 // binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
 layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
 
-// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch (12 per triangle): pair 4k + j of face f at 32f + 2(4k + j) (triangles 24f + 2(4k + j)) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
 layout(std430, set = 0, binding = 21) readonly buffer Texcoords { float texcoords[]; };
 
-// binding 22: ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+// binding 22: ownership records, 8 per quad at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k; triangles 6 at 24f + 4·slot, slots 0-2 edge k, 3-5 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
 layout(std430, set = 0, binding = 22) readonly buffer Owners { uint owners[]; };
 
 // binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused

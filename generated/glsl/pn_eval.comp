@@ -54,8 +54,23 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
+// binding 11: face index of each patch, patches sorted by class
+layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
+
 // binding 12: evaluated samples, 6 f32 each (position xyz, normal xyz)
 layout(std430, set = 0, binding = 12) buffer Samples { float samples[]; };
+
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch (12 per triangle): pair 4k + j of face f at 32f + 2(4k + j) (triangles 24f + 2(4k + j)) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+layout(std430, set = 0, binding = 21) readonly buffer Texcoords { float texcoords[]; };
+
+// binding 22: ownership records, 8 per quad at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k; triangles 6 at 24f + 4·slot, slots 0-2 edge k, 3-5 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+layout(std430, set = 0, binding = 22) readonly buffer Owners { uint owners[]; };
+
+// binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
+layout(std430, set = 0, binding = 23) readonly buffer DisplaceInfo { float displace_info[]; };
+
+// binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
+layout(set = 0, binding = 24) uniform sampler2D displace_map;
 
 vec3 load_control_points(uint i) {
     return vec3(control_points[(3u * i)], control_points[((3u * i) + 1u)], control_points[((3u * i) + 2u)]);
@@ -185,6 +200,125 @@ uint grid_iv(uint s, uint level) {
     return row;
 }
 
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5);
+    if (x < 0.0) {
+        x = 0.0;
+    }
+    if (x > (width - 1.0)) {
+        x = (width - 1.0);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if (x1 >= xn) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5);
+    if (y < 0.0) {
+        y = 0.0;
+    }
+    if (y > (height - 1.0)) {
+        y = (height - 1.0);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if (y1 >= yn) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0 - fx);
+    float gy = (1.0 - fy);
+    float a = ((texelFetch(displace_map, ivec2(int(x0), int(y0)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y0)), 0).x * fx));
+    float b = ((texelFetch(displace_map, ivec2(int(x0), int(y1)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y1)), 0).x * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint(((iu + iv) == level));
+    precise uint e2 = uint((iu == 0u));
+    precise float w0 = (float(((level - iu) - iv)) / float(level));
+    precise float w1 = (float(iu) / float(level));
+    precise float w2 = (float(iv) / float(level));
+    precise uint base = (face * 24u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e2))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise float s = (((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)]));
+    precise float t = (((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
+    return (p + (n * d));
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if (scale != 0.0) {
+        vec3 n = sample_.normal;
+        if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
+            uint slot = 2u;
+            uint t = (level - iv);
+            if (iv == 0u) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    slot = 1u;
+                    t = iv;
+                }
+            }
+            if (t == 0u) {
+                slot = (slot + 3u);
+            } else {
+                if (t == level) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            uint rec = ((face * 24u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (level - t);
+            }
+            if (slot >= 3u) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if (owner_k == 1u) {
+                ou = (level - ot);
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = 0u;
+                    ov = (level - ot);
+                }
+            }
+            Sample owner_sample = eval(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
+}
+
 void main() {
     uint k = gl_GlobalInvocationID.x;
     uint spp = grid_len(params.level);
@@ -196,7 +330,8 @@ void main() {
     uint iu = grid_iu(s, params.level);
     uint iv = grid_iv(s, params.level);
     uint points = 16u;
-    Sample result = eval(params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
+    uint face = patch_faces[(params.first + patch_index)];
+    Sample result = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
     uint o = ((params.out_base + k) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;

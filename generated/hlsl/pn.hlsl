@@ -92,10 +92,10 @@ struct Params {
 // binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
 [[vk::binding(19, 0)]] StructuredBuffer<float> adaptive : register(t19);
 
-// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch (12 per triangle): pair 4k + j of face f at 32f + 2(4k + j) (triangles 24f + 2(4k + j)) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
 [[vk::binding(21, 0)]] StructuredBuffer<float> texcoords : register(t21);
 
-// binding 22: ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+// binding 22: ownership records, 8 per quad at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k; triangles 6 at 24f + 4·slot, slots 0-2 edge k, 3-5 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
 [[vk::binding(22, 0)]] StructuredBuffer<uint> owners : register(t22);
 
 // binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
@@ -525,6 +525,69 @@ uint grid_iv(uint s, uint level) {
 // Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
 uint grid_index(uint iu, uint iv, uint level) {
     return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
+}
+
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5f);
+    if ((x < 0.0f)) {
+        x = 0.0f;
+    }
+    if ((x > (width - 1.0f))) {
+        x = (width - 1.0f);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if ((x1 >= xn)) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5f);
+    if ((y < 0.0f)) {
+        y = 0.0f;
+    }
+    if ((y > (height - 1.0f))) {
+        y = (height - 1.0f);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if ((y1 >= yn)) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0f - fx);
+    float gy = (1.0f - fy);
+    float a = ((displace_map.Load(int3(int(x0), int(y0), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y0), 0)) * fx));
+    float b = ((displace_map.Load(int3(int(x0), int(y1), 0)) * gx) + (displace_map.Load(int3(int(x1), int(y1), 0)) * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint(((iu + iv) == level));
+    precise uint e2 = uint((iu == 0u));
+    precise float w0 = (float(((level - iu) - iv)) / float(level));
+    precise float w1 = (float(iu) / float(level));
+    precise float w2 = (float(iv) / float(level));
+    precise uint base = (face * 24u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e2))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise float s = (((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)]));
+    precise float t = (((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise float3 tessgen_displace(float3 p, float3 n, float d) {
+    return (p + (n * d));
 }
 
 // ---- compute entry points ----

@@ -105,7 +105,7 @@ pub mod common {
         /// evaluation stages run), for parity checks of captured vertices.
         pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
         /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
-        /// displacement step (quad schemes; `None` for triangle schemes).
+        /// displacement step (every built-in scheme: quads and triangles).
         pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
         /// Adaptive tessellation on the instanced path (quad schemes; `None`
         /// for triangle schemes).
@@ -2901,6 +2901,125 @@ pub mod pn {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = (((iu + iv) == level) as u32);
+        let e2: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / (level as f32));
+        let w1: f32 = ((iu as f32) / (level as f32));
+        let w2: f32 = ((iv as f32) / (level as f32));
+        let base: u32 = (face * 24u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e2))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let s: f32 = (((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize]));
+        let t: f32 = (((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+                let mut slot: u32 = 2u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if ((iu + iv) == level) {
+                        slot = 1u32;
+                        t = iv;
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (level - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (level - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pn",
@@ -2912,7 +3031,7 @@ pub mod pn {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
-        eval_displaced: None,
+        eval_displaced: Some(eval_displaced),
         adaptive: None,
         sides: 3,
         grid_len: grid_len,
@@ -3154,6 +3273,125 @@ pub mod stpn {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = (((iu + iv) == level) as u32);
+        let e2: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / (level as f32));
+        let w1: f32 = ((iu as f32) / (level as f32));
+        let w2: f32 = ((iv as f32) / (level as f32));
+        let base: u32 = (face * 24u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e2))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let s: f32 = (((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize]));
+        let t: f32 = (((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+                let mut slot: u32 = 2u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if ((iu + iv) == level) {
+                        slot = 1u32;
+                        t = iv;
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (level - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (level - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "stpn",
@@ -3165,7 +3403,7 @@ pub mod stpn {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
-        eval_displaced: None,
+        eval_displaced: Some(eval_displaced),
         adaptive: None,
         sides: 3,
         grid_len: grid_len,
@@ -3358,6 +3596,125 @@ pub mod phong {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
     
+    /// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+    pub fn tessgen_height(inputs: &Inputs, s: f32, t: f32) -> f32 {
+        let width: f32 = inputs.displace_info[(1u32) as usize];
+        let height: f32 = inputs.displace_info[(2u32) as usize];
+        let mut x: f32 = ((s * width) - 0.5f32);
+        if (x < 0.0f32) {
+            x = 0.0f32;
+        }
+        if (x > (width - 1.0f32)) {
+            x = (width - 1.0f32);
+        }
+        let xf: f32 = x.floor();
+        let x0: u32 = (xf as u32);
+        let xn: u32 = (width as u32);
+        let mut x1: u32 = (x0 + 1u32);
+        if (x1 >= xn) {
+            x1 = x0;
+        }
+        let fx: f32 = (x - xf);
+        let mut y: f32 = ((t * height) - 0.5f32);
+        if (y < 0.0f32) {
+            y = 0.0f32;
+        }
+        if (y > (height - 1.0f32)) {
+            y = (height - 1.0f32);
+        }
+        let yf: f32 = y.floor();
+        let y0: u32 = (yf as u32);
+        let yn: u32 = (height as u32);
+        let mut y1: u32 = (y0 + 1u32);
+        if (y1 >= yn) {
+            y1 = y0;
+        }
+        let fy: f32 = (y - yf);
+        let gx: f32 = (1.0f32 - fx);
+        let gy: f32 = (1.0f32 - fy);
+        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        return ((a * gy) + (b * fy));
+    }
+    
+    /// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+    pub fn tessgen_height_at(inputs: &Inputs, face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+        let e0: u32 = ((iv == 0u32) as u32);
+        let e1: u32 = (((iu + iv) == level) as u32);
+        let e2: u32 = ((iu == 0u32) as u32);
+        let w0: f32 = ((((level - iu) - iv) as f32) / (level as f32));
+        let w1: f32 = ((iu as f32) / (level as f32));
+        let w2: f32 = ((iv as f32) / (level as f32));
+        let base: u32 = (face * 24u32);
+        let p0: u32 = (base + ((0u32 + (e0 + (2u32 * e2))) * 2u32));
+        let p1: u32 = (base + ((4u32 + (e1 + (2u32 * e0))) * 2u32));
+        let p2: u32 = (base + ((8u32 + (e2 + (2u32 * e1))) * 2u32));
+        let s: f32 = (((w0 * inputs.texcoords[((p0 + 0u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 0u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 0u32)) as usize]));
+        let t: f32 = (((w0 * inputs.texcoords[((p0 + 1u32)) as usize]) + (w1 * inputs.texcoords[((p1 + 1u32)) as usize])) + (w2 * inputs.texcoords[((p2 + 1u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+    pub fn tessgen_displace(p: Vec3, n: Vec3, d: f32) -> Vec3 {
+        return (p + (n * d));
+    }
+    
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+        let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((iv == 0u32) || (iu == 0u32)) || ((iu + iv) == level)) {
+                let mut slot: u32 = 2u32;
+                let mut t: u32 = (level - iv);
+                if (iv == 0u32) {
+                    slot = 0u32;
+                    t = iu;
+                } else {
+                    if ((iu + iv) == level) {
+                        slot = 1u32;
+                        t = iv;
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t == level) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (level - t);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (level - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (level - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, level);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, iu, iv, level);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "phong",
@@ -3369,7 +3726,7 @@ pub mod phong {
         ],
         eval: eval,
         eval_domain: Some(eval_domain),
-        eval_displaced: None,
+        eval_displaced: Some(eval_displaced),
         adaptive: None,
         sides: 3,
         grid_len: grid_len,

@@ -94,10 +94,10 @@ struct Params {
 // adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
 @group(0) @binding(19) var<storage, read> adaptive: array<f32>;
 
-// displacement texture coordinates, 16 (s, t) pairs per quad patch: pair 4k + j of face f at 32f + 2(4k + j) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+// displacement texture coordinates, 16 (s, t) pairs per quad patch (12 per triangle): pair 4k + j of face f at 32f + 2(4k + j) (triangles 24f + 2(4k + j)) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
 @group(0) @binding(21) var<storage, read> texcoords: array<f32>;
 
-// ownership records, 8 per face at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+// ownership records, 8 per quad at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k; triangles 6 at 24f + 4·slot, slots 0-2 edge k, 3-5 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
 @group(0) @binding(22) var<storage, read> owners: array<u32>;
 
 // displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
@@ -491,6 +491,127 @@ fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
     return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
 }
 
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+fn tessgen_height(s: f32, t: f32) -> f32 {
+    let width: f32 = displace_info[1u];
+    let height: f32 = displace_info[2u];
+    var x: f32 = ((s * width) - 0.5f);
+    if (x < 0.0f) {
+        x = 0.0f;
+    }
+    if (x > (width - 1.0f)) {
+        x = (width - 1.0f);
+    }
+    let xf: f32 = floor(x);
+    let x0: u32 = u32(xf);
+    let xn: u32 = u32(width);
+    var x1: u32 = (x0 + 1u);
+    if (x1 >= xn) {
+        x1 = x0;
+    }
+    let fx: f32 = (x - xf);
+    var y: f32 = ((t * height) - 0.5f);
+    if (y < 0.0f) {
+        y = 0.0f;
+    }
+    if (y > (height - 1.0f)) {
+        y = (height - 1.0f);
+    }
+    let yf: f32 = floor(y);
+    let y0: u32 = u32(yf);
+    let yn: u32 = u32(height);
+    var y1: u32 = (y0 + 1u);
+    if (y1 >= yn) {
+        y1 = y0;
+    }
+    let fy: f32 = (y - yf);
+    let gx: f32 = (1.0f - fx);
+    let gy: f32 = (1.0f - fy);
+    let a: f32 = ((textureLoad(displace_map, vec2<u32>(x0, y0), 0u).x * gx) + (textureLoad(displace_map, vec2<u32>(x1, y0), 0u).x * fx));
+    let b: f32 = ((textureLoad(displace_map, vec2<u32>(x0, y1), 0u).x * gx) + (textureLoad(displace_map, vec2<u32>(x1, y1), 0u).x * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_height_at(face: u32, iu: u32, iv: u32, level: u32) -> f32 {
+    let e0: u32 = u32((iv == 0u));
+    let e1: u32 = u32(((iu + iv) == level));
+    let e2: u32 = u32((iu == 0u));
+    let w0: f32 = (f32(((level - iu) - iv)) / f32(level));
+    let w1: f32 = (f32(iu) / f32(level));
+    let w2: f32 = (f32(iv) / f32(level));
+    let base: u32 = (face * 24u);
+    let p0: u32 = (base + ((0u + (e0 + (2u * e2))) * 2u));
+    let p1: u32 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    let p2: u32 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    let s: f32 = (((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)]));
+    let t: f32 = (((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_displace(p: vec3<f32>, n: vec3<f32>, d: f32) -> vec3<f32> {
+    return (p + (n * d));
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+fn eval_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
+    var sample: Sample = eval(class_, cp_base, iu, iv, level);
+    let scale: f32 = displace_info[0u];
+    if (scale != 0.0f) {
+        var n: vec3<f32> = sample.normal;
+        if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
+            var slot: u32 = 2u;
+            var t: u32 = (level - iv);
+            if (iv == 0u) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    slot = 1u;
+                    t = iv;
+                }
+            }
+            if (t == 0u) {
+                slot = (slot + 3u);
+            } else {
+                if (t == level) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            let rec: u32 = ((face * 24u) + (slot * 4u));
+            let owner_class: u32 = owners[rec];
+            let owner_cp: u32 = owners[(rec + 1u)];
+            let owner_k: u32 = owners[(rec + 2u)];
+            var ot: u32 = t;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (level - t);
+            }
+            if (slot >= 3u) {
+                ot = 0u;
+            }
+            var ou: u32 = ot;
+            var ov: u32 = 0u;
+            if (owner_k == 1u) {
+                ou = (level - ot);
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = 0u;
+                    ov = (level - ot);
+                }
+            }
+            let owner_sample: Sample = eval(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        let h: f32 = tessgen_height_at(face, iu, iv, level);
+        sample.position = tessgen_displace(sample.position, n, (scale * h));
+    }
+    return sample;
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -535,7 +656,8 @@ fn eval_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let iv: u32 = grid_iv(s, params.level);
     var points: u32 = 0u;
     points = 16u;
-    let result: Sample = eval(params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
+    let face: u32 = patch_faces[(params.first + patch_index)];
+    let result: Sample = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
     let o: u32 = ((params.out_base + k) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;
@@ -564,7 +686,8 @@ fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -
     let iv: u32 = grid_iv(vi, params.level);
     var points: u32 = 0u;
     points = 16u;
-    let result: Sample = eval(params.class_, (params.cp_base + (inst * points)), iu, iv, params.level);
+    let face: u32 = patch_faces[(params.first + inst)];
+    let result: Sample = eval_displaced(face, params.class_, (params.cp_base + (inst * points)), iu, iv, params.level);
     var out: VsOut;
     out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
     out.world_position = result.position;

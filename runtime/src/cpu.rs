@@ -384,7 +384,49 @@ pub fn displacement_data(
     )?)
 }
 
-/// [`tessellate_mesh`] with displacement (quad schemes).
+/// [`tessellate_displaced`] for any built-in scheme: quad schemes as
+/// there, triangle schemes on [`tri_mesh`]`(mesh, split_quads, None)` with
+/// 12 texture coordinates per triangle ([`crate::displace::build_tri`]).
+pub fn tessellate_displaced_any(
+    mesh: &Mesh,
+    scheme_name: &str,
+    level: u32,
+    split_quads: bool,
+    d: &Displacement,
+) -> Result<Tessellation, TessError> {
+    let kernels = scheme(scheme_name)?;
+    if kernels.sides == 4 {
+        return tessellate_displaced(mesh, scheme_name, level, d);
+    }
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let tri = tri_mesh(mesh, split_quads, None)?;
+    let patches = construct_tri(&tri, kernels)?;
+    let data = displacement_data_tri(mesh, &tri, &patches, d)?;
+    evaluate_displaced(&patches, level, &data)
+}
+
+/// The displacement arrays of a triangle scheme for the CPU layout of
+/// `patches` (built by [`construct_tri`] from `tri`, which was made from
+/// `mesh`).
+pub fn displacement_data_tri(
+    mesh: &Mesh,
+    tri: &crate::trimesh::TriMesh,
+    patches: &Patches,
+    d: &Displacement,
+) -> Result<DisplaceData, TessError> {
+    Ok(crate::displace::build_tri(
+        mesh,
+        tri,
+        &patches.face_class,
+        &patches.cp_offsets[..patches.face_class.len()],
+        d,
+    )?)
+}
+
+/// [`tessellate_mesh`] with displacement (quad schemes; triangle schemes
+/// through [`tessellate_displaced_any`], which takes `split_quads`).
 pub fn tessellate_displaced(
     mesh: &Mesh,
     scheme_name: &str,
@@ -396,7 +438,7 @@ pub fn tessellate_displaced(
         return Err(TessError::Level(level));
     }
     if kernels.sides != 4 {
-        return Err(facet_error(kernels));
+        return tessellate_displaced_any(mesh, scheme_name, level, false, d);
     }
     let topo = Topology::build(mesh, &topology_options())?;
     let positions: Vec<Vec3> = mesh

@@ -2,7 +2,7 @@
 //! the data the generated `eval_displaced` reads, built once per mesh.
 //!
 //! * **Ownership**: every mesh edge and vertex is owned by the adjacent face
-//!   with the lowest index. [`owners`] writes, per face, 8 records (edges
+//!   with the lowest index. The tables hold, per quad, 8 records (triangles 6; edges
 //!   0–3, corners 0–3) naming the owner patch's class, first control point,
 //!   local edge/corner index and whether it runs the edge the other way; on
 //!   the patch boundary `eval_displaced` takes the normal from `eval` of the
@@ -12,9 +12,14 @@
 //!   second, scheme-specific normal formula along every edge, while the
 //!   owner's own formula is already in the Plan and is the surface's true
 //!   normal there.)
-//! * **Texture coordinates**: 16 `(s, t)` pairs per quad (Rule 5 layout):
-//!   per corner k, [own coordinate, edge k's owner's coordinate of v_k,
-//!   edge k−1's owner's coordinate of v_k, vertex v_k's owner's coordinate].
+//! * **Texture coordinates**: 16 `(s, t)` pairs per quad, 12 per triangle
+//!   (Rule 5 layout, "3 + 6 + 3" for triangles): per corner k, [own
+//!   coordinate, edge k's owner's coordinate of v_k, edge k−1's owner's
+//!   coordinate of v_k, vertex v_k's owner's coordinate].
+//! * **Triangles** ([`build_tri`]): the same tables over the triangles of a
+//!   [`TriMesh`] (6 owner records per triangle: edges 0–2, corners 0–2),
+//!   owned by the lowest triangle index; a triangle's coordinates are its
+//!   source face's `vt` (split quads inherit their corners').
 //! * **Map**: a scalar `R32Float` grid, row 0 at t = 0 (OBJ `vt` v = 0, the
 //!   bottom of an image: [`DisplaceMap::from_png`] flips rows), texel centres
 //!   at `(i + 0.5)/width`, clamped at the border.
@@ -25,6 +30,7 @@
 
 use crate::mesh::Mesh;
 use crate::topology::Topology;
+use crate::trimesh::TriMesh;
 use std::collections::HashMap;
 
 /// Errors building displacement data.
@@ -150,9 +156,9 @@ pub struct Displacement {
 /// The per-mesh arrays `eval_displaced` reads (bindings 21–24).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DisplaceData {
-    /// 32 f32 per face (16 `(s, t)` pairs).
+    /// 32 f32 per quad (16 `(s, t)` pairs), 24 per triangle.
     pub texcoords: Vec<f32>,
-    /// 32 u32 per face (8 records of 4).
+    /// 32 u32 per quad (8 records of 4), 24 per triangle.
     pub owners: Vec<u32>,
     /// `[scale, width, height, 0]`.
     pub info: [f32; 4],
@@ -181,16 +187,21 @@ struct Owner {
     reversed: bool,
 }
 
-/// Edge and vertex owners of every face: `[edge 0..3, corner 0..3]`.
-fn owner_table(topo: &Topology, ownership: Ownership) -> Vec<[Owner; 8]> {
-    let nf = topo.corners.len();
-    let vert = |f: usize, k: usize| topo.corners[f][k % 4].vertex;
+/// Edge and vertex owners of every face of `sides` corners (`vert(f, k)`,
+/// k taken mod `sides`): `[edge 0..sides, corner 0..sides]`.
+fn owner_table(
+    nf: usize,
+    sides: usize,
+    vert: impl Fn(usize, usize) -> u32,
+    ownership: Ownership,
+) -> Vec<Vec<Owner>> {
+    let vert = |f: usize, k: usize| vert(f, k % sides);
     // Undirected edge → (face, local edge) of every face using it.
     let mut edges: HashMap<(u32, u32), Vec<(usize, usize)>> = HashMap::new();
     // Vertex → lowest (face, corner).
     let mut vowner: HashMap<u32, (usize, usize)> = HashMap::new();
     for f in 0..nf {
-        for k in 0..4 {
+        for k in 0..sides {
             let (a, b) = (vert(f, k), vert(f, k + 1));
             edges.entry((a.min(b), a.max(b))).or_default().push((f, k));
             vowner.entry(vert(f, k)).or_insert((f, k));
@@ -198,45 +209,48 @@ fn owner_table(topo: &Topology, ownership: Ownership) -> Vec<[Owner; 8]> {
     }
     (0..nf)
         .map(|f| {
-            std::array::from_fn(|slot| {
-                if ownership == Ownership::PerPatch {
-                    return Owner {
-                        face: f,
-                        k: slot % 4,
-                        reversed: false,
-                    };
-                }
-                if slot < 4 {
-                    let (a, b) = (vert(f, slot), vert(f, slot + 1));
-                    let (g, kg) = edges[&(a.min(b), a.max(b))]
-                        .iter()
-                        .copied()
-                        .min()
-                        .unwrap_or((f, slot));
-                    Owner {
-                        face: g,
-                        k: kg,
-                        reversed: g != f,
+            (0..2 * sides)
+                .map(|slot| {
+                    if ownership == Ownership::PerPatch {
+                        return Owner {
+                            face: f,
+                            k: slot % sides,
+                            reversed: false,
+                        };
                     }
-                } else {
-                    let (g, kg) = vowner[&vert(f, slot - 4)];
-                    Owner {
-                        face: g,
-                        k: kg,
-                        reversed: false,
+                    if slot < sides {
+                        let (a, b) = (vert(f, slot), vert(f, slot + 1));
+                        let (g, kg) = edges[&(a.min(b), a.max(b))]
+                            .iter()
+                            .copied()
+                            .min()
+                            .unwrap_or((f, slot));
+                        Owner {
+                            face: g,
+                            k: kg,
+                            reversed: g != f,
+                        }
+                    } else {
+                        let (g, kg) = vowner[&vert(f, slot - sides)];
+                        Owner {
+                            face: g,
+                            k: kg,
+                            reversed: false,
+                        }
                     }
-                }
-            })
+                })
+                .collect()
         })
         .collect()
 }
 
-/// Build the arrays for `mesh` (whose faces `topo` was built from), with the
-/// patches' classes and first control points in the layout of the backend
-/// that will evaluate them (CPU: face order; GPU: sorted by class).
-pub fn build(
-    mesh: &Mesh,
-    topo: &Topology,
+/// The arrays for faces of `sides` corners: `uv(f, k)` is face f's own
+/// texture coordinate at corner k (k < sides).
+fn build_facets(
+    nf: usize,
+    sides: usize,
+    vert: impl Fn(usize, usize) -> u32,
+    uv: impl Fn(usize, usize) -> Result<[f32; 2], DisplaceError>,
     face_class: &[u32],
     face_cp_base: &[u32],
     d: &Displacement,
@@ -244,24 +258,16 @@ pub fn build(
     if !d.scale.is_finite() {
         return Err(DisplaceError::Scale(d.scale));
     }
-    let nf = topo.corners.len();
-    let uv = |f: usize, k: usize| -> Result<[f32; 2], DisplaceError> {
-        let c = mesh.face_offsets[f] as usize + k % 4;
-        mesh.corner_texcoord(c)
-            .ok_or(DisplaceError::MissingTexCoord {
-                face: f,
-                corner: k % 4,
-            })
-    };
-    let table = owner_table(topo, d.ownership);
-    let mut texcoords = Vec::with_capacity(nf * 32);
-    let mut owners = Vec::with_capacity(nf * 32);
+    let uv = |f: usize, k: usize| uv(f, k % sides);
+    let table = owner_table(nf, sides, vert, d.ownership);
+    let mut texcoords = Vec::with_capacity(nf * 8 * sides);
+    let mut owners = Vec::with_capacity(nf * 8 * sides);
     for (f, own) in table.iter().enumerate() {
-        for k in 0..4 {
+        for k in 0..sides {
             // [interior, edge k's owner at v_k, edge k−1's owner at v_k, vertex owner].
             let e = &own[k];
-            let ep = &own[(k + 3) % 4];
-            let c = &own[4 + k];
+            let ep = &own[(k + sides - 1) % sides];
+            let c = &own[sides + k];
             // The edge owner's corner at our v_k: its edge runs the other
             // way (our v_k is its v_{kg+1}) unless it is us.
             let at_vk_edge = if e.reversed { e.k + 1 } else { e.k };
@@ -290,4 +296,60 @@ pub fn build(
         info: [d.scale, d.map.width as f32, d.map.height as f32, 0.0],
         map: d.map.clone(),
     })
+}
+
+/// Build the arrays for `mesh` (whose faces `topo` was built from), with the
+/// patches' classes and first control points in the layout of the backend
+/// that will evaluate them (CPU: face order; GPU: sorted by class).
+pub fn build(
+    mesh: &Mesh,
+    topo: &Topology,
+    face_class: &[u32],
+    face_cp_base: &[u32],
+    d: &Displacement,
+) -> Result<DisplaceData, DisplaceError> {
+    build_facets(
+        topo.corners.len(),
+        4,
+        |f, k| topo.corners[f][k].vertex,
+        |f, k| {
+            let c = mesh.face_offsets[f] as usize + k;
+            mesh.corner_texcoord(c)
+                .ok_or(DisplaceError::MissingTexCoord { face: f, corner: k })
+        },
+        face_class,
+        face_cp_base,
+        d,
+    )
+}
+
+/// [`build`] for a triangle scheme: 12 texture coordinates and 6 owner
+/// records per triangle of `tri`, owners by the lowest *triangle* index.
+/// A triangle's coordinates are its source face's `vt` at the same vertex
+/// (a split quad's two triangles inherit their corners' coordinates), so
+/// `mesh` must be the mesh `tri` was made from. A missing `vt` is reported
+/// at the source face and its corner in file order.
+pub fn build_tri(
+    mesh: &Mesh,
+    tri: &TriMesh,
+    face_class: &[u32],
+    face_cp_base: &[u32],
+    d: &Displacement,
+) -> Result<DisplaceData, DisplaceError> {
+    build_facets(
+        tri.triangles.len(),
+        3,
+        |f, k| tri.triangles[f][k],
+        |f, k| {
+            let src = tri.source_face[f] as usize;
+            let v = tri.triangles[f][k];
+            let corner = mesh.face(src).iter().position(|&x| x == v).unwrap_or(k);
+            let c = mesh.face_offsets[src] as usize + corner;
+            mesh.corner_texcoord(c)
+                .ok_or(DisplaceError::MissingTexCoord { face: src, corner })
+        },
+        face_class,
+        face_cp_base,
+        d,
+    )
 }

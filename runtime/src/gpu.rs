@@ -317,6 +317,24 @@ impl<'g> GpuMesh<'g> {
         Self::with_limits_tri(gpu, mesh, scheme_name, gpu.limits)
     }
 
+    /// Upload a triangle mesh with displacement: 12 texture coordinates per
+    /// triangle from `mesh` (the mesh `tri` was made from), owners recorded
+    /// in this upload's class-sorted control-point layout
+    /// ([`crate::displace::build_tri`]).
+    pub fn new_tri_displaced(
+        gpu: &'g Gpu,
+        mesh: &crate::Mesh,
+        tri: &crate::trimesh::TriMesh,
+        scheme_name: &str,
+        d: &crate::displace::Displacement,
+    ) -> Result<Self, GpuError> {
+        let upload = Upload::tri(tri, scheme_name)?;
+        let (class, cp_base) = upload.face_layout();
+        let data = crate::displace::build_tri(mesh, tri, &class, &cp_base, d)
+            .map_err(cpu::TessError::from)?;
+        Self::build(gpu, gpu.limits, upload.with_displacement(&data))
+    }
+
     /// Like [`GpuMesh::new_tri`] with explicit (smaller) limits.
     pub fn with_limits_tri(
         gpu: &'g Gpu,
@@ -1060,7 +1078,7 @@ pub fn tessellate_displaced(
         return Err(cpu::TessError::Level(level).into());
     }
     if kernels.sides != 4 {
-        return Err(cpu::facet_error(kernels).into());
+        return tessellate_displaced_any(mesh, scheme, level, false, d);
     }
     let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
     let positions: Vec<Vec3> = mesh
@@ -1070,6 +1088,26 @@ pub fn tessellate_displaced(
         .collect();
     let gpu = Gpu::new()?;
     GpuMesh::new_displaced(&gpu, mesh, &topo, &positions, kernels.name, d)?.evaluate(level)
+}
+
+/// Like [`cpu::tessellate_displaced_any`] on the GPU.
+pub fn tessellate_displaced_any(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+    d: &crate::displace::Displacement,
+) -> Result<Tessellation, GpuError> {
+    let kernels = cpu::scheme(scheme)?;
+    if kernels.sides == 4 {
+        return tessellate_displaced(mesh, scheme, level, d);
+    }
+    if level == 0 || level > cpu::MAX_LEVEL {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let tri = cpu::tri_mesh(mesh, split_quads, None)?;
+    let gpu = Gpu::new()?;
+    GpuMesh::new_tri_displaced(&gpu, mesh, &tri, kernels.name, d)?.evaluate(level)
 }
 
 /// Like [`cpu::tessellate_any`] on the GPU: quad schemes through

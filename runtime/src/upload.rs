@@ -349,7 +349,8 @@ impl Upload {
             patch_faces,
             classes,
             displace_map: crate::displace::DisplaceMap::flat(),
-        })
+        }
+        .with_displacement(&crate::displace::DisplaceData::off()))
     }
 
     /// Samples per patch at `level` (the scheme's `grid_len`).

@@ -429,16 +429,8 @@ fn entry_point_bindings() {
                     "10 params -",
                     "11 patch_faces read",
                 ],
-                // Triangle schemes evaluate without displacement.
-                "eval_main" if TRI.contains(&f.path.as_str()) => &[
-                    "8 control_points_ro read",
-                    "10 params -",
-                    "12 samples read_write",
-                ],
-                "eval_vs" if TRI.contains(&f.path.as_str()) => {
-                    &["8 control_points_ro read", "10 params -"]
-                }
-                // Quad schemes evaluate through eval_displaced: the face,
+                // Every scheme (quads and triangles) evaluates through
+                // eval_displaced: the face,
                 // texture coordinates, owners, parameters and the map
                 // (6 storage buffers in eval_main, 5 in the vertex stage).
                 "eval_main" => &[

@@ -246,7 +246,7 @@ pub struct SchemeKernels {
     /// evaluation stages run), for parity checks of captured vertices.
     pub eval_domain: Option<fn(&[Vec3], u32, u32, f32, f32, f32, u32) -> Sample>,
     /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
-    /// displacement step (quad schemes; `None` for triangle schemes).
+    /// displacement step (every built-in scheme: quads and triangles).
     pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
     /// Adaptive tessellation on the instanced path (quad schemes; `None`
     /// for triangle schemes).
