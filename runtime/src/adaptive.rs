@@ -507,7 +507,7 @@ pub fn evaluate_cpu_adaptive<'m>(
 }
 
 /// The mesh given for the edges must be the one the patches were built
-/// from: the scheme's domain and the face count (the generated functions
+/// from: the scheme's domain, then the face count (the generated functions
 /// index `corner_vertex` and `face_edges` by face).
 pub(crate) fn check_mesh(
     kernels: &crate::kernels::common::SchemeKernels,

@@ -55,8 +55,6 @@ pub enum GpuError {
     PositionCount { expected: usize, got: usize },
     #[error(transparent)]
     Adaptive(#[from] crate::adaptive::AdaptiveError),
-    #[error("the topology given has {given} faces, the uploaded mesh {uploaded}")]
-    TopologyMismatch { uploaded: usize, given: usize },
 }
 
 impl From<UploadError> for GpuError {
@@ -728,12 +726,8 @@ impl<'g> GpuMesh<'g> {
             return Err(cpu::facet_error(self.scheme).into());
         }
         let faces = self.patch_faces.len();
-        if mesh.faces() != faces {
-            return Err(GpuError::TopologyMismatch {
-                uploaded: faces,
-                given: mesh.faces(),
-            });
-        }
+        // The scheme's domain (`Domain`), then the face count
+        // (`MeshMismatch`): the mesh must be the uploaded one.
         crate::adaptive::check_mesh(self.scheme, &mesh, faces)?;
         let sides = self.scheme.sides as usize;
         let inp = crate::adaptive::edge_inputs(mesh, a, max_level)?;
