@@ -214,7 +214,7 @@ struct TessellateArgs {
     #[arg(long, value_name = "N", required_unless_present = "adaptive",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
     level: Option<u32>,
-    /// Adaptive tessellation with per-edge factors: `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). glsl/hlsl: the hardware tessellator's triangles, every scheme (triangle schemes on a triangle mesh or with --split-quads); cpu/wgpu: quad schemes, power-of-two edge levels, patches bucketed by level, snapped transitions. Writes an OBJ triangle soup.
+    /// Adaptive tessellation with per-edge factors: `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). Every scheme on every backend (triangle schemes on a triangle mesh or with --split-quads, stpn with --tags). glsl/hlsl: the hardware tessellator's triangles; cpu/wgpu: power-of-two edge levels, patches bucketed by level, snapped transitions (quad and triangle grids). Writes an OBJ triangle soup.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
     /// Partitioning of the adaptive factors: integer, fractional-odd, fractional-even.
