@@ -198,16 +198,21 @@ fn rayon_threads() -> usize {
 /// (class, level) bucket, snapped transitions) as a triangle soup.
 pub fn wgpu_adaptive(
     scheme: &str,
-    topo: &tessgen_runtime::Topology,
+    mesh: tessgen_runtime::adaptive::AdaptiveMesh<'_>,
     positions: &[glam::Vec3],
     a: &tessgen_runtime::adaptive::Adaptive,
     max_level: u32,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
+    use tessgen_runtime::adaptive::AdaptiveMesh;
+    use tessgen_runtime::gpu::GpuMesh;
     let gpu = tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?;
-    let m = tessgen_runtime::gpu::GpuMesh::new(&gpu, topo, positions, scheme)
-        .map_err(|e| e.to_string())?;
+    let m = match mesh {
+        AdaptiveMesh::Quads(topo) => GpuMesh::new(&gpu, topo, positions, scheme),
+        AdaptiveMesh::Triangles(tri) => GpuMesh::new_tri(&gpu, tri, scheme),
+    }
+    .map_err(|e| e.to_string())?;
     let t = m
-        .evaluate_adaptive(topo, a, max_level)
+        .evaluate_adaptive(mesh, a, max_level)
         .map_err(|e| e.to_string())?;
     Ok(t.triangles())
 }

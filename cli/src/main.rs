@@ -214,7 +214,7 @@ struct TessellateArgs {
     #[arg(long, value_name = "N", required_unless_present = "adaptive",
           value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_LEVEL)))]
     level: Option<u32>,
-    /// Adaptive tessellation with per-edge factors: `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). glsl/hlsl: the hardware tessellator's triangles, every scheme (triangle schemes on a triangle mesh or with --split-quads); cpu/wgpu: quad schemes, power-of-two edge levels, patches bucketed by level, snapped transitions. Writes an OBJ triangle soup.
+    /// Adaptive tessellation with per-edge factors: `random:SEED[:LO:HI]` (seeded random factor per edge, default 1..12), `distance:K` (K · edge length / distance of its midpoint to the eye), `screen:PX` (projected length in a 1024×1024 view over PX pixels per segment). The eye looks at the mesh from 2.5 bounding-box diagonals (azimuth 30°, elevation 20°). Every scheme on every backend (triangle schemes on a triangle mesh or with --split-quads, stpn with --tags). glsl/hlsl: the hardware tessellator's triangles; cpu/wgpu: power-of-two edge levels, patches bucketed by level, snapped transitions (quad and triangle grids). Writes an OBJ triangle soup.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
     /// Partitioning of the adaptive factors: integer, fractional-odd, fractional-even.
@@ -502,11 +502,11 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
     };
     let start = Instant::now();
     let tris = match args.backend {
-        Backend::Cpu => cpu_adaptive(mesh, args),
-        Backend::Wgpu => instanced_adaptive(mesh, args).and_then(|a| {
+        Backend::Cpu => cpu_adaptive(mesh, args, tags.as_ref()),
+        Backend::Wgpu => instanced_adaptive(mesh, args, tags.as_ref()).and_then(|a| {
             gpu_cmds::wgpu_adaptive(
                 &args.scheme,
-                &a.topo,
+                a.domain.edges(),
                 &a.positions,
                 &a.adaptive,
                 a.max_level,
@@ -599,20 +599,39 @@ fn adaptive_metric(
     }
 }
 
-/// The instanced adaptive path's input (`--backend cpu|wgpu`): topology,
-/// positions, the metric, and the largest level — `--max-factor` rounded
-/// down to a power of two. Levels are powers of two, so only `--partitioning
-/// integer` applies.
+/// The instanced adaptive path's input (`--backend cpu|wgpu`): the mesh
+/// whose edges are numbered (quad topology, or for triangle schemes the
+/// triangle mesh, `--split-quads`, crease `--tags` for stpn), positions,
+/// the metric, and the largest level — `--max-factor` rounded down to a
+/// power of two. Levels are powers of two, so only `--partitioning integer`
+/// applies.
 struct InstancedAdaptive {
-    topo: Topology,
+    domain: InstancedDomain,
     positions: Vec<glam::Vec3>,
     adaptive: tessgen_runtime::adaptive::Adaptive,
     max_level: u32,
 }
 
+/// What an instanced adaptive run tessellates: a quad scheme's topology or
+/// a triangle scheme's triangle mesh.
+enum InstancedDomain {
+    Quads(Topology),
+    Triangles(tessgen_runtime::trimesh::TriMesh),
+}
+
+impl InstancedDomain {
+    fn edges(&self) -> tessgen_runtime::adaptive::AdaptiveMesh<'_> {
+        match self {
+            InstancedDomain::Quads(t) => t.into(),
+            InstancedDomain::Triangles(t) => t.into(),
+        }
+    }
+}
+
 fn instanced_adaptive(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
+    tags: Option<&TagFile>,
 ) -> Result<InstancedAdaptive, String> {
     if args.partitioning != Partitioning::Integer {
         return Err(format!(
@@ -620,7 +639,22 @@ fn instanced_adaptive(
             args.backend.name()
         ));
     }
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
+    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    if tags.is_some() && kernels.name != "stpn" {
+        return Err(cpu::TessError::TagsUnused {
+            scheme: kernels.name.into(),
+        }
+        .to_string());
+    }
+    let domain = if kernels.sides == 3 {
+        InstancedDomain::Triangles(
+            cpu::tri_mesh(mesh, args.split_quads, tags).map_err(|e| e.to_string())?,
+        )
+    } else {
+        InstancedDomain::Quads(
+            Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?,
+        )
+    };
     let positions: Vec<glam::Vec3> = mesh
         .positions
         .iter()
@@ -631,17 +665,13 @@ fn instanced_adaptive(
         max_level *= 2;
     }
     let adaptive = tessgen_runtime::adaptive::Adaptive {
-        metric: adaptive_metric(
-            tessgen_runtime::adaptive::edge_ids(&topo).1,
-            &positions,
-            args,
-        ),
+        metric: adaptive_metric(domain.edges().edge_ids().1, &positions, args),
         partitioning: Partitioning::Integer,
         min: 1.0,
         max: max_level as f32,
     };
     Ok(InstancedAdaptive {
-        topo,
+        domain,
         positions,
         adaptive,
         max_level,
@@ -655,13 +685,18 @@ fn instanced_adaptive(
 fn cpu_adaptive(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
+    tags: Option<&TagFile>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    let a = instanced_adaptive(mesh, args)?;
+    let a = instanced_adaptive(mesh, args, tags)?;
     let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
-    let patches = cpu::construct(&a.topo, &a.positions, kernels).map_err(|e| e.to_string())?;
+    let patches = match &a.domain {
+        InstancedDomain::Quads(t) => cpu::construct(t, &a.positions, kernels),
+        InstancedDomain::Triangles(t) => cpu::construct_tri(t, kernels),
+    }
+    .map_err(|e| e.to_string())?;
     let t = tessgen_runtime::adaptive::evaluate_cpu_adaptive(
         &patches,
-        &a.topo,
+        a.domain.edges(),
         &a.adaptive,
         a.max_level,
     )

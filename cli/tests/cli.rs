@@ -472,8 +472,9 @@ fn tessellate_adaptive() {
 }
 
 /// `--adaptive` with triangle schemes (`--split-quads`): per-edge factors
-/// through the triangle tessellation shaders weld closed, stpn with its
-/// crease tags too.
+/// through the triangle tessellation shaders and on the instanced path
+/// (cpu, wgpu: power-of-two buckets, the triangle grid's snap) weld closed,
+/// stpn with its crease tags too.
 #[test]
 fn tessellate_adaptive_triangle_schemes() {
     let tmp = TempDir::new("tess-adaptive-tri");
@@ -483,6 +484,9 @@ fn tessellate_adaptive_triangle_schemes() {
     for (scheme, backend, metric, partitioning, with_tags) in [
         ("stpn", "glsl", "random:7:1:9", "fractional-odd", true),
         ("pn", "hlsl", "screen:8", "integer", false),
+        ("pn", "cpu", "random:7", "integer", false),
+        ("stpn", "wgpu", "random:7", "integer", true),
+        ("phong", "wgpu", "distance:24", "integer", false),
     ] {
         let mut args: Vec<&std::ffi::OsStr> = vec![
             "tessellate".as_ref(),

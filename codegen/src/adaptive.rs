@@ -97,14 +97,30 @@ pub fn bucket_level_fn() -> Function {
 }
 
 /// `patch_edge_level(face, class, cp_base, k, max_level) -> u32` of a quad
-/// scheme; `curve_const` is the scheme's `EDGE_CURVE` constant.
-pub fn patch_edge_level_fn(curve_const: usize) -> Function {
+/// (`sides` 4) or triangle (`sides` 3) scheme; `curve_const` is the
+/// scheme's `EDGE_CURVE` constant.
+///
+/// The classify pass and the buffers it fills (`patch_levels`,
+/// `bucket_patches`) have four edge slots per patch whatever the domain, so
+/// the printers emit one entry for both. A triangle's slot 3 is not an edge:
+/// its level is 1, the smallest level, which leaves the bucket (the largest
+/// of the four) unchanged and which the triangle `eval_adaptive` never reads.
+pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
     let mut f = Function::new(
         "patch_edge_level",
-        "Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the \
-         patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both \
-         patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id \
-         face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.",
+        if sides == 4 {
+            "Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the \
+             patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in \
+             both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id \
+             face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level."
+        } else {
+            "Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points \
+             are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same \
+             bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], \
+             its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then \
+             tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots \
+             per patch): level 1, neutral for the bucket."
+        },
     );
     let face = f.param("face", Ty::U32);
     let class = f.param("class", Ty::U32);
@@ -129,22 +145,29 @@ pub fn patch_edge_level_fn(curve_const: usize) -> Function {
             ),
         )
     };
-    f.body = vec![
-        Stmt::Let(k1, bin(BinOp::Rem, add(l(k), u(1)), u(4))),
-        Stmt::Let(curve, add(mul(l(class), u(16)), mul(l(k), u(4)))),
+    if sides != 4 {
+        f.body.push(Stmt::If(
+            bin(BinOp::Ge, l(k), u(sides)),
+            vec![Stmt::Return(u(1))],
+            vec![],
+        ));
+    }
+    f.body.extend([
+        Stmt::Let(k1, bin(BinOp::Rem, add(l(k), u(1)), u(sides))),
+        Stmt::Let(curve, add(mul(l(class), u(4 * sides)), mul(l(k), u(4)))),
         Stmt::Let(a, corner(0)),
         Stmt::Let(b, corner(3)),
         Stmt::Let(
             va,
-            fetch(Resource::CornerVertex, add(mul(l(face), u(4)), l(k))),
+            fetch(Resource::CornerVertex, add(mul(l(face), u(sides)), l(k))),
         ),
         Stmt::Let(
             vb,
-            fetch(Resource::CornerVertex, add(mul(l(face), u(4)), l(k1))),
+            fetch(Resource::CornerVertex, add(mul(l(face), u(sides)), l(k1))),
         ),
         Stmt::Let(
             edge,
-            fetch(Resource::FaceEdges, add(mul(l(face), u(4)), l(k))),
+            fetch(Resource::FaceEdges, add(mul(l(face), u(sides)), l(k))),
         ),
         Stmt::Let(
             factor,
@@ -157,13 +180,17 @@ pub fn patch_edge_level_fn(curve_const: usize) -> Function {
             FnRef::Common(crate::lower::common_fn::EDGE_LEVEL),
             vec![l(factor), l(max_level)],
         )),
-    ];
+    ]);
     f
 }
 
 /// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`
-/// of a quad scheme; `eval` is the scheme's `eval`.
-pub fn eval_adaptive_fn(eval: usize) -> Function {
+/// of a quad (`sides` 4) or triangle (`sides` 3) scheme; `eval` is the
+/// scheme's `eval`.
+pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
+    if sides == 3 {
+        return eval_adaptive_tri_fn(eval);
+    }
     let mut f = Function::new(
         "eval_adaptive",
         "Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two \
@@ -210,6 +237,85 @@ pub fn eval_adaptive_fn(eval: usize) -> Function {
                         on_edge(3, u(0), snap(iv, 3)),
                         vec![],
                     )],
+                )],
+            )],
+        ),
+        Stmt::Return(call(
+            FnRef::Local(eval),
+            vec![l(class), l(cp), l(su), l(sv), l(sl)],
+        )),
+    ];
+    f
+}
+
+/// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`
+/// of a triangle scheme: the triangle grid's snap.
+///
+/// Sample `(iu, iv)` of the bucket's triangle grid has the integer
+/// barycentric coordinates `(level − iu − iv, iu, iv)`; its boundary samples
+/// lie on edge 0 (`iv = 0`, parameter `t = iu`), edge 1 (`iu + iv = level`,
+/// `t = iv`) or edge 2 (`iu = 0`, `t = level − iv`) — the conventions of
+/// the triangle `eval`, tested in that order, so a corner belongs to the
+/// edge it starts (`t = 0`) or, corner 1, to edge 0's end. A boundary sample
+/// is snapped to `t' = ⌊t / (level / l_k)⌋` on its edge's own level `l_k`
+/// and handed to `eval` as the grid point of that edge at parameter `t'` on
+/// level `l_k`: edge 0 `(t', 0)`, edge 1 `(l_k − t', t')`, edge 2
+/// `(0, l_k − t')`. `eval` then runs its shared edge evaluator with
+/// `(t', l_k)` — or, at a corner, the corner's own edge — exactly what the
+/// neighbour computes for the same point from its side (`(l_k − t', l_k)`
+/// on the reversed curve, symmetric de Casteljau, Rule 2). The floor runs
+/// along each edge's own direction, so only edge k's points collapse into
+/// corner k: a fine triangle whose corners snap together is degenerate
+/// (skipped by the weld), none folds over another.
+fn eval_adaptive_tri_fn(eval: usize) -> Function {
+    let mut f = Function::new(
+        "eval_adaptive",
+        "Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its \
+         bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = \
+         iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides \
+         `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are \
+         eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own \
+         level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by \
+         the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 \
+         points whatever their buckets (no T-junctions; triangles that collapse are \
+         degenerate).",
+    );
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let iu = f.param("iu", Ty::U32);
+    let iv = f.param("iv", Ty::U32);
+    let level = f.param("level", Ty::U32);
+    let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let su = f.local("su", Ty::U32);
+    let sv = f.local("sv", Ty::U32);
+    let sl = f.local("sl", Ty::U32);
+    let t = f.local("t", Ty::U32);
+    // t / (level / l_k): the coarser point of edge k.
+    let snap = |t: Expr, k: usize| div(t, div(l(level), l(ls[k])));
+    let on_edge = |k: usize, t_: Expr, u_: Expr, v_: Expr| {
+        vec![
+            Stmt::Assign(t, t_),
+            Stmt::Assign(su, u_),
+            Stmt::Assign(sv, v_),
+            Stmt::Assign(sl, l(ls[k])),
+        ]
+    };
+    f.body = vec![
+        Stmt::Var(su, l(iu)),
+        Stmt::Var(sv, l(iv)),
+        Stmt::Var(sl, l(level)),
+        Stmt::Var(t, u(0)),
+        Stmt::If(
+            bin(BinOp::Eq, l(iv), u(0)),
+            on_edge(0, snap(l(iu), 0), l(t), u(0)),
+            vec![Stmt::If(
+                bin(BinOp::Eq, add(l(iu), l(iv)), l(level)),
+                on_edge(1, snap(l(iv), 1), sub(l(ls[1]), l(t)), l(t)),
+                vec![Stmt::If(
+                    bin(BinOp::Eq, l(iu), u(0)),
+                    on_edge(2, snap(sub(l(level), l(iv)), 2), u(0), sub(l(ls[2]), l(t))),
+                    vec![],
                 )],
             )],
         ),

@@ -486,18 +486,20 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         ));
         (idx, texcoord, displace)
     };
-    // Adaptive tessellation on the instanced path (quad schemes).
-    let adaptive = (sides == 4).then(|| {
+    // Adaptive tessellation on the instanced path (quad and triangle
+    // schemes: the same signatures, the domain's snap inside).
+    let adaptive = {
         let edge_level = m.functions.len();
         m.functions
-            .push(crate::adaptive::patch_edge_level_fn(curve_const));
+            .push(crate::adaptive::patch_edge_level_fn(curve_const, sides));
         let eval_a = m.functions.len();
-        m.functions.push(crate::adaptive::eval_adaptive_fn(eval));
-        AdaptiveEntries {
+        m.functions
+            .push(crate::adaptive::eval_adaptive_fn(eval, sides));
+        Some(AdaptiveEntries {
             edge_level,
             eval: eval_a,
-        }
-    });
+        })
+    };
     // The tessellation stages' variant: own sample from the patch-local
     // control points, the owner's from the global buffer.
     // Triangle tessellation stages evaluate the hardware's float domain

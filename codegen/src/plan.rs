@@ -516,8 +516,9 @@ pub struct Entries {
     /// flat sample index of an integer domain point (the tessellation
     /// evaluation stages write their captured samples there).
     pub grid_index: usize,
-    /// Adaptive tessellation without a hardware tessellator (quad schemes;
-    /// `None` for triangle schemes): see `crate::adaptive`.
+    /// Adaptive tessellation without a hardware tessellator (quad and
+    /// triangle schemes; `None` only for a module without one): see
+    /// `crate::adaptive`.
     pub adaptive: Option<AdaptiveEntries>,
 }
 

@@ -104,7 +104,7 @@ struct Params {
 // binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 [[vk::binding(24, 0)]] Texture2D<float> displace_map : register(t24);
 
-// binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+// binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 [[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
 
 // binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw

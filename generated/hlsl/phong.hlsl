@@ -104,7 +104,7 @@ struct Params {
 // binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 [[vk::binding(24, 0)]] Texture2D<float> displace_map : register(t24);
 
-// binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+// binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 [[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
 
 // binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
@@ -582,6 +582,51 @@ precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
 // The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
 precise float3 tessgen_displace(float3 p, float3 n, float d) {
     return (p + (n * d));
+}
+
+// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
+    if ((k >= 3u)) {
+        return 1u;
+    }
+    uint k1 = ((k + 1u) % 3u);
+    uint curve = ((class_ * 12u) + (k * 4u));
+    float3 a = cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
+    float3 b = cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
+    uint va = corner_vertex[((face * 3u) + k)];
+    uint vb = corner_vertex[((face * 3u) + k1)];
+    uint edge = face_edges[((face * 3u) + k)];
+    float factor = tessgen_edge_factor_runtime(a, b, va, vb, edge);
+    return tessgen_edge_level(factor, max_level);
+}
+
+// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
+    uint su = iu;
+    uint sv = iv;
+    uint sl = level;
+    uint t = 0u;
+    if ((iv == 0u)) {
+        t = (iu / (level / l0));
+        su = t;
+        sv = 0u;
+        sl = l0;
+    } else {
+        if (((iu + iv) == level)) {
+            t = (iv / (level / l1));
+            su = (l1 - t);
+            sv = t;
+            sl = l1;
+        } else {
+            if ((iu == 0u)) {
+                t = ((level - iv) / (level / l2));
+                su = 0u;
+                sv = (l2 - t);
+                sl = l2;
+            }
+        }
+    }
+    return eval(cp, class_, cp_base, su, sv, sl);
 }
 
 // ---- compute entry points ----

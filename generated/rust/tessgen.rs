@@ -46,7 +46,8 @@ pub mod common {
         pub crease: &'a [Vec3],
         /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
         pub corner_side: &'a [f32],
-        /// Adaptive tessellation: global edge id of edge k of face f at 4f + k.
+        /// Adaptive tessellation: global edge id of edge k of face f at 4f + k
+        /// (triangles: 3f + k).
         pub face_edges: &'a [u32],
         /// Adaptive tessellation: explicit factor per global edge id.
         pub edge_factors: &'a [f32],
@@ -76,9 +77,10 @@ pub mod common {
         pub patch: fn(&Inputs, &mut [Vec3], u32, u32),
     }
     
-    /// Adaptive tessellation of a quad scheme (power-of-two edge levels,
-    /// buckets, snapped transitions): the functions the CPU runs and the WGSL
-    /// classify and evaluation entries call.
+    /// Adaptive tessellation of a quad or triangle scheme (power-of-two edge
+    /// levels, buckets, snapped transitions): the functions the CPU runs and the
+    /// WGSL classify and evaluation entries call. Four edge slots whatever the
+    /// domain: a triangle's slot 3 has level 1 and is not read.
     #[derive(Clone, Copy, Debug)]
     pub struct AdaptiveKernels {
         /// `(inputs, cp, face, class, cp_base, k, max_level)`: level of edge k.
@@ -107,8 +109,8 @@ pub mod common {
         /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
         /// displacement step (every built-in scheme: quads and triangles).
         pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
-        /// Adaptive tessellation on the instanced path (quad schemes; `None`
-        /// for triangle schemes).
+        /// Adaptive tessellation on the instanced path (quad and triangle
+        /// schemes).
         pub adaptive: Option<AdaptiveKernels>,
         /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
         /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
@@ -3020,6 +3022,51 @@ pub mod pn {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        if (k >= 3u32) {
+            return 1u32;
+        }
+        let k1: u32 = ((k + 1u32) % 3u32);
+        let curve: u32 = ((class * 12u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 3u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 3u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 3u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pn",
@@ -3032,7 +3079,7 @@ pub mod pn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: None,
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3392,6 +3439,51 @@ pub mod stpn {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        if (k >= 3u32) {
+            return 1u32;
+        }
+        let k1: u32 = ((k + 1u32) % 3u32);
+        let curve: u32 = ((class * 12u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 3u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 3u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 3u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "stpn",
@@ -3404,7 +3496,7 @@ pub mod stpn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: None,
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3715,6 +3807,51 @@ pub mod phong {
         return sample;
     }
     
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+        if (k >= 3u32) {
+            return 1u32;
+        }
+        let k1: u32 = ((k + 1u32) % 3u32);
+        let curve: u32 = ((class * 12u32) + (k * 4u32));
+        let a: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 0u32)) as usize])) as usize];
+        let b: Vec3 = cp[((cp_base + EDGE_CURVE[((curve + 3u32)) as usize])) as usize];
+        let va: u32 = inputs.corner_vertex[(((face * 3u32) + k)) as usize];
+        let vb: u32 = inputs.corner_vertex[(((face * 3u32) + k1)) as usize];
+        let edge: u32 = inputs.face_edges[(((face * 3u32) + k)) as usize];
+        let factor: f32 = tessgen_edge_factor_runtime(inputs, a, b, va, vb, edge);
+        return tessgen_edge_level(factor, max_level);
+    }
+    
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+    pub fn eval_adaptive(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        return eval(cp, class, cp_base, su, sv, sl);
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "phong",
@@ -3727,7 +3864,7 @@ pub mod phong {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: None,
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,

@@ -106,7 +106,7 @@ struct Params {
 // scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 @group(0) @binding(24) var displace_map: texture_2d<f32>;
 
-// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 @group(0) @binding(25) var<storage, read_write> patch_levels: array<u32>;
 
 // adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw

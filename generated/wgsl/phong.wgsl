@@ -106,7 +106,7 @@ struct Params {
 // scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
 @group(0) @binding(24) var displace_map: texture_2d<f32>;
 
-// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 and the patch's bucket (their largest)
+// adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 @group(0) @binding(25) var<storage, read_write> patch_levels: array<u32>;
 
 // adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
@@ -606,6 +606,51 @@ fn eval_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u32, level:
     return sample;
 }
 
+// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+fn patch_edge_level(face: u32, class_: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
+    if (k >= 3u) {
+        return 1u;
+    }
+    let k1: u32 = ((k + 1u) % 3u);
+    let curve: u32 = ((class_ * 12u) + (k * 4u));
+    let a: vec3<f32> = load_control_points_ro((cp_base + EDGE_CURVE[(curve + 0u)]));
+    let b: vec3<f32> = load_control_points_ro((cp_base + EDGE_CURVE[(curve + 3u)]));
+    let va: u32 = corner_vertex[((face * 3u) + k)];
+    let vb: u32 = corner_vertex[((face * 3u) + k1)];
+    let edge: u32 = face_edges[((face * 3u) + k)];
+    let factor: f32 = tessgen_edge_factor_runtime(a, b, va, vb, edge);
+    return tessgen_edge_level(factor, max_level);
+}
+
+// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
+fn eval_adaptive(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+    var su: u32 = iu;
+    var sv: u32 = iv;
+    var sl: u32 = level;
+    var t: u32 = 0u;
+    if (iv == 0u) {
+        t = (iu / (level / l0));
+        su = t;
+        sv = 0u;
+        sl = l0;
+    } else {
+        if ((iu + iv) == level) {
+            t = (iv / (level / l1));
+            su = (l1 - t);
+            sv = t;
+            sl = l1;
+        } else {
+            if (iu == 0u) {
+                t = ((level - iv) / (level / l2));
+                su = 0u;
+                sv = (l2 - t);
+                sl = l2;
+            }
+        }
+    }
+    return eval(class_, cp_base, su, sv, sl);
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -707,4 +752,73 @@ fn shade_fs(input: VsOut) -> @location(0) vec4<f32> {
         }
     }
     return vec4<f32>(color, 1.0f);
+}
+
+// Adaptive classify: for patches first .. first + count of the dispatch's class, the
+// power-of-two level of each edge (patch_edge_level, largest level = params.level) and the
+// patch's bucket into patch_levels[5p ..] (p = first + k, the class-sorted patch index).
+@compute @workgroup_size(64)
+fn adaptive_classify_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k >= params.count) {
+        return;
+    }
+    let p: u32 = (params.first + k);
+    let face: u32 = patch_faces[p];
+    var points: u32 = 0u;
+    points = 16u;
+    let cp: u32 = (params.cp_base + (k * points));
+    let l0: u32 = patch_edge_level(face, params.class_, cp, 0u, params.level);
+    let l1: u32 = patch_edge_level(face, params.class_, cp, 1u, params.level);
+    let l2: u32 = patch_edge_level(face, params.class_, cp, 2u, params.level);
+    let l3: u32 = patch_edge_level(face, params.class_, cp, 3u, params.level);
+    patch_levels[((5u * p) + 0u)] = l0;
+    patch_levels[((5u * p) + 1u)] = l1;
+    patch_levels[((5u * p) + 2u)] = l2;
+    patch_levels[((5u * p) + 3u)] = l3;
+    patch_levels[((5u * p) + 4u)] = tessgen_bucket_level(l0, l1, l2, l3);
+}
+
+// One bucket of one class at its level params.level: grid_len(level) samples of each of
+// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into
+// samples[(out_base + k)·6 ..]: position xyz, normal xyz.
+@compute @workgroup_size(64)
+fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    let spp: u32 = grid_len(params.level);
+    if (k >= (params.count * spp)) {
+        return;
+    }
+    let patch_index: u32 = (k / spp);
+    let s: u32 = (k % spp);
+    let iu: u32 = grid_iu(s, params.level);
+    let iv: u32 = grid_iv(s, params.level);
+    let e: u32 = (6u * (params.first + patch_index));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let o: u32 = ((params.out_base + k) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+}
+
+// Instanced adaptive draw of one bucket of one class: the level-params.level grid index
+// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.
+@vertex
+fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
+    let iu: u32 = grid_iu(vi, params.level);
+    let iv: u32 = grid_iv(vi, params.level);
+    let e: u32 = (6u * (params.first + inst));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    var out: VsOut;
+    out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
+    out.world_position = result.position;
+    out.normal = result.normal;
+    out.patch_class = params.class_;
+    out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32(params.level));
+    return out;
 }

@@ -11,6 +11,7 @@
 //! options.
 
 use crate::topology::Topology;
+use crate::trimesh::TriMesh;
 use glam::{Mat4, Vec3};
 
 /// How the tessellator spaces the vertices of a fractional factor.
@@ -178,6 +179,66 @@ pub fn random_factors(edges: u32, seed: u64, lo: f32, hi: f32) -> Vec<f32> {
         .collect()
 }
 
+/// The mesh an instanced adaptive run (CPU or wgpu) tessellates: what
+/// the generated `patch_edge_level` reads besides the control points — the
+/// global edge id of every face edge and the corners' vertices. Quad
+/// schemes run on a [`Topology`], triangle schemes (`pn`, `stpn`, `phong`)
+/// on a [`TriMesh`] (e.g. `cpu::tri_mesh` with `--split-quads`); both
+/// convert with `.into()`, so `evaluate_cpu_adaptive(&patches, &topo, …)`
+/// and `evaluate_cpu_adaptive(&patches, &tri, …)` read alike.
+#[derive(Clone, Copy, Debug)]
+pub enum AdaptiveMesh<'a> {
+    Quads(&'a Topology),
+    Triangles(&'a TriMesh),
+}
+
+impl<'a> From<&'a Topology> for AdaptiveMesh<'a> {
+    fn from(t: &'a Topology) -> Self {
+        AdaptiveMesh::Quads(t)
+    }
+}
+
+impl<'a> From<&'a TriMesh> for AdaptiveMesh<'a> {
+    fn from(t: &'a TriMesh) -> Self {
+        AdaptiveMesh::Triangles(t)
+    }
+}
+
+impl AdaptiveMesh<'_> {
+    /// Faces (patches).
+    pub fn faces(&self) -> usize {
+        match self {
+            AdaptiveMesh::Quads(t) => t.corners.len(),
+            AdaptiveMesh::Triangles(t) => t.triangles.len(),
+        }
+    }
+
+    /// Corners (edges) per face.
+    pub fn sides(&self) -> u32 {
+        match self {
+            AdaptiveMesh::Quads(_) => 4,
+            AdaptiveMesh::Triangles(_) => 3,
+        }
+    }
+
+    /// Global edge ids at `sides·f + k` and the number of edges
+    /// ([`edge_ids`], [`TriMesh::edge_ids`]).
+    pub fn edge_ids(&self) -> (Vec<u32>, u32) {
+        match self {
+            AdaptiveMesh::Quads(t) => edge_ids(t),
+            AdaptiveMesh::Triangles(t) => t.edge_ids(),
+        }
+    }
+
+    /// Vertex of corner k of face f at `sides·f + k` (`corner_vertex`).
+    pub fn corner_vertex(&self) -> Vec<u32> {
+        match self {
+            AdaptiveMesh::Quads(t) => crate::cpu::corner_arrays(t).0,
+            AdaptiveMesh::Triangles(t) => t.triangles.iter().flatten().copied().collect(),
+        }
+    }
+}
+
 // ---- CPU: power-of-two buckets with snapped transitions ----
 
 /// Errors of the adaptive tessellators (CPU and wgpu).
@@ -193,6 +254,14 @@ pub enum AdaptiveError {
     BadFactor { edge: usize, factor: f32 },
     #[error("adaptive clamp range [{min}, {max}] is not a finite range with min <= max")]
     Clamp { min: f32, max: f32 },
+    #[error("the patches have {patches} faces but the mesh given for their edges has {faces}")]
+    MeshMismatch { patches: usize, faces: usize },
+    #[error("scheme `{scheme}` tessellates {want}, but the mesh given for its edges has {got}")]
+    Domain {
+        scheme: String,
+        want: &'static str,
+        got: &'static str,
+    },
 }
 
 /// The power-of-two level of an edge: the smallest `2^k ≥ factor`, clamped
@@ -209,7 +278,7 @@ pub fn edge_level(factor: f32, max_level: u32) -> u32 {
 /// `gpu::GpuMesh::evaluate_adaptive`, so both see the same bits.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EdgeInputs {
-    /// Edge id of edge k of face f at `4f + k` (`face_edges`, binding 17).
+    /// Edge id of edge k of face f at `sides·f + k` (`face_edges`, binding 17).
     pub face_edges: Vec<u32>,
     /// Explicit factors by edge id (`edge_factors`, binding 18); one zero
     /// for the computed metrics (wgpu rejects empty bindings).
@@ -222,11 +291,12 @@ pub struct EdgeInputs {
 /// per-edge data: `max_level` a power of two in `1..=MAX_LEVEL`, explicit
 /// factors one per edge ([`Metric::Buffer`]) or per face edge
 /// ([`Metric::PerFaceEdge`]) and finite, the clamp range finite.
-pub fn edge_inputs(
-    topo: &Topology,
+pub fn edge_inputs<'m>(
+    mesh: impl Into<AdaptiveMesh<'m>>,
     a: &Adaptive,
     max_level: u32,
 ) -> Result<EdgeInputs, AdaptiveError> {
+    let mesh = mesh.into();
     if !max_level.is_power_of_two() || max_level > crate::cpu::MAX_LEVEL {
         return Err(AdaptiveError::MaxLevel { got: max_level });
     }
@@ -236,7 +306,7 @@ pub fn edge_inputs(
             max: a.max,
         });
     }
-    let (mut ids, mut edges) = edge_ids(topo);
+    let (mut ids, mut edges) = mesh.edge_ids();
     if let Metric::PerFaceEdge(_) = &a.metric {
         // Negative control: every face edge its own id.
         edges = ids.len() as u32;
@@ -266,13 +336,16 @@ pub fn edge_inputs(
 }
 
 /// A tessellation with one power-of-two level per patch (its *bucket*: the
-/// largest level of its four edges) and one level per edge (CPU:
+/// largest level of its edges) and one level per edge (CPU:
 /// [`evaluate_cpu_adaptive`]; wgpu: `gpu::GpuMesh::evaluate_adaptive`, the
 /// same layout bit for bit).
 ///
-/// Face `f` is an `(levels[f] + 1)²` grid in the usual order (`iv·(L+1) + iu`)
-/// from `offsets[f]`. Its interior samples are at `(iu, iv)/L`; a boundary
-/// sample `i` of edge `k`, whose own level is `L_e = edge_levels[4f + k] ≤ L`,
+/// Face `f` is the `grid_len(levels[f])` samples of its domain's grid from
+/// `offsets[f]`: quads an `(L + 1)²` grid in the usual order
+/// (`iv·(L+1) + iu`), triangles (`sides` 3) the triangle grid row by row
+/// (`crate::trimesh::tri_grid_index`, barycentric `(L − iu − iv, iu, iv)`).
+/// Its interior samples are at `(iu, iv)/L`; a boundary sample `i` of edge
+/// `k`, whose own level is `L_e = edge_levels[sides·f + k] ≤ L`,
 /// is *snapped* to the edge's coarser point `⌊i / (L / L_e)⌋` and evaluated
 /// there through the shared edge evaluator at level `L_e` (the generated
 /// `eval_adaptive`) — exactly the
@@ -283,6 +356,8 @@ pub fn edge_inputs(
 /// grid.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AdaptiveTessellation {
+    /// Corners per face: 4 (quad grids) or 3 (triangle grids).
+    pub sides: u32,
     pub levels: Vec<u32>,
     pub edge_levels: Vec<u32>,
     pub offsets: Vec<usize>,
@@ -292,12 +367,22 @@ pub struct AdaptiveTessellation {
 
 impl AdaptiveTessellation {
     /// Every face's grid triangles as world positions (a triangle soup for
-    /// [`crate::weld::weld_triangles`] or OBJ output).
+    /// [`crate::weld::weld_triangles`] or OBJ output): the quad grid's
+    /// ([`crate::weld::grid_triangles`]) or the triangle grid's
+    /// ([`crate::trimesh::tri_grid_triangles`], the uniform triangle path's).
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
         let mut out = Vec::new();
+        let mut local: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
         for (f, &l) in self.levels.iter().enumerate() {
             let base = self.offsets[f];
-            for t in crate::weld::grid_triangles(l) {
+            let tris = local.entry(l).or_insert_with(|| {
+                if self.sides == 3 {
+                    crate::trimesh::tri_grid_triangles(l)
+                } else {
+                    crate::weld::grid_triangles(l)
+                }
+            });
+            for t in tris.iter() {
                 out.push(t.map(|k| self.positions[base + k as usize]));
             }
         }
@@ -314,13 +399,13 @@ impl AdaptiveTessellation {
     }
 }
 
-/// CPU adaptive tessellation of constructed quad patches from explicit
-/// `factors` per global edge id ([`edge_ids`]): [`evaluate_cpu_adaptive`]
-/// with [`Metric::Buffer`], factors clamped to `[1, max_level]` (which does
-/// not change their power-of-two levels).
-pub fn evaluate_cpu(
+/// CPU adaptive tessellation of constructed patches from explicit
+/// `factors` per global edge id ([`edge_ids`], [`TriMesh::edge_ids`]):
+/// [`evaluate_cpu_adaptive`] with [`Metric::Buffer`], factors clamped to
+/// `[1, max_level]` (which does not change their power-of-two levels).
+pub fn evaluate_cpu<'m>(
     patches: &crate::cpu::Patches,
-    topo: &Topology,
+    topo: impl Into<AdaptiveMesh<'m>>,
     factors: &[f32],
     max_level: u32,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
@@ -333,26 +418,30 @@ pub fn evaluate_cpu(
     evaluate_cpu_adaptive(patches, topo, &a, max_level)
 }
 
-/// CPU adaptive tessellation of constructed quad patches with any metric,
+/// CPU adaptive tessellation of constructed patches (quad schemes on a
+/// [`Topology`], triangle schemes on a [`TriMesh`]) with any metric,
 /// through the generated Rust — the same Plan functions the WGSL classify
 /// and evaluation entries run: each edge's level from
 /// `patch_edge_level` (factor of the edge's end points or id, then the
 /// smallest power of two ≥ it, clamped to `max_level`), each patch's bucket
-/// `tessgen_bucket_level` (the largest of its four), every sample
+/// `tessgen_bucket_level` (the largest of its edges), every sample
 /// `eval_adaptive` (boundary samples snapped onto the edge's own level).
 /// `a.partitioning` is ignored: levels are powers of two.
-pub fn evaluate_cpu_adaptive(
+pub fn evaluate_cpu_adaptive<'m>(
     patches: &crate::cpu::Patches,
-    topo: &Topology,
+    mesh: impl Into<AdaptiveMesh<'m>>,
     a: &Adaptive,
     max_level: u32,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
+    let mesh = mesh.into();
     let kernels = patches.scheme;
     let Some(ak) = kernels.adaptive else {
         return Err(crate::cpu::facet_error(kernels).into());
     };
-    let inp = edge_inputs(topo, a, max_level)?;
-    let (corner_vertex, _) = crate::cpu::corner_arrays(topo);
+    check_mesh(kernels, &mesh, patches.face_class.len())?;
+    let inp = edge_inputs(mesh, a, max_level)?;
+    let corner_vertex = mesh.corner_vertex();
+    let sides = kernels.sides as usize;
     let inputs = crate::kernels::common::Inputs {
         corner_vertex: &corner_vertex,
         face_edges: &inp.face_edges,
@@ -364,10 +453,12 @@ pub fn evaluate_cpu_adaptive(
     let cp_of = |f: usize| {
         &patches.control_points[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize]
     };
-    let mut edge_levels = Vec::with_capacity(4 * faces);
+    // Four level slots per patch, as the WGSL classify pass writes them (a
+    // triangle's slot 3 is 1 and unread); `edge_levels` keeps the real ones.
+    let mut slots = Vec::with_capacity(4 * faces);
     for f in 0..faces {
         for k in 0..4 {
-            edge_levels.push((ak.edge_level)(
+            slots.push((ak.edge_level)(
                 &inputs,
                 cp_of(f),
                 f as u32,
@@ -378,9 +469,13 @@ pub fn evaluate_cpu_adaptive(
             ));
         }
     }
-    let levels: Vec<u32> = edge_levels
+    let levels: Vec<u32> = slots
         .chunks_exact(4)
         .map(|e| crate::kernels::common::tessgen_bucket_level(e[0], e[1], e[2], e[3]))
+        .collect();
+    let edge_levels: Vec<u32> = slots
+        .chunks_exact(4)
+        .flat_map(|e| e[..sides].iter().copied())
         .collect();
     let mut offsets = Vec::with_capacity(faces + 1);
     let mut total = 0usize;
@@ -393,7 +488,7 @@ pub fn evaluate_cpu_adaptive(
     let mut normals = vec![Vec3::ZERO; total];
     for f in 0..faces {
         let (cp, class, l) = (cp_of(f), patches.face_class[f], levels[f]);
-        let e = &edge_levels[4 * f..4 * f + 4];
+        let e = &slots[4 * f..4 * f + 4];
         for s in 0..(kernels.grid_len)(l) {
             let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
             let r = (ak.eval)(cp, class, 0, iu, iv, l, e[0], e[1], e[2], e[3]);
@@ -402,10 +497,36 @@ pub fn evaluate_cpu_adaptive(
         }
     }
     Ok(AdaptiveTessellation {
+        sides: kernels.sides,
         levels,
         edge_levels,
         offsets,
         positions,
         normals,
     })
+}
+
+/// The mesh given for the edges must be the one the patches were built
+/// from: the scheme's domain, then the face count (the generated functions
+/// index `corner_vertex` and `face_edges` by face).
+pub(crate) fn check_mesh(
+    kernels: &crate::kernels::common::SchemeKernels,
+    mesh: &AdaptiveMesh<'_>,
+    patches: usize,
+) -> Result<(), AdaptiveError> {
+    let name = |s: u32| if s == 3 { "triangles" } else { "quads" };
+    if mesh.sides() != kernels.sides {
+        return Err(AdaptiveError::Domain {
+            scheme: kernels.name.into(),
+            want: name(kernels.sides),
+            got: name(mesh.sides()),
+        });
+    }
+    if mesh.faces() != patches {
+        return Err(AdaptiveError::MeshMismatch {
+            patches,
+            faces: mesh.faces(),
+        });
+    }
+    Ok(())
 }

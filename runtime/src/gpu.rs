@@ -55,8 +55,6 @@ pub enum GpuError {
     PositionCount { expected: usize, got: usize },
     #[error(transparent)]
     Adaptive(#[from] crate::adaptive::AdaptiveError),
-    #[error("the topology given has {given} faces, the uploaded mesh {uploaded}")]
-    TopologyMismatch { uploaded: usize, given: usize },
 }
 
 impl From<UploadError> for GpuError {
@@ -716,11 +714,13 @@ impl<'g> GpuMesh<'g> {
         })
     }
 
-    /// Adaptive tessellation on the instanced path (quad schemes), the same
-    /// result as [`crate::adaptive::evaluate_cpu_adaptive`] bit for bit:
+    /// Adaptive tessellation on the instanced path (quad schemes on a
+    /// [`Topology`], triangle schemes on the [`crate::trimesh::TriMesh`]
+    /// uploaded with [`GpuMesh::new_tri`]), the same result as
+    /// [`crate::adaptive::evaluate_cpu_adaptive`] bit for bit:
     ///
     /// 1. `adaptive_classify_main`, one dispatch per class: every patch's
-    ///    four power-of-two edge levels (the metric of `a`, computed on the
+    ///    four power-of-two edge levels (triangles: three, slot 3 is 1) (the metric of `a`, computed on the
     ///    GPU from the edge's end points or read from the explicit factors;
     ///    largest level `max_level`) and its bucket (the largest of the four)
     ///    into `patch_levels`;
@@ -733,23 +733,22 @@ impl<'g> GpuMesh<'g> {
     ///
     /// A renderer draws step 3 with `eval_adaptive_vs` instead: one
     /// instanced draw of the level's grid per (class, bucket).
-    pub fn evaluate_adaptive(
+    pub fn evaluate_adaptive<'m>(
         &self,
-        topo: &Topology,
+        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
         a: &crate::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+        let mesh = mesh.into();
         if self.scheme.adaptive.is_none() {
             return Err(cpu::facet_error(self.scheme).into());
         }
         let faces = self.patch_faces.len();
-        if topo.corners.len() != faces {
-            return Err(GpuError::TopologyMismatch {
-                uploaded: faces,
-                given: topo.corners.len(),
-            });
-        }
-        let inp = crate::adaptive::edge_inputs(topo, a, max_level)?;
+        // The scheme's domain (`Domain`), then the face count
+        // (`MeshMismatch`): the mesh must be the uploaded one.
+        crate::adaptive::check_mesh(self.scheme, &mesh, faces)?;
+        let sides = self.scheme.sides as usize;
+        let inp = crate::adaptive::edge_inputs(mesh, a, max_level)?;
         let dev = &self.gpu.device;
         let storage = |label: &'static str, bytes: &[u8], extra: wgpu::BufferUsages| {
             let buf = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -861,7 +860,7 @@ impl<'g> GpuMesh<'g> {
 
         // 2. per face levels, and one entry list per (class, bucket).
         let mut levels = vec![0u32; faces];
-        let mut edge_levels = vec![0u32; 4 * faces];
+        let mut edge_levels = vec![0u32; sides * faces];
         let mut lists: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
         for c in &self.classes {
             for k in 0..c.count {
@@ -869,7 +868,7 @@ impl<'g> GpuMesh<'g> {
                 let w = &words[5 * p..5 * p + 5];
                 let face = self.patch_faces[p] as usize;
                 levels[face] = w[4];
-                edge_levels[4 * face..4 * face + 4].copy_from_slice(&w[..4]);
+                edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
                 lists.entry((c.class, w[4])).or_default().extend([
                     p as u32,
                     c.cp_base + k * c.points,
@@ -973,6 +972,7 @@ impl<'g> GpuMesh<'g> {
             start += n;
         }
         Ok(crate::adaptive::AdaptiveTessellation {
+            sides: self.scheme.sides,
             levels,
             edge_levels,
             offsets,

@@ -271,10 +271,22 @@ fn bad_adaptive_input_is_a_typed_error() {
             .expect_err("cpu accepted bad input");
         assert!(format!("{e:?}").starts_with(want), "cpu, {want}: {e:?}");
     }
-    // Triangle schemes: no adaptive instanced path yet, a typed error.
+    // A triangle scheme given the quad topology for its edges: a typed
+    // error naming both domains (tests/tests/adaptive_tri.rs runs them).
     let mesh = common::mesh("catmark_cube");
     let tri = cpu::tri_mesh(&mesh, true, None).expect("split");
     let t = GpuMesh::new_tri(gpu(), &tri, "pn").expect("pn mesh");
     let e = t.evaluate_adaptive(&c.topo, &good, MAX_LEVEL);
-    assert!(matches!(e, Err(GpuError::Tess(_))), "{:?}", e.err());
+    assert!(
+        matches!(
+            e,
+            Err(GpuError::Adaptive(AdaptiveError::Domain {
+                want: "triangles",
+                got: "quads",
+                ..
+            }))
+        ),
+        "{:?}",
+        e.err()
+    );
 }

@@ -284,12 +284,9 @@ fn translate(path: &str, module: &Module, info: &ModuleInfo) -> Result<(), Strin
 fn validate(file: &GeneratedFile) -> Result<(), String> {
     let src = text(file);
     let (module, info) = parse_validate(&file.path, &src)?;
-    // Quad schemes also have the adaptive instanced path's entries.
-    let adaptive = if TRI.contains(&file.path.as_str()) {
-        &[][..]
-    } else {
-        ADAPTIVE_ENTRY_POINTS
-    };
+    // Every scheme, quads and triangles, also has the adaptive instanced
+    // path's entries.
+    let adaptive = ADAPTIVE_ENTRY_POINTS;
     let expected: Vec<(String, String)> = ENTRY_POINTS
         .iter()
         .chain(adaptive)

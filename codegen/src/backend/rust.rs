@@ -187,7 +187,8 @@ pub struct Inputs<'a> {
     pub crease: &'a [Vec3],
     /// Scalar-tagged PN: side sign ±1 of corner i of triangle f at 3f + i.
     pub corner_side: &'a [f32],
-    /// Adaptive tessellation: global edge id of edge k of face f at 4f + k.
+    /// Adaptive tessellation: global edge id of edge k of face f at 4f + k
+    /// (triangles: 3f + k).
     pub face_edges: &'a [u32],
     /// Adaptive tessellation: explicit factor per global edge id.
     pub edge_factors: &'a [f32],
@@ -217,9 +218,10 @@ pub struct ClassKernels {
     pub patch: fn(&Inputs, &mut [Vec3], u32, u32),
 }
 
-/// Adaptive tessellation of a quad scheme (power-of-two edge levels,
-/// buckets, snapped transitions): the functions the CPU runs and the WGSL
-/// classify and evaluation entries call.
+/// Adaptive tessellation of a quad or triangle scheme (power-of-two edge
+/// levels, buckets, snapped transitions): the functions the CPU runs and the
+/// WGSL classify and evaluation entries call. Four edge slots whatever the
+/// domain: a triangle's slot 3 has level 1 and is not read.
 #[derive(Clone, Copy, Debug)]
 pub struct AdaptiveKernels {
     /// `(inputs, cp, face, class, cp_base, k, max_level)`: level of edge k.
@@ -248,8 +250,8 @@ pub struct SchemeKernels {
     /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
     /// displacement step (every built-in scheme: quads and triangles).
     pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
-    /// Adaptive tessellation on the instanced path (quad schemes; `None`
-    /// for triangle schemes).
+    /// Adaptive tessellation on the instanced path (quad and triangle
+    /// schemes).
     pub adaptive: Option<AdaptiveKernels>,
     /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
     /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).

@@ -62,7 +62,7 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
 ];
 
 /// Entry points of adaptive tessellation on the instanced path, emitted for
-/// quad schemes only (`Entries::adaptive`).
+/// every scheme with `Entries::adaptive` (quads and triangles).
 pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
     ("adaptive_classify_main", "compute"),
     ("eval_adaptive_main", "compute"),
@@ -801,7 +801,7 @@ impl<'a> Writer<'a> {
         self.line("}");
     }
 
-    /// Adaptive tessellation (quad schemes): a classify pass writing every
+    /// Adaptive tessellation (quad and triangle schemes): a classify pass writing every
     /// patch's edge levels and bucket, then one dispatch (`eval_adaptive_main`)
     /// or instanced draw (`eval_adaptive_vs`) per (class, bucket) over the
     /// bucket's entries in `bucket_patches`. The semantics are the Plan's
