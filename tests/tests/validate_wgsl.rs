@@ -348,9 +348,6 @@ fn builtin_schemes_validate() {
 
 /// The bindings each entry point reaches, as `binding name access`: the
 /// table a runtime builds its bind group layouts from.
-/// The triangle schemes' WGSL files.
-const TRI: &[&str] = &["wgsl/pn.wgsl", "wgsl/stpn.wgsl", "wgsl/phong.wgsl"];
-
 #[test]
 fn entry_point_bindings() {
     let files = wgsl_files(Builder::new().builtin_schemes());
