@@ -312,7 +312,7 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
                 expr(a, map);
                 expr(b, map);
             }
-            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) => {}
+            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
         }
     }
     fn stmts(s: &mut [Stmt], map: &[(usize, usize)]) {
@@ -341,6 +341,16 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
                     expr(b, map);
                     stmts(body, map);
                 }
+                Stmt::Call(r, xs) => {
+                    if let FnRef::Local(j) = r {
+                        if let Some(&(_, k)) = map.iter().find(|(a, _)| a == j) {
+                            *r = FnRef::Local(k);
+                        }
+                    }
+                    xs.iter_mut().for_each(|x| expr(x, map));
+                }
+                Stmt::Output(_, e) => expr(e, map),
+                Stmt::Comment(_) => {}
             }
         }
     }

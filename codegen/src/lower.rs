@@ -515,21 +515,25 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         }
     });
     let eval_displaced = eval_displaced.map(|(idx, _, _)| idx);
-    (
-        m,
-        Entries {
-            vertex_stage,
-            patches,
-            eval,
-            eval_domain,
-            eval_displaced,
-            tess_displaced,
-            sides,
-            grid,
-            grid_index,
-            adaptive,
+    let mut entries = Entries {
+        vertex_stage,
+        patches,
+        eval,
+        eval_domain,
+        eval_displaced,
+        tess_displaced,
+        sides,
+        grid,
+        grid_index,
+        adaptive,
+        tess: TessStages {
+            control: Function::new("", ""),
+            evaluation: Function::new("", ""),
         },
-    )
+    };
+    // The hardware tessellation stages' bodies call the functions above.
+    entries.tess = crate::tess::stages(&entries, curve_const);
+    (m, entries)
 }
 
 /// `grid_index(iu, iv, level)`, the inverse of `grid_iu`/`grid_iv` (see

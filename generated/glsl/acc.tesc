@@ -299,32 +299,29 @@ void main() {
     } else {
         extraordinary_patch(face, 0u);
     }
-    // One factor per edge that depends only on the edge (here the uniform level),
-    // so both patches of an edge get the same parameters (watertight.md Rule 3).
-    // Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our
-    // edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id,
-    // all data of the edge alone. Inner levels: the larger of the two edges
-    // running in that direction (inner[0] subdivides along x = v: edges 1, 3).
-    float f[4];
-    for (uint k = 0u; k < 4u; k = (k + 1u)) {
-        uint curve = ((params.class_ * 16u) + (k * 4u));
-        f[k] = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 4u) + k)], corner_vertex[((face * 4u) + ((k + 1u) % 4u))], face_edges[((face * 4u) + k)]);
-    }
-    gl_TessLevelOuter[0] = f[0];
-    gl_TessLevelOuter[1] = f[3];
-    gl_TessLevelOuter[2] = f[2];
-    gl_TessLevelOuter[3] = f[1];
-    gl_TessLevelInner[0] = max(f[1], f[3]);
-    gl_TessLevelInner[1] = max(f[0], f[2]);
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factors: the larger of the two edges running in that direction.
+    float f_0 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 16u) + 0u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 16u) + 0u) + 3u)]), corner_vertex[((face * 4u) + 0u)], corner_vertex[((face * 4u) + 1u)], face_edges[((face * 4u) + 0u)]);
+    float f_1 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 16u) + 4u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 16u) + 4u) + 3u)]), corner_vertex[((face * 4u) + 1u)], corner_vertex[((face * 4u) + 2u)], face_edges[((face * 4u) + 1u)]);
+    float f_2 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 16u) + 8u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 16u) + 8u) + 3u)]), corner_vertex[((face * 4u) + 2u)], corner_vertex[((face * 4u) + 3u)], face_edges[((face * 4u) + 2u)]);
+    float f_3 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 16u) + 12u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 16u) + 12u) + 3u)]), corner_vertex[((face * 4u) + 3u)], corner_vertex[((face * 4u) + 0u)], face_edges[((face * 4u) + 3u)]);
+    gl_TessLevelOuter[0] = f_0;
+    gl_TessLevelOuter[3] = f_1;
+    gl_TessLevelOuter[2] = f_2;
+    gl_TessLevelOuter[1] = f_3;
+    gl_TessLevelInner[1] = max(f_0, f_2);
+    gl_TessLevelInner[0] = max(f_1, f_3);
 #else
     gl_TessLevelOuter[0] = float(params.level);
-    gl_TessLevelOuter[1] = float(params.level);
-    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelOuter[3] = float(params.level);
-    gl_TessLevelInner[0] = float(params.level);
+    gl_TessLevelOuter[2] = float(params.level);
+    gl_TessLevelOuter[1] = float(params.level);
     gl_TessLevelInner[1] = float(params.level);
+    gl_TessLevelInner[0] = float(params.level);
 #endif
 }

@@ -589,18 +589,17 @@ Sample eval_displaced_tess(uint face, uint class_, uint cp_base, uint iu, uint i
 
 #endif
 void main() {
-    // The grid point as integers: equal_spacing at an integer level puts vertex i
-    // at i/level, so rounding recovers i exactly. eval and the shared edge evaluator
-    // form every weight from these integers (watertight.md Rules 2 and 3), so the
-    // two patches of an edge compute the same bits. (u, v) = (y, x): see the
-    // layout declaration above.
+    // The grid point as integers: an integer level puts vertex i at i/level (fixed point),
+    // so rounding recovers i exactly. eval and the shared edge evaluator form every weight
+    // from these integers (watertight.md Rules 2 and 3), so the two patches of an edge
+    // compute the same bits.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
-    // fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are
-    // then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate
-    // at the hardware coordinate itself, and on an edge the neighbour, whose
-    // tessellator mirrors the edge's points (1 − t is exact in fixed point), passes
-    // the shared edge evaluator exactly the swapped pair.
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16 fixed-point
+    // grid, iu = u·2^16 (exact in f32). Both weights of every lerp are then formed from
+    // integers (m/2^16, (2^16 − m)/2^16): interior points evaluate at the hardware
+    // coordinate itself, and on an edge the neighbour, whose tessellator mirrors the
+    // edge's points (1 − t is exact in fixed point), passes the shared edge evaluator
+    // exactly the swapped pair.
     uint level = 65536u;
 #else
     uint level = params.level;
@@ -608,29 +607,33 @@ void main() {
     uint iu = uint(round((gl_TessCoord.y * float(level))));
     uint iv = uint(round((gl_TessCoord.x * float(level))));
 #ifdef TESSGEN_DISPLACE
-    // Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal
-    // on the boundary from the global control-point buffer.
+    // Displaced: this patch's sample from its own control points (cp_base 0), the
+    // owner's normal on the boundary from the global control-point buffer, filled
+    // by patch_main before the draw (watertight.md Rules 4 and 5).
     uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
     Sample result = eval_displaced_tess(face, params.class_, 0u, iu, iv, level);
 #else
     Sample result = eval(params.class_, 0u, iu, iv, level);
 #endif
-    te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
-#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
-    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
-    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
-#elif defined(TESSGEN_CAPTURE)
-    // Adaptive capture: the domain point in (u, v) and the patch of every vertex.
+    te_normal = result.normal;
+#ifdef TESSGEN_CAPTURE
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,
+    // for a harness that records the output triangles.
     te_domain = vec3(gl_TessCoord.y, gl_TessCoord.x, 0.0);
     te_patch = (params.first + uint(gl_PrimitiveID));
+#else
+    // Capture: the sample at eval_main's layout, patch p of the draw being patch
+    // out_base + p, sample grid_index(iu, iv), 6 floats (position, normal).
+    uint at = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
+    samples[at] = result.position.x;
+    samples[(at + 1u)] = result.position.y;
+    samples[(at + 2u)] = result.position.z;
+    samples[(at + 3u)] = result.normal.x;
+    samples[(at + 4u)] = result.normal.y;
+    samples[(at + 5u)] = result.normal.z;
+#endif
 #endif
 }

@@ -190,28 +190,29 @@ Sample eval_domain(uint class_, uint cp_base, float x, float y, float z, uint le
 }
 
 void main() {
-    // Triangles: eval_domain takes the raw barycentric gl_TessCoord (x, y, z) of
-    // corners (0, 1, 2). On the outer ring (a coordinate exactly 0; equal_spacing at
-    // an integer level puts vertex i at i/level in fixed point) it rounds to the
-    // integer grid point and takes the shared edge evaluator, so the two patches of
-    // an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the
-    // hardware's inner rings (ring k: level − 2k segments per side) are not the
-    // barycentric lattice, so it evaluates the surface at gl_TessCoord itself.
+    // Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners
+    // (0, 1, 2). On the outer ring (a coordinate exactly 0; an integer level puts vertex i
+    // at i/level in fixed point) it rounds to the integer grid point and takes the shared
+    // edge evaluator, so the two patches of an edge compute the same bits (watertight.md
+    // Rules 2 and 3). Inside, the hardware's inner rings (ring k: level − 2k segments per
+    // side) are not the barycentric lattice, so it evaluates the surface at the raw point.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed
-    // point, so on an edge round(y·2^16), round(z·2^16) are exact and the neighbour,
-    // whose tessellator mirrors the edge's points (1 − t is exact in fixed point),
-    // hands the shared edge evaluator exactly the swapped integer pair.
+    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed point, so
+    // on an edge round(y·2^16), round(z·2^16) are exact and the neighbour, whose
+    // tessellator mirrors the edge's points (1 − t is exact in fixed point), hands the
+    // shared edge evaluator exactly the swapped integer pair.
     uint level = 65536u;
 #else
     uint level = params.level;
 #endif
     Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
-    te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+    te_normal = result.normal;
 #ifdef TESSGEN_CAPTURE
-    te_domain = gl_TessCoord;
+    // Capture: the domain point and the patch of every vertex, for a harness that
+    // records the output triangles (inner vertices are not grid points).
+    te_domain = vec3(gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z);
     te_patch = (params.first + uint(gl_PrimitiveID));
 #endif
 }

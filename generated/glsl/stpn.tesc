@@ -245,27 +245,24 @@ void triangle_patch(uint face, uint cp_base) {
 void main() {
     uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
     triangle_patch(face, 0u);
-    // One factor per edge that depends only on the edge (here the uniform level),
-    // so both patches of an edge get the same parameters (watertight.md Rule 3).
-    // Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0),
-    // i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0), 0 (v0 -> v1).
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id,
-    // all data of the edge alone. Inner level: the largest of the three.
-    float f[3];
-    for (uint k = 0u; k < 3u; k = (k + 1u)) {
-        uint curve = ((params.class_ * 12u) + (k * 4u));
-        f[k] = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 3u) + k)], corner_vertex[((face * 3u) + ((k + 1u) % 3u))], face_edges[((face * 3u) + k)]);
-    }
-    gl_TessLevelOuter[0] = f[1];
-    gl_TessLevelOuter[1] = f[2];
-    gl_TessLevelOuter[2] = f[0];
-    gl_TessLevelInner[0] = max(max(f[0], f[1]), f[2]);
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factor: the largest of the three.
+    float f_0 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 12u) + 0u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 12u) + 0u) + 3u)]), corner_vertex[((face * 3u) + 0u)], corner_vertex[((face * 3u) + 1u)], face_edges[((face * 3u) + 0u)]);
+    float f_1 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 12u) + 4u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 12u) + 4u) + 3u)]), corner_vertex[((face * 3u) + 1u)], corner_vertex[((face * 3u) + 2u)], face_edges[((face * 3u) + 1u)]);
+    float f_2 = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[((params.class_ * 12u) + 8u)]), load_tcs_cp(EDGE_CURVE[(((params.class_ * 12u) + 8u) + 3u)]), corner_vertex[((face * 3u) + 2u)], corner_vertex[((face * 3u) + 0u)], face_edges[((face * 3u) + 2u)]);
+    gl_TessLevelOuter[2] = f_0;
+    gl_TessLevelOuter[0] = f_1;
+    gl_TessLevelOuter[1] = f_2;
+    gl_TessLevelInner[0] = max(max(f_0, f_1), f_2);
 #else
+    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelOuter[0] = float(params.level);
     gl_TessLevelOuter[1] = float(params.level);
-    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelInner[0] = float(params.level);
 #endif
 }

@@ -113,6 +113,14 @@ pub fn called(f: &Function) -> Vec<FnRef> {
                     expr(b, out);
                     stmts(body, out);
                 }
+                Stmt::Call(r, xs) => {
+                    if !out.contains(r) {
+                        out.push(*r);
+                    }
+                    xs.iter().for_each(|x| expr(x, out));
+                }
+                Stmt::Output(_, e) => expr(e, out),
+                Stmt::Comment(_) => {}
             }
         }
     }
