@@ -308,7 +308,10 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
             }
             Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
             Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, map),
-            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::Texel(_, a, b) => {
+            Expr::Binary(_, a, b)
+            | Expr::TableWeight(a, b)
+            | Expr::Texel(_, a, b)
+            | Expr::PatchSlot(a, b) => {
                 expr(a, map);
                 expr(b, map);
             }
@@ -351,6 +354,11 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
                 }
                 Stmt::Output(_, e) => expr(e, map),
                 Stmt::Comment(_) => {}
+                Stmt::StorePatchSlot(a, b, v) => {
+                    expr(a, map);
+                    expr(b, map);
+                    expr(v, map);
+                }
             }
         }
     }

@@ -529,6 +529,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         tess: TessStages {
             control: Function::new("", ""),
             evaluation: Function::new("", ""),
+            store_cp: Function::new("", ""),
+            load_cp: Function::new("", ""),
         },
     };
     // The hardware tessellation stages' bodies call the functions above.

@@ -269,6 +269,13 @@ pub struct TessStages {
     /// Evaluation stage, once per tessellator vertex: the sample, the stage
     /// outputs, and the capture of capture builds.
     pub evaluation: Function,
+    /// `store_patch_cp(j, p)`: control point `j` into the packed per-patch
+    /// storage, floats `3j .. 3j+2` of `vec4` slots (per-patch outputs are
+    /// counted in 4-component locations, so `KMAX` `vec3` would take `KMAX`
+    /// locations; ACC's 40 exceed lavapipe's 32).
+    pub store_cp: Function,
+    /// `load_patch_cp(j) -> vec3`: the inverse of [`TessStages::store_cp`].
+    pub load_cp: Function,
 }
 
 /// Index of a local in [`Function::locals`].
@@ -300,6 +307,10 @@ pub enum Expr {
     Texel(Resource, Box<Expr>, Box<Expr>),
     /// A tessellation-stage input ([`TessStages`] bodies only).
     Stage(StageIn),
+    /// `f32` component `comp` of `vec4` slot `slot` of the patch's packed
+    /// control points, the per-patch storage between the tessellation
+    /// stages ([`TessStages::load_cp`] only).
+    PatchSlot(Box<Expr>, Box<Expr>),
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -385,6 +396,9 @@ pub enum Stmt {
     Output(StageOut, Expr),
     /// A comment line (or lines) for the reader of the emitted code.
     Comment(String),
+    /// `slot`, `comp`, value: write [`Expr::PatchSlot`]
+    /// ([`TessStages::store_cp`] only).
+    StorePatchSlot(Expr, Expr, Expr),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -454,7 +468,7 @@ impl Function {
                     expr(y, out);
                 }
                 Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
-                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) => {
+                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::PatchSlot(a, b) => {
                     expr(a, out);
                     expr(b, out);
                 }
@@ -493,6 +507,11 @@ impl Function {
                     Stmt::Call(_, xs) => xs.iter().for_each(|x| expr(x, out)),
                     Stmt::Output(_, e) => expr(e, out),
                     Stmt::Comment(_) => {}
+                    Stmt::StorePatchSlot(a, b, v) => {
+                        expr(a, out);
+                        expr(b, out);
+                        expr(v, out);
+                    }
                 }
             }
         }
@@ -508,7 +527,9 @@ impl Function {
                 Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
                     expr(a)
                 }
-                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) => expr(a) || expr(b),
+                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) | Expr::PatchSlot(a, b) => {
+                    expr(a) || expr(b)
+                }
                 Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
                 _ => false,
             }
@@ -524,6 +545,7 @@ impl Function {
                 Stmt::Call(_, xs) => xs.iter().any(expr),
                 Stmt::Output(_, e) => expr(e),
                 Stmt::Comment(_) => false,
+                Stmt::StorePatchSlot(a, b, v) => expr(a) || expr(b) || expr(v),
             })
         }
         stmts(&self.body)

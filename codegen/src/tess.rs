@@ -61,7 +61,55 @@ pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
     TessStages {
         control: control(entries, curve_const),
         evaluation: evaluation(entries),
+        store_cp: store_cp(),
+        load_cp: load_cp(),
     }
+}
+
+/// The `vec4` slot and component of float `k` of the packed control points.
+fn slot(k: Expr) -> (Expr, Expr) {
+    (div(k.clone(), u(4)), bin(BinOp::Rem, k, u(4)))
+}
+
+fn store_cp() -> Function {
+    let mut f = Function::new(
+        "store_patch_cp",
+        "Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.",
+    );
+    let j = f.param("j", Ty::U32);
+    let p = f.param("p", Ty::Vec3);
+    let k = f.local("k", Ty::U32);
+    f.body.push(Stmt::Let(k, mul(u(3), l(j))));
+    for c in 0..3u8 {
+        let at = if c == 0 { l(k) } else { add(l(k), u(c as u32)) };
+        let (s, comp) = slot(at);
+        f.body.push(Stmt::StorePatchSlot(
+            s,
+            comp,
+            Expr::Call(Builtin::Component(c), vec![l(p)]),
+        ));
+    }
+    f
+}
+
+fn load_cp() -> Function {
+    let mut f = Function::new(
+        "load_patch_cp",
+        "Control point j from the packed per-patch storage (the inverse of store_patch_cp).",
+    );
+    let j = f.param("j", Ty::U32);
+    f.ret = Some(Ty::Vec3);
+    let k = f.local("k", Ty::U32);
+    f.body.push(Stmt::Let(k, mul(u(3), l(j))));
+    let xs = (0..3u32)
+        .map(|c| {
+            let at = if c == 0 { l(k) } else { add(l(k), u(c)) };
+            let (s, comp) = slot(at);
+            Expr::PatchSlot(Box::new(s), Box::new(comp))
+        })
+        .collect();
+    f.body.push(Stmt::Return(Expr::Call(Builtin::Vec3, xs)));
+    f
 }
 
 fn control(entries: &Entries, curve_const: usize) -> Function {

@@ -75,9 +75,10 @@ const uint KMAX = 40u;
 const uint KMAX4 = 30u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -170,10 +171,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -185,36 +186,36 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     vec3 position = along_v.point;
-    vec3 urow0_0 = ((load_tcs_cp((cp_base + 16u)) * lu) + (load_tcs_cp((cp_base + 18u)) * ru));
-    vec3 urow0_1 = ((load_tcs_cp((cp_base + 18u)) * lu) + ((-load_tcs_cp((cp_base + 26u))) * ru));
+    vec3 urow0_0 = ((load_patch_cp((cp_base + 16u)) * lu) + (load_patch_cp((cp_base + 18u)) * ru));
+    vec3 urow0_1 = ((load_patch_cp((cp_base + 18u)) * lu) + ((-load_patch_cp((cp_base + 26u))) * ru));
     vec3 urow0 = ((urow0_0 * lu) + (urow0_1 * ru));
-    vec3 urow1_0 = ((load_tcs_cp((cp_base + 17u)) * lu) + (load_tcs_cp((cp_base + 19u)) * ru));
-    vec3 urow1_1 = ((load_tcs_cp((cp_base + 19u)) * lu) + ((-load_tcs_cp((cp_base + 27u))) * ru));
+    vec3 urow1_0 = ((load_patch_cp((cp_base + 17u)) * lu) + (load_patch_cp((cp_base + 19u)) * ru));
+    vec3 urow1_1 = ((load_patch_cp((cp_base + 19u)) * lu) + ((-load_patch_cp((cp_base + 27u))) * ru));
     vec3 urow1 = ((urow1_0 * lu) + (urow1_1 * ru));
-    vec3 urow2_0 = ((load_tcs_cp((cp_base + 39u)) * lu) + ((-load_tcs_cp((cp_base + 31u))) * ru));
-    vec3 urow2_1 = (((-load_tcs_cp((cp_base + 31u))) * lu) + ((-load_tcs_cp((cp_base + 29u))) * ru));
+    vec3 urow2_0 = ((load_patch_cp((cp_base + 39u)) * lu) + ((-load_patch_cp((cp_base + 31u))) * ru));
+    vec3 urow2_1 = (((-load_patch_cp((cp_base + 31u))) * lu) + ((-load_patch_cp((cp_base + 29u))) * ru));
     vec3 urow2 = ((urow2_0 * lu) + (urow2_1 * ru));
-    vec3 urow3_0 = ((load_tcs_cp((cp_base + 38u)) * lu) + ((-load_tcs_cp((cp_base + 30u))) * ru));
-    vec3 urow3_1 = (((-load_tcs_cp((cp_base + 30u))) * lu) + ((-load_tcs_cp((cp_base + 28u))) * ru));
+    vec3 urow3_0 = ((load_patch_cp((cp_base + 38u)) * lu) + ((-load_patch_cp((cp_base + 30u))) * ru));
+    vec3 urow3_1 = (((-load_patch_cp((cp_base + 30u))) * lu) + ((-load_patch_cp((cp_base + 28u))) * ru));
     vec3 urow3 = ((urow3_0 * lu) + (urow3_1 * ru));
     Curve tangent_u = tessgen_cubic(urow0, urow1, urow2, urow3, lv, rv);
-    vec3 vcol0_0 = ((load_tcs_cp((cp_base + 20u)) * lv) + ((-load_tcs_cp((cp_base + 36u))) * rv));
-    vec3 vcol0_1 = (((-load_tcs_cp((cp_base + 36u))) * lv) + ((-load_tcs_cp((cp_base + 34u))) * rv));
+    vec3 vcol0_0 = ((load_patch_cp((cp_base + 20u)) * lv) + ((-load_patch_cp((cp_base + 36u))) * rv));
+    vec3 vcol0_1 = (((-load_patch_cp((cp_base + 36u))) * lv) + ((-load_patch_cp((cp_base + 34u))) * rv));
     vec3 vcol0 = ((vcol0_0 * lv) + (vcol0_1 * rv));
-    vec3 vcol1_0 = ((load_tcs_cp((cp_base + 21u)) * lv) + ((-load_tcs_cp((cp_base + 37u))) * rv));
-    vec3 vcol1_1 = (((-load_tcs_cp((cp_base + 37u))) * lv) + ((-load_tcs_cp((cp_base + 35u))) * rv));
+    vec3 vcol1_0 = ((load_patch_cp((cp_base + 21u)) * lv) + ((-load_patch_cp((cp_base + 37u))) * rv));
+    vec3 vcol1_1 = (((-load_patch_cp((cp_base + 37u))) * lv) + ((-load_patch_cp((cp_base + 35u))) * rv));
     vec3 vcol1 = ((vcol1_0 * lv) + (vcol1_1 * rv));
-    vec3 vcol2_0 = ((load_tcs_cp((cp_base + 23u)) * lv) + (load_tcs_cp((cp_base + 25u)) * rv));
-    vec3 vcol2_1 = ((load_tcs_cp((cp_base + 25u)) * lv) + ((-load_tcs_cp((cp_base + 33u))) * rv));
+    vec3 vcol2_0 = ((load_patch_cp((cp_base + 23u)) * lv) + (load_patch_cp((cp_base + 25u)) * rv));
+    vec3 vcol2_1 = ((load_patch_cp((cp_base + 25u)) * lv) + ((-load_patch_cp((cp_base + 33u))) * rv));
     vec3 vcol2 = ((vcol2_0 * lv) + (vcol2_1 * rv));
-    vec3 vcol3_0 = ((load_tcs_cp((cp_base + 22u)) * lv) + (load_tcs_cp((cp_base + 24u)) * rv));
-    vec3 vcol3_1 = ((load_tcs_cp((cp_base + 24u)) * lv) + ((-load_tcs_cp((cp_base + 32u))) * rv));
+    vec3 vcol3_0 = ((load_patch_cp((cp_base + 22u)) * lv) + (load_patch_cp((cp_base + 24u)) * rv));
+    vec3 vcol3_1 = ((load_patch_cp((cp_base + 24u)) * lv) + ((-load_patch_cp((cp_base + 32u))) * rv));
     vec3 vcol3 = ((vcol3_0 * lv) + (vcol3_1 * rv));
     Curve tangent_v = tessgen_cubic(vcol0, vcol1, vcol2, vcol3, lu, ru);
     return Sample(position, tessgen_normalize(cross(tangent_u.point, tangent_v.point)));
@@ -247,10 +248,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif

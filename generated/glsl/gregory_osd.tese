@@ -75,9 +75,10 @@ const uint KMAX = 20u;
 const uint KMAX4 = 15u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -170,10 +171,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -186,8 +187,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
     float nf = float(level);
-    vec3 fp0 = load_tcs_cp((cp_base + 3u));
-    vec3 fm0 = load_tcs_cp((cp_base + 4u));
+    vec3 fp0 = load_patch_cp((cp_base + 3u));
+    vec3 fm0 = load_patch_cp((cp_base + 4u));
     uint wp0 = iu;
     uint wm0 = iv;
     uint ws0 = (wp0 + wm0);
@@ -205,8 +206,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf0 = (float(wm0) / nf);
     vec3 dfm0 = (fp0 - fm0);
     float bw0 = (((3.0 * ru) * (lu * lu)) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp1 = load_tcs_cp((cp_base + 8u));
-    vec3 fm1 = load_tcs_cp((cp_base + 9u));
+    vec3 fp1 = load_patch_cp((cp_base + 8u));
+    vec3 fm1 = load_patch_cp((cp_base + 9u));
     uint wp1 = iv;
     uint wm1 = (level - iu);
     uint ws1 = (wp1 + wm1);
@@ -224,8 +225,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf1 = (float(wm1) / nf);
     vec3 dfm1 = (fp1 - fm1);
     float bw1 = (((3.0 * (ru * ru)) * lu) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp2 = load_tcs_cp((cp_base + 13u));
-    vec3 fm2 = load_tcs_cp((cp_base + 14u));
+    vec3 fp2 = load_patch_cp((cp_base + 13u));
+    vec3 fm2 = load_patch_cp((cp_base + 14u));
     uint wp2 = (level - iu);
     uint wm2 = (level - iv);
     uint ws2 = (wp2 + wm2);
@@ -243,8 +244,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf2 = (float(wm2) / nf);
     vec3 dfm2 = (fp2 - fm2);
     float bw2 = (((3.0 * (ru * ru)) * lu) * ((3.0 * (rv * rv)) * lv));
-    vec3 fp3 = load_tcs_cp((cp_base + 18u));
-    vec3 fm3 = load_tcs_cp((cp_base + 19u));
+    vec3 fp3 = load_patch_cp((cp_base + 18u));
+    vec3 fm3 = load_patch_cp((cp_base + 19u));
     uint wp3 = (level - iv);
     uint wm3 = iu;
     uint ws3 = (wp3 + wm3);
@@ -262,10 +263,10 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf3 = (float(wm3) / nf);
     vec3 dfm3 = (fp3 - fm3);
     float bw3 = (((3.0 * ru) * (lu * lu)) * ((3.0 * (rv * rv)) * lv));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 5u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), x0, x1, load_tcs_cp((cp_base + 6u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 16u)), x3, x2, load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 15u)), load_tcs_cp((cp_base + 17u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 10u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 5u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 2u)), x0, x1, load_patch_cp((cp_base + 6u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 16u)), x3, x2, load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 15u)), load_patch_cp((cp_base + 17u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 10u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     vec3 du = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
@@ -300,10 +301,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif

@@ -75,9 +75,10 @@ const uint KMAX = 24u;
 const uint KMAX4 = 18u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -170,10 +171,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -215,20 +216,20 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     uint ca = (cp_base + (piece * 6u));
     uint cb = (cp_base + (((piece + 1u) % 4u) * 6u));
     uint cprev = (cp_base + (((piece + 3u) % 4u) * 6u));
-    vec3 va = load_tcs_cp((ca + 0u));
-    vec3 t0a = load_tcs_cp((ca + 1u));
-    vec3 t1a = load_tcs_cp((ca + 2u));
-    vec3 b211a = load_tcs_cp((ca + 3u));
-    vec3 b121a = load_tcs_cp((ca + 4u));
-    vec3 b112a = load_tcs_cp((ca + 5u));
-    vec3 vb = load_tcs_cp((cb + 0u));
-    vec3 t0b = load_tcs_cp((cb + 1u));
-    vec3 t1b = load_tcs_cp((cb + 2u));
-    vec3 b211b = load_tcs_cp((cb + 3u));
-    vec3 b112b = load_tcs_cp((cb + 5u));
-    vec3 b121p = load_tcs_cp((cprev + 4u));
-    vec3 b112p = load_tcs_cp((cprev + 5u));
-    vec3 n004 = ((((load_tcs_cp((cp_base + 5u)) + load_tcs_cp((cp_base + 11u))) + load_tcs_cp((cp_base + 17u))) + load_tcs_cp((cp_base + 23u))) / 4.0);
+    vec3 va = load_patch_cp((ca + 0u));
+    vec3 t0a = load_patch_cp((ca + 1u));
+    vec3 t1a = load_patch_cp((ca + 2u));
+    vec3 b211a = load_patch_cp((ca + 3u));
+    vec3 b121a = load_patch_cp((ca + 4u));
+    vec3 b112a = load_patch_cp((ca + 5u));
+    vec3 vb = load_patch_cp((cb + 0u));
+    vec3 t0b = load_patch_cp((cb + 1u));
+    vec3 t1b = load_patch_cp((cb + 2u));
+    vec3 b211b = load_patch_cp((cb + 3u));
+    vec3 b112b = load_patch_cp((cb + 5u));
+    vec3 b121p = load_patch_cp((cprev + 4u));
+    vec3 b112p = load_patch_cp((cprev + 5u));
+    vec3 n004 = ((((load_patch_cp((cp_base + 5u)) + load_patch_cp((cp_base + 11u))) + load_patch_cp((cp_base + 17u))) + load_patch_cp((cp_base + 23u))) / 4.0);
     vec3 n013 = ((b112a + b112b) / 2.0);
     vec3 n022 = ((b121a + b211b) / 2.0);
     vec3 n031 = ((((vb * 2.0) + (t1b * 3.0)) + (t0b * 3.0)) / 8.0);
@@ -292,10 +293,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif

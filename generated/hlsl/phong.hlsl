@@ -628,6 +628,19 @@ struct HsConstants {
     // user input, so the hull passes the patch index on as a constant.
     uint patch_id : PATCH_ID;
 };
+// Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.
+void store_patch_cp(inout HsConstants c, uint j, float3 p) {
+    uint k = (3u * j);
+    c.cp[(k / 4u)][(k % 4u)] = p.x;
+    c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = p.y;
+    c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = p.z;
+}
+
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+float3 load_patch_cp(HsConstants c, uint j) {
+    uint k = (3u * j);
+    return float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+}
 
 // The patch stage, once per patch, and the tessellation factors.
 HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
@@ -662,10 +675,7 @@ HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
         c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }
     for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
-        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
-        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+        store_patch_cp(c, j, cp_out[j]);
     }
     c.patch_id = patch_id;
     return c;
@@ -707,8 +717,7 @@ struct DsOut {
 DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+        cp[j] = load_patch_cp(c, j);
     }
     DsOut o;
     // Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners

@@ -332,8 +332,8 @@ impl<'a> Writer<'a> {
             "tcs_cp",
             "KMAX",
             "KMAX4",
-            "load_tcs_cp",
-            "store_tcs_cp",
+            "load_patch_cp",
+            "store_patch_cp",
             "te_normal",
             "te_position",
             "Params",
@@ -672,22 +672,14 @@ impl<'a> Writer<'a> {
                 "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));
             self.line("");
+            // The Plan's packing of the control points into tcs_cp.
+            let tess = &self.entries.tess;
             if self.stage == Stage::Tesc {
-                self.line("void store_tcs_cp(uint i, vec3 v) {");
-                self.line("    uint c = (3u * i);");
-                self.line("    tcs_cp[(c / 4u)][(c % 4u)] = v.x;");
-                self.line("    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;");
-                self.line("    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;");
-                self.line("}");
+                self.plan_function(module, &tess.store_cp);
                 self.line("");
             }
-            if self.stage.tess() {
-                self.line("vec3 load_tcs_cp(uint i) {");
-                self.line("    uint c = (3u * i);");
-                self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
-                self.line("}");
-                self.line("");
-            }
+            self.plan_function(module, &tess.load_cp);
+            self.line("");
         }
         if self.stage == Stage::Tese {
             self.line("layout(location = 0) out vec3 te_normal;");
@@ -1030,7 +1022,7 @@ impl<'a> Writer<'a> {
                 Stmt::Store(r, i, v) => {
                     let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
                     let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("store_tcs_cp({i}, {v});")
+                        format!("{}({i}, {v});", ident(&self.entries.tess.store_cp.name))
                     } else if r.ty() == Ty::Vec3 {
                         format!("store_{}({i}, {v});", r.name())
                     } else {
@@ -1092,6 +1084,15 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::StorePatchSlot(a, b, v) => {
+                    let s = format!(
+                        "tcs_cp[{}][{}] = {};",
+                        self.expr(m, f, a),
+                        self.expr(m, f, b),
+                        self.expr(m, f, v)
+                    );
+                    self.line(&s);
+                }
                 Stmt::Output(o, e) => {
                     let v = self.expr(m, f, e);
                     let sides = self.entries.sides;
@@ -1191,7 +1192,7 @@ impl<'a> Writer<'a> {
             Expr::Fetch(r, i) => {
                 let idx = self.expr(m, f, i);
                 if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("load_tcs_cp({idx})")
+                    format!("{}({idx})", ident(&self.entries.tess.load_cp.name))
                 } else if r.ty() == Ty::Vec3 {
                     format!("load_{}({idx})", r.name())
                 } else {
@@ -1214,6 +1215,9 @@ impl<'a> Writer<'a> {
                 format!("gl_TessCoord.{}", axes[*k as usize])
             }
             Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
+            Expr::PatchSlot(a, b) => {
+                format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
+            }
             Expr::Stage(StageIn::Param(n)) => param(n),
             Expr::Texel(r, x, y) => format!(
                 "texelFetch({}, ivec2(int({}), int({})), 0).x",

@@ -220,6 +220,8 @@ impl<'a> Writer<'a> {
             "KMAX",
             "KMAX4",
             "CONTROL_POINTS",
+            "load_patch_cp",
+            "store_patch_cp",
             "cp",
             "cp_out",
             "VsOut",
@@ -664,6 +666,15 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::StorePatchSlot(a, b, v) => {
+                    let s = format!(
+                        "c.cp[{}][{}] = {};",
+                        self.expr(cx, a),
+                        self.expr(cx, b),
+                        self.expr(cx, v)
+                    );
+                    self.line(&s);
+                }
                 Stmt::Output(o, e) => {
                     let v = self.expr(cx, e);
                     let sides = self.entries.sides;
@@ -790,6 +801,7 @@ impl<'a> Writer<'a> {
             // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
             Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
             Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
+            Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
             Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
             Expr::Texel(r, x, y) => format!(
                 "{}.Load(int3(int({}), int({}), 0))",
@@ -986,7 +998,43 @@ impl<'a> Writer<'a> {
         self.stmts(&cx, &f.body);
     }
 
+    /// The Plan's packing function `f` ([`TessStages::store_cp`],
+    /// [`TessStages::load_cp`]) with the patch constants `c` as its first
+    /// parameter ([`Expr::PatchSlot`] is `c.cp[slot][comp]`).
+    fn patch_slot_function(&mut self, f: &Function, c: &str) {
+        self.doc(&f.doc);
+        let mut names = self.local_names(f);
+        for n in names.iter_mut() {
+            while n == "c" {
+                n.push('_');
+            }
+        }
+        let mut args = vec![c.to_string()];
+        for id in &f.params {
+            args.push(format!("{} {}", self.ty(&f.locals[id.0].ty), names[id.0]));
+        }
+        let ret = f
+            .ret
+            .as_ref()
+            .map(|t| self.ty(t))
+            .unwrap_or_else(|| "void".into());
+        self.line(&format!("{ret} {}({}) {{", ident(&f.name), args.join(", ")));
+        let cx = Ctx {
+            m: self.module,
+            f,
+            names,
+            cp: Cp::None,
+            patch: "patch_id",
+        };
+        self.indent += 1;
+        self.stmts(&cx, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
     fn tessellation_entries(&mut self) {
+        let store = ident(&self.entries.tess.store_cp.name);
+        let load = ident(&self.entries.tess.load_cp.name);
         let tri = self.entries.sides == 3;
         let (domain, edges, uv_ty) = if tri {
             ("tri", 3, "float3")
@@ -1061,8 +1109,18 @@ struct HsConstants {{
     // user input, so the hull passes the patch index on as a constant.
     uint patch_id : PATCH_ID;
 }};
-
-// The patch stage, once per patch, and the tessellation factors.
+"#
+        );
+        for l in text.lines() {
+            self.line(l);
+        }
+        let entries = self.entries;
+        self.patch_slot_function(&entries.tess.store_cp, "inout HsConstants c");
+        self.line("");
+        self.patch_slot_function(&entries.tess.load_cp, "HsConstants c");
+        self.line("");
+        let text = format!(
+            r#"// The patch stage, once per patch, and the tessellation factors.
 HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
     HsConstants c;
     float3 cp_out[KMAX];
@@ -1073,7 +1131,6 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
         for l in text.lines() {
             self.line(l);
         }
-        let entries = self.entries;
         self.indent += 1;
         self.tess_body(&entries.tess.control, "patch_id");
         self.indent -= 1;
@@ -1082,10 +1139,7 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
         c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }}
     for (uint j = 0u; j < KMAX; j += 1u) {{
-        uint k = (3u * j);
-        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
-        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
-        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+        {store}(c, j, cp_out[j]);
     }}
     c.patch_id = patch_id;
     return c;
@@ -1118,8 +1172,7 @@ struct DsOut {{
 DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {{
-        uint k = (3u * j);
-        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+        cp[j] = {load}(c, j);
     }}
     DsOut o;"#
         );

@@ -417,7 +417,10 @@ pub struct SchemeKernels {
                 }
                 // Only in the tessellation stage bodies (`Entries::tess`),
                 // which this target has no stages for and never prints.
-                Stmt::Call(..) | Stmt::Output(..) | Stmt::Comment(..) => {
+                Stmt::Call(..)
+                | Stmt::Output(..)
+                | Stmt::Comment(..)
+                | Stmt::StorePatchSlot(..) => {
                     unreachable!("tessellation-stage statement outside Entries::tess")
                 }
                 // No preprocessor: always the default branch.
@@ -528,7 +531,9 @@ pub struct SchemeKernels {
                 }
             }
             // Only in the tessellation stage bodies (`Entries::tess`).
-            Expr::Stage(_) => unreachable!("tessellation-stage input outside Entries::tess"),
+            Expr::Stage(_) | Expr::PatchSlot(..) => {
+                unreachable!("tessellation-stage input outside Entries::tess")
+            }
             Expr::Texel(r, x, y) => format!(
                 "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",
                 r.name(),

@@ -487,7 +487,10 @@ impl<'a> Writer<'a> {
                 }
                 // Only in the tessellation stage bodies (`Entries::tess`),
                 // which this target has no stages for and never prints.
-                Stmt::Call(..) | Stmt::Output(..) | Stmt::Comment(..) => {
+                Stmt::Call(..)
+                | Stmt::Output(..)
+                | Stmt::Comment(..)
+                | Stmt::StorePatchSlot(..) => {
                     unreachable!("tessellation-stage statement outside Entries::tess")
                 }
                 // No preprocessor: always the default branch.
@@ -601,7 +604,9 @@ impl<'a> Writer<'a> {
                 self.expr(m, f, written, row)
             ),
             // Only in the tessellation stage bodies (`Entries::tess`).
-            Expr::Stage(_) => unreachable!("tessellation-stage input outside Entries::tess"),
+            Expr::Stage(_) | Expr::PatchSlot(..) => {
+                unreachable!("tessellation-stage input outside Entries::tess")
+            }
             Expr::Texel(r, x, y) => format!(
                 "textureLoad({}, vec2<u32>({}, {}), 0u).x",
                 r.name(),
