@@ -532,9 +532,11 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             store_cp: Function::new("", ""),
             load_cp: Function::new("", ""),
         },
+        compute_vertex: Function::new("", ""),
     };
     // The hardware tessellation stages' bodies call the functions above.
     entries.tess = crate::tess::stages(&entries, curve_const);
+    entries.compute_vertex = crate::tess::compute_vertex(&entries);
     (m, entries)
 }
 

@@ -227,6 +227,9 @@ pub enum StageIn {
     /// A `u32` field of the `Params` uniform block, by name
     /// (`backend::abi::PARAMS`).
     Param(&'static str),
+    /// `u32` index of the compute invocation (`x` of the global invocation
+    /// id): the compute entry bodies ([`Entries::compute_vertex`]).
+    GlobalId,
 }
 
 /// An output of a hardware tessellation stage: [`Stmt::Output`] in the
@@ -636,6 +639,10 @@ pub struct Entries {
     pub adaptive: Option<AdaptiveEntries>,
     /// The bodies of the hardware tessellation stages (GLSL, HLSL).
     pub tess: TessStages,
+    /// The body of the compute entry `vertex_stage_main` (GLSL, HLSL):
+    /// the vertex stage of vertex `params.first + k` for invocation `k <
+    /// params.count`, skipping unused vertices (valence 0).
+    pub compute_vertex: Function,
 }
 
 /// The per-scheme functions of adaptive tessellation on the instanced path.

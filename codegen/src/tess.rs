@@ -66,6 +66,36 @@ pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
     }
 }
 
+/// The body of the compute entry `vertex_stage_main` (GLSL, HLSL; see
+/// [`Entries::compute_vertex`]).
+pub fn compute_vertex(entries: &Entries) -> Function {
+    let mut f = Function::new(
+        "compute_vertex",
+        "Vertex stage of vertices params.first .. params.first + params.count (valence 0 = unused vertex, skipped).",
+    );
+    let k = f.local("k", Ty::U32);
+    let vertex = f.local("vertex", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::If(
+            bin(BinOp::Lt, l(k), param("count")),
+            vec![
+                Stmt::Let(vertex, add(param("first"), l(k))),
+                Stmt::If(
+                    bin(BinOp::Ne, fetch(Resource::Valence, l(vertex)), u(0)),
+                    vec![Stmt::Call(
+                        FnRef::Local(entries.vertex_stage),
+                        vec![l(vertex), fetch(Resource::VertexOutOffsets, l(vertex))],
+                    )],
+                    vec![],
+                ),
+            ],
+            vec![],
+        ),
+    ];
+    f
+}
+
 /// The `vec4` slot and component of float `k` of the packed control points.
 fn slot(k: Expr) -> (Expr, Expr) {
     (div(k.clone(), u(4)), bin(BinOp::Rem, k, u(4)))

@@ -916,14 +916,12 @@ Sample eval_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_b
 [numthreads(64, 1, 1)]
 void vertex_stage_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
-    if (k >= params.count) {
-        return;
+    if ((k < params.count)) {
+        uint vertex = (params.first + k);
+        if ((valence[vertex] != 0u)) {
+            vertex_stage(vertex, vertex_out_offsets[vertex]);
+        }
     }
-    uint vertex_index = (params.first + k);
-    if (valence[vertex_index] == 0u) {
-        return;
-    }
-    vertex_stage(vertex_index, vertex_out_offsets[vertex_index]);
 }
 
 // Patch stage of patches params.first .. params.first + params.count, all of

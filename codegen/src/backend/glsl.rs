@@ -879,18 +879,9 @@ impl<'a> Writer<'a> {
                 self.stmts(self.module, body, &body.body);
             }
             Stage::CompVertex => {
-                self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("if (k >= {count}) {{"));
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!("uint vertex = ({first} + k);"));
-                self.line("if (valence[vertex] == 0u) {");
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!(
-                    "{}(vertex, vertex_out_offsets[vertex]);",
-                    self.fn_name(FnRef::Local(self.entries.vertex_stage))
-                ));
+                let body = &self.entries.compute_vertex;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
             Stage::CompPatch => {
                 self.line("uint k = gl_GlobalInvocationID.x;");
@@ -1215,6 +1206,7 @@ impl<'a> Writer<'a> {
                 format!("gl_TessCoord.{}", axes[*k as usize])
             }
             Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
+            Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
             Expr::PatchSlot(a, b) => {
                 format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
             }

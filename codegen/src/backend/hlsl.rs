@@ -801,6 +801,7 @@ impl<'a> Writer<'a> {
             // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
             Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
             Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
+            Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
             Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
             Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
             Expr::Texel(r, x, y) => format!(
@@ -854,9 +855,8 @@ impl<'a> Writer<'a> {
     fn compute_entries(&mut self) {
         let wg = abi::WORKGROUP_SIZE;
         let class = ident("class");
-        let vs = &self.module.functions[self.entries.vertex_stage];
         let eval = &self.module.functions[self.entries.eval];
-        let (vs_name, eval_name) = (ident(&vs.name), ident(&eval.name));
+        let eval_name = ident(&eval.name);
         let eval_ret = eval
             .ret
             .as_ref()
@@ -873,17 +873,8 @@ impl<'a> Writer<'a> {
             abi::entry::VERTEX_STAGE
         ));
         self.indent += 1;
-        self.line("uint k = global_id.x;");
-        self.line("if (k >= params.count) {");
-        self.line("    return;");
-        self.line("}");
-        self.line("uint vertex_index = (params.first + k);");
-        self.line("if (valence[vertex_index] == 0u) {");
-        self.line("    return;");
-        self.line("}");
-        self.line(&format!(
-            "{vs_name}(vertex_index, vertex_out_offsets[vertex_index]);"
-        ));
+        let entries = self.entries;
+        self.tess_body(&entries.compute_vertex, "patch_id");
         self.indent -= 1;
         self.line("}");
 
@@ -984,7 +975,7 @@ impl<'a> Writer<'a> {
         let mut names = self.local_names(f);
         // The entry point's own names.
         for n in names.iter_mut() {
-            while ["c", "o", "uv", "ctrl", "patch_id", "i", "j", "j4", "k"].contains(&n.as_str()) {
+            while ["c", "o", "uv", "ctrl", "patch_id", "i", "j", "j4"].contains(&n.as_str()) {
                 n.push('_');
             }
         }
