@@ -402,11 +402,14 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
             }
             Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
             Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, map),
-            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::Texel(_, a, b) => {
+            Expr::Binary(_, a, b)
+            | Expr::TableWeight(a, b)
+            | Expr::Texel(_, a, b)
+            | Expr::PatchSlot(a, b) => {
                 expr(a, map);
                 expr(b, map);
             }
-            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) => {}
+            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
         }
     }
     fn stmts(s: &mut [Stmt], map: &[(usize, usize)]) {
@@ -434,6 +437,21 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
                     expr(a, map);
                     expr(b, map);
                     stmts(body, map);
+                }
+                Stmt::Call(r, xs) => {
+                    if let FnRef::Local(j) = r {
+                        if let Some(&(_, k)) = map.iter().find(|(a, _)| a == j) {
+                            *r = FnRef::Local(k);
+                        }
+                    }
+                    xs.iter_mut().for_each(|x| expr(x, map));
+                }
+                Stmt::Output(_, e) => expr(e, map),
+                Stmt::Comment(_) => {}
+                Stmt::StorePatchSlot(a, b, v) => {
+                    expr(a, map);
+                    expr(b, map);
+                    expr(v, map);
                 }
             }
         }

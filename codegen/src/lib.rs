@@ -22,6 +22,7 @@ pub mod plan;
 pub mod scheme;
 pub mod sym;
 pub mod table;
+pub mod tess;
 
 pub use backend::Target;
 pub use builder::{builtin_schemes, BuildError, Builder, GeneratedFile, Output, SchemeSource};

@@ -523,21 +523,29 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         }
     });
     let eval_displaced = Some(eval_displaced.0);
-    (
-        m,
-        Entries {
-            vertex_stage,
-            patches,
-            eval,
-            eval_domain,
-            eval_displaced,
-            tess_displaced,
-            sides,
-            grid,
-            grid_index,
-            adaptive,
+    let mut entries = Entries {
+        vertex_stage,
+        patches,
+        eval,
+        eval_domain,
+        eval_displaced,
+        tess_displaced,
+        sides,
+        grid,
+        grid_index,
+        adaptive,
+        tess: TessStages {
+            control: Function::new("", ""),
+            evaluation: Function::new("", ""),
+            store_cp: Function::new("", ""),
+            load_cp: Function::new("", ""),
         },
-    )
+        compute_vertex: Function::new("", ""),
+    };
+    // The hardware tessellation stages' bodies call the functions above.
+    entries.tess = crate::tess::stages(&entries, curve_const);
+    entries.compute_vertex = crate::tess::compute_vertex(&entries);
+    (m, entries)
 }
 
 /// `grid_index(iu, iv, level)`, the inverse of `grid_iu`/`grid_iv` (see

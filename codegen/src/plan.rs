@@ -83,6 +83,14 @@ pub enum Resource {
     /// The scalar displacement map, a 2-D `R32Float` texture read with
     /// [`Expr::Texel`] (exact texel fetches, bilinear weights in the Plan).
     DisplaceMap,
+    /// `u32` face of the draw's patch `p`, by `params.first + p` (written by
+    /// the host: patches sorted by class). Read by the tessellation stage
+    /// bodies ([`TessStages`]).
+    PatchFaces,
+    /// `f32` captured samples, 6 per sample (position xyz, normal xyz),
+    /// written by the evaluation stage of capture builds
+    /// ([`Define::Capture`], [`TessStages`]).
+    Samples,
 }
 
 impl Resource {
@@ -100,7 +108,8 @@ impl Resource {
             | Resource::Adaptive
             | Resource::TexCoords
             | Resource::DisplaceInfo
-            | Resource::DisplaceMap => Ty::F32,
+            | Resource::DisplaceMap
+            | Resource::Samples => Ty::F32,
             _ => Ty::U32,
         }
     }
@@ -126,6 +135,8 @@ impl Resource {
             Resource::Owners => "owners",
             Resource::DisplaceInfo => "displace_info",
             Resource::DisplaceMap => "displace_map",
+            Resource::PatchFaces => "patch_faces",
+            Resource::Samples => "samples",
         }
     }
     pub const ALL: [Resource; 20] = [
@@ -190,6 +201,84 @@ pub enum Builtin {
     U32FromF32,
     /// `u32` 1 from `true`, 0 from `false` (branch-free selections).
     U32FromBool,
+    /// The larger of two f32 (inside tessellation factors; never NaN there:
+    /// the factor functions clamp).
+    Max,
+    /// Component 0, 1 or 2 (`.x`, `.y`, `.z`) of a `vec3`.
+    Component(u8),
+}
+
+/// A value only the hardware tessellation stages have: [`Expr::Stage`] in
+/// the bodies of [`TessStages`]. Each printer spells it in its API (which
+/// builtin, which axis); the Plan says what it means.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StageIn {
+    /// `f32` domain coordinate `k` of the tessellator's point. Quads: the
+    /// patch's `(u, v)` for `k` = 0, 1 (u along `v0 → v1`, v along
+    /// `v0 → v3`); the printer maps them to its API's axes (GLSL takes
+    /// `(gl_TessCoord.y, gl_TessCoord.x)`: the axis swap that keeps the
+    /// winding counter-clockwise under Vulkan's upper-left domain origin;
+    /// HLSL `SV_DomainLocation` `(x, y)`). Triangles: the barycentric weight
+    /// of corner `k` (`x, y, z` in both APIs).
+    TessCoord(u8),
+    /// `u32` index of the patch within the draw (`gl_PrimitiveID`; HLSL's
+    /// hull passes its `SV_PrimitiveID` on as a patch constant).
+    PatchInDraw,
+    /// A `u32` field of the `Params` uniform block, by name
+    /// (`backend::abi::PARAMS`).
+    Param(&'static str),
+    /// `u32` index of the compute invocation (`x` of the global invocation
+    /// id): the compute entry bodies ([`Entries::compute_vertex`]).
+    GlobalId,
+}
+
+/// An output of a hardware tessellation stage: [`Stmt::Output`] in the
+/// bodies of [`TessStages`]. Like [`StageIn`], the meaning is the Plan's,
+/// the slot or variable is the printer's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StageOut {
+    /// Control stage: `f32` tessellation factor of patch edge `k`
+    /// (`v_k → v_{k+1}`). The printer puts it in its API's outer slot
+    /// (`lower::hw_factor_edges`).
+    EdgeFactor(u8),
+    /// Control stage: `f32` inside factor subdividing along patch axis `d`
+    /// (quads: 0 = u, 1 = v; triangles: the one inside factor, `d` = 0).
+    InsideFactor(u8),
+    /// Evaluation stage: the `vec3` world position; the printer also writes
+    /// the clip position `view_proj · (p, 1)` (the matrix is not a Plan type).
+    Position,
+    /// Evaluation stage: the `vec3` normal.
+    Normal,
+    /// Evaluation stage, capture builds that record triangles: the `vec3`
+    /// domain point of the vertex.
+    Domain,
+    /// Evaluation stage, capture builds that record triangles: the `u32`
+    /// patch (index into `patch_faces`) of the vertex.
+    Patch,
+}
+
+/// The bodies of the hardware tessellation stages (GLSL `.tesc`/`.tese`
+/// `main`, HLSL `hs_patch_constants`/`ds_main`), built once in the Plan so
+/// the GLSL and HLSL printers print the same statements and only add their
+/// API's declarations around them (stage I/O, attributes, and the packing of
+/// the per-patch control points into `vec4` slots). Targets without
+/// tessellation stages (WGSL, Rust) never print them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TessStages {
+    /// Control stage, once per patch: the class's patch function into the
+    /// patch's control points ([`Resource::ControlPoints`], cp_base 0), then
+    /// the tessellation factors.
+    pub control: Function,
+    /// Evaluation stage, once per tessellator vertex: the sample, the stage
+    /// outputs, and the capture of capture builds.
+    pub evaluation: Function,
+    /// `store_patch_cp(j, p)`: control point `j` into the packed per-patch
+    /// storage, floats `3j .. 3j+2` of `vec4` slots (per-patch outputs are
+    /// counted in 4-component locations, so `KMAX` `vec3` would take `KMAX`
+    /// locations; ACC's 40 exceed lavapipe's 32).
+    pub store_cp: Function,
+    /// `load_patch_cp(j) -> vec3`: the inverse of [`TessStages::store_cp`].
+    pub load_cp: Function,
 }
 
 /// Index of a local in [`Function::locals`].
@@ -219,6 +308,12 @@ pub enum Expr {
     /// Texel `(x, y)` (u32 column, row) of a 2-D texture resource, fetched
     /// exactly (no filtering): [`Resource::DisplaceMap`].
     Texel(Resource, Box<Expr>, Box<Expr>),
+    /// A tessellation-stage input ([`TessStages`] bodies only).
+    Stage(StageIn),
+    /// `f32` component `comp` of `vec4` slot `slot` of the patch's packed
+    /// control points, the per-patch storage between the tessellation
+    /// stages ([`TessStages::load_cp`] only).
+    PatchSlot(Box<Expr>, Box<Expr>),
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -298,6 +393,15 @@ pub enum Stmt {
     /// `#ifdef define` first branch `#else` second branch `#endif` in GLSL
     /// and HLSL; the second (default) branch alone elsewhere.
     IfDef(Define, Vec<Stmt>, Vec<Stmt>),
+    /// Call of a function without a result (or whose result is unused).
+    Call(FnRef, Vec<Expr>),
+    /// A tessellation-stage output ([`TessStages`] bodies only).
+    Output(StageOut, Expr),
+    /// A comment line (or lines) for the reader of the emitted code.
+    Comment(String),
+    /// `slot`, `comp`, value: write [`Expr::PatchSlot`]
+    /// ([`TessStages::store_cp`] only).
+    StorePatchSlot(Expr, Expr, Expr),
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -367,14 +471,14 @@ impl Function {
                     expr(y, out);
                 }
                 Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
-                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) => {
+                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::PatchSlot(a, b) => {
                     expr(a, out);
                     expr(b, out);
                 }
                 Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
                     xs.iter().for_each(|x| expr(x, out))
                 }
-                Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) => {}
+                Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
             }
         }
         fn stmts(s: &[Stmt], out: &mut Vec<(Resource, bool)>) {
@@ -403,6 +507,14 @@ impl Function {
                         expr(b, out);
                         stmts(body, out);
                     }
+                    Stmt::Call(_, xs) => xs.iter().for_each(|x| expr(x, out)),
+                    Stmt::Output(_, e) => expr(e, out),
+                    Stmt::Comment(_) => {}
+                    Stmt::StorePatchSlot(a, b, v) => {
+                        expr(a, out);
+                        expr(b, out);
+                        expr(v, out);
+                    }
                 }
             }
         }
@@ -418,7 +530,9 @@ impl Function {
                 Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
                     expr(a)
                 }
-                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) => expr(a) || expr(b),
+                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) | Expr::PatchSlot(a, b) => {
+                    expr(a) || expr(b)
+                }
                 Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
                 _ => false,
             }
@@ -431,6 +545,10 @@ impl Function {
                 Stmt::If(c, a, b) => expr(c) || stmts(a) || stmts(b),
                 Stmt::IfDef(_, a, b) => stmts(a) || stmts(b),
                 Stmt::For(_, a, b, body) => expr(a) || expr(b) || stmts(body),
+                Stmt::Call(_, xs) => xs.iter().any(expr),
+                Stmt::Output(_, e) => expr(e),
+                Stmt::Comment(_) => false,
+                Stmt::StorePatchSlot(a, b, v) => expr(a) || expr(b) || expr(v),
             })
         }
         stmts(&self.body)
@@ -520,6 +638,12 @@ pub struct Entries {
     /// triangle schemes; `None` only for a module without one): see
     /// `crate::adaptive`.
     pub adaptive: Option<AdaptiveEntries>,
+    /// The bodies of the hardware tessellation stages (GLSL, HLSL).
+    pub tess: TessStages,
+    /// The body of the compute entry `vertex_stage_main` (GLSL, HLSL):
+    /// the vertex stage of vertex `params.first + k` for invocation `k <
+    /// params.count`, skipping unused vertices (valence 0).
+    pub compute_vertex: Function,
 }
 
 /// The per-scheme functions of adaptive tessellation on the instanced path.

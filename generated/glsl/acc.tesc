@@ -89,16 +89,18 @@ const uint KMAX = 40u;
 const uint KMAX4 = 30u;
 layout(location = 0) patch out vec4 tcs_cp[KMAX4];
 
-void store_tcs_cp(uint i, vec3 v) {
-    uint c = (3u * i);
-    tcs_cp[(c / 4u)][(c % 4u)] = v.x;
-    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;
-    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
+// Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.
+void store_patch_cp(uint j, vec3 p) {
+    uint k = (3u * j);
+    tcs_cp[(k / 4u)][(k % 4u)] = p.x;
+    tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = p.y;
+    tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = p.z;
 }
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 vec3 load_vertex_out(uint i) {
@@ -182,22 +184,22 @@ void ordinary_patch(uint face, uint cp_base) {
     vec3 f_1_0 = load_vertex_out(((out_base_1 + ((0u * n_1) + 0u)) + sector_1));
     vec3 f_2_0 = load_vertex_out(((out_base_2 + ((0u * n_2) + 0u)) + sector_2));
     vec3 f_3_0 = load_vertex_out(((out_base_3 + ((0u * n_3) + 0u)) + sector_3));
-    store_tcs_cp((cp_base + 0u), v_0);
-    store_tcs_cp((cp_base + 12u), v_1);
-    store_tcs_cp((cp_base + 15u), v_2);
-    store_tcs_cp((cp_base + 3u), v_3);
-    store_tcs_cp((cp_base + 4u), e_0_0);
-    store_tcs_cp((cp_base + 13u), e_1_0);
-    store_tcs_cp((cp_base + 11u), e_2_0);
-    store_tcs_cp((cp_base + 2u), e_3_0);
-    store_tcs_cp((cp_base + 1u), e_0_1);
-    store_tcs_cp((cp_base + 8u), e_1_1);
-    store_tcs_cp((cp_base + 14u), e_2_1);
-    store_tcs_cp((cp_base + 7u), e_3_1);
-    store_tcs_cp((cp_base + 5u), f_0_0);
-    store_tcs_cp((cp_base + 9u), f_1_0);
-    store_tcs_cp((cp_base + 10u), f_2_0);
-    store_tcs_cp((cp_base + 6u), f_3_0);
+    store_patch_cp((cp_base + 0u), v_0);
+    store_patch_cp((cp_base + 12u), v_1);
+    store_patch_cp((cp_base + 15u), v_2);
+    store_patch_cp((cp_base + 3u), v_3);
+    store_patch_cp((cp_base + 4u), e_0_0);
+    store_patch_cp((cp_base + 13u), e_1_0);
+    store_patch_cp((cp_base + 11u), e_2_0);
+    store_patch_cp((cp_base + 2u), e_3_0);
+    store_patch_cp((cp_base + 1u), e_0_1);
+    store_patch_cp((cp_base + 8u), e_1_1);
+    store_patch_cp((cp_base + 14u), e_2_1);
+    store_patch_cp((cp_base + 7u), e_3_1);
+    store_patch_cp((cp_base + 5u), f_0_0);
+    store_patch_cp((cp_base + 9u), f_1_0);
+    store_patch_cp((cp_base + 10u), f_2_0);
+    store_patch_cp((cp_base + 6u), f_3_0);
 }
 
 // Patch stage of `acc` for extraordinary quads: the 40 control points of a acc patch from the corners' vertex-stage outputs, written from `cp_base`.
@@ -246,50 +248,50 @@ void extraordinary_patch(uint face, uint cp_base) {
     float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_1) - 3u))), 0).x;
     float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_2) - 3u))), 0).x;
     float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_3) - 3u))), 0).x;
-    store_tcs_cp((cp_base + 0u), v_0);
-    store_tcs_cp((cp_base + 12u), v_1);
-    store_tcs_cp((cp_base + 15u), v_2);
-    store_tcs_cp((cp_base + 3u), v_3);
-    store_tcs_cp((cp_base + 4u), e_0_0);
-    store_tcs_cp((cp_base + 13u), e_1_0);
-    store_tcs_cp((cp_base + 11u), e_2_0);
-    store_tcs_cp((cp_base + 2u), e_3_0);
-    store_tcs_cp((cp_base + 1u), e_0_1);
-    store_tcs_cp((cp_base + 8u), e_1_1);
-    store_tcs_cp((cp_base + 14u), e_2_1);
-    store_tcs_cp((cp_base + 7u), e_3_1);
-    store_tcs_cp((cp_base + 5u), f_0_0);
-    store_tcs_cp((cp_base + 9u), f_1_0);
-    store_tcs_cp((cp_base + 10u), f_2_0);
-    store_tcs_cp((cp_base + 6u), f_3_0);
+    store_patch_cp((cp_base + 0u), v_0);
+    store_patch_cp((cp_base + 12u), v_1);
+    store_patch_cp((cp_base + 15u), v_2);
+    store_patch_cp((cp_base + 3u), v_3);
+    store_patch_cp((cp_base + 4u), e_0_0);
+    store_patch_cp((cp_base + 13u), e_1_0);
+    store_patch_cp((cp_base + 11u), e_2_0);
+    store_patch_cp((cp_base + 2u), e_3_0);
+    store_patch_cp((cp_base + 1u), e_0_1);
+    store_patch_cp((cp_base + 8u), e_1_1);
+    store_patch_cp((cp_base + 14u), e_2_1);
+    store_patch_cp((cp_base + 7u), e_3_1);
+    store_patch_cp((cp_base + 5u), f_0_0);
+    store_patch_cp((cp_base + 9u), f_1_0);
+    store_patch_cp((cp_base + 10u), f_2_0);
+    store_patch_cp((cp_base + 6u), f_3_0);
     vec3 mid_0 = (3.0 * (e_1_1 - e_0_0));
     vec3 mid_1 = (3.0 * (e_2_1 - e_1_0));
     vec3 mid_2 = (3.0 * (e_3_1 - e_2_0));
     vec3 mid_3 = (3.0 * (e_0_1 - e_3_0));
-    store_tcs_cp((cp_base + 16u), t_0_0);
-    store_tcs_cp((cp_base + 22u), t_1_0);
-    store_tcs_cp((cp_base + 28u), t_2_0);
-    store_tcs_cp((cp_base + 34u), t_3_0);
-    store_tcs_cp((cp_base + 20u), t_0_1);
-    store_tcs_cp((cp_base + 26u), t_1_1);
-    store_tcs_cp((cp_base + 32u), t_2_1);
-    store_tcs_cp((cp_base + 38u), t_3_1);
-    store_tcs_cp((cp_base + 18u), mid_0);
-    store_tcs_cp((cp_base + 24u), mid_1);
-    store_tcs_cp((cp_base + 30u), mid_2);
-    store_tcs_cp((cp_base + 36u), mid_3);
-    store_tcs_cp((cp_base + 19u), (3.0 * (f_1_0 - f_0_0)));
-    store_tcs_cp((cp_base + 25u), (3.0 * (f_2_0 - f_1_0)));
-    store_tcs_cp((cp_base + 31u), (3.0 * (f_3_0 - f_2_0)));
-    store_tcs_cp((cp_base + 37u), (3.0 * (f_0_0 - f_3_0)));
-    store_tcs_cp((cp_base + 21u), ((3.0 * (f_0_0 - e_0_0)) + ((((2.0 * c_0) * mid_0) - (c_1 * t_0_0)) / 3.0)));
-    store_tcs_cp((cp_base + 27u), ((3.0 * (f_1_0 - e_1_0)) + ((((2.0 * c_1) * mid_1) - (c_2 * t_1_0)) / 3.0)));
-    store_tcs_cp((cp_base + 33u), ((3.0 * (f_2_0 - e_2_0)) + ((((2.0 * c_2) * mid_2) - (c_3 * t_2_0)) / 3.0)));
-    store_tcs_cp((cp_base + 39u), ((3.0 * (f_3_0 - e_3_0)) + ((((2.0 * c_3) * mid_3) - (c_0 * t_3_0)) / 3.0)));
-    store_tcs_cp((cp_base + 17u), ((3.0 * (f_0_0 - e_0_1)) - ((((2.0 * c_0) * mid_3) + (c_3 * t_0_1)) / 3.0)));
-    store_tcs_cp((cp_base + 23u), ((3.0 * (f_1_0 - e_1_1)) - ((((2.0 * c_1) * mid_0) + (c_0 * t_1_1)) / 3.0)));
-    store_tcs_cp((cp_base + 29u), ((3.0 * (f_2_0 - e_2_1)) - ((((2.0 * c_2) * mid_1) + (c_1 * t_2_1)) / 3.0)));
-    store_tcs_cp((cp_base + 35u), ((3.0 * (f_3_0 - e_3_1)) - ((((2.0 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0)));
+    store_patch_cp((cp_base + 16u), t_0_0);
+    store_patch_cp((cp_base + 22u), t_1_0);
+    store_patch_cp((cp_base + 28u), t_2_0);
+    store_patch_cp((cp_base + 34u), t_3_0);
+    store_patch_cp((cp_base + 20u), t_0_1);
+    store_patch_cp((cp_base + 26u), t_1_1);
+    store_patch_cp((cp_base + 32u), t_2_1);
+    store_patch_cp((cp_base + 38u), t_3_1);
+    store_patch_cp((cp_base + 18u), mid_0);
+    store_patch_cp((cp_base + 24u), mid_1);
+    store_patch_cp((cp_base + 30u), mid_2);
+    store_patch_cp((cp_base + 36u), mid_3);
+    store_patch_cp((cp_base + 19u), (3.0 * (f_1_0 - f_0_0)));
+    store_patch_cp((cp_base + 25u), (3.0 * (f_2_0 - f_1_0)));
+    store_patch_cp((cp_base + 31u), (3.0 * (f_3_0 - f_2_0)));
+    store_patch_cp((cp_base + 37u), (3.0 * (f_0_0 - f_3_0)));
+    store_patch_cp((cp_base + 21u), ((3.0 * (f_0_0 - e_0_0)) + ((((2.0 * c_0) * mid_0) - (c_1 * t_0_0)) / 3.0)));
+    store_patch_cp((cp_base + 27u), ((3.0 * (f_1_0 - e_1_0)) + ((((2.0 * c_1) * mid_1) - (c_2 * t_1_0)) / 3.0)));
+    store_patch_cp((cp_base + 33u), ((3.0 * (f_2_0 - e_2_0)) + ((((2.0 * c_2) * mid_2) - (c_3 * t_2_0)) / 3.0)));
+    store_patch_cp((cp_base + 39u), ((3.0 * (f_3_0 - e_3_0)) + ((((2.0 * c_3) * mid_3) - (c_0 * t_3_0)) / 3.0)));
+    store_patch_cp((cp_base + 17u), ((3.0 * (f_0_0 - e_0_1)) - ((((2.0 * c_0) * mid_3) + (c_3 * t_0_1)) / 3.0)));
+    store_patch_cp((cp_base + 23u), ((3.0 * (f_1_0 - e_1_1)) - ((((2.0 * c_1) * mid_0) + (c_0 * t_1_1)) / 3.0)));
+    store_patch_cp((cp_base + 29u), ((3.0 * (f_2_0 - e_2_1)) - ((((2.0 * c_2) * mid_1) + (c_1 * t_2_1)) / 3.0)));
+    store_patch_cp((cp_base + 35u), ((3.0 * (f_3_0 - e_3_1)) - ((((2.0 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0)));
 }
 
 void main() {
@@ -299,32 +301,29 @@ void main() {
     } else {
         extraordinary_patch(face, 0u);
     }
-    // One factor per edge that depends only on the edge (here the uniform level),
-    // so both patches of an edge get the same parameters (watertight.md Rule 3).
-    // Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our
-    // edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id,
-    // all data of the edge alone. Inner levels: the larger of the two edges
-    // running in that direction (inner[0] subdivides along x = v: edges 1, 3).
-    float f[4];
-    for (uint k = 0u; k < 4u; k = (k + 1u)) {
-        uint curve = ((params.class_ * 16u) + (k * 4u));
-        f[k] = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 4u) + k)], corner_vertex[((face * 4u) + ((k + 1u) % 4u))], face_edges[((face * 4u) + k)]);
-    }
-    gl_TessLevelOuter[0] = f[0];
-    gl_TessLevelOuter[1] = f[3];
-    gl_TessLevelOuter[2] = f[2];
-    gl_TessLevelOuter[3] = f[1];
-    gl_TessLevelInner[0] = max(f[1], f[3]);
-    gl_TessLevelInner[1] = max(f[0], f[2]);
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factors: the larger of the two edges running in that direction.
+    float f_0 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 16u) + 0u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 16u) + 0u) + 3u)]), corner_vertex[((face * 4u) + 0u)], corner_vertex[((face * 4u) + 1u)], face_edges[((face * 4u) + 0u)]);
+    float f_1 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 16u) + 4u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 16u) + 4u) + 3u)]), corner_vertex[((face * 4u) + 1u)], corner_vertex[((face * 4u) + 2u)], face_edges[((face * 4u) + 1u)]);
+    float f_2 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 16u) + 8u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 16u) + 8u) + 3u)]), corner_vertex[((face * 4u) + 2u)], corner_vertex[((face * 4u) + 3u)], face_edges[((face * 4u) + 2u)]);
+    float f_3 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 16u) + 12u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 16u) + 12u) + 3u)]), corner_vertex[((face * 4u) + 3u)], corner_vertex[((face * 4u) + 0u)], face_edges[((face * 4u) + 3u)]);
+    gl_TessLevelOuter[0] = f_0;
+    gl_TessLevelOuter[3] = f_1;
+    gl_TessLevelOuter[2] = f_2;
+    gl_TessLevelOuter[1] = f_3;
+    gl_TessLevelInner[1] = max(f_0, f_2);
+    gl_TessLevelInner[0] = max(f_1, f_3);
 #else
     gl_TessLevelOuter[0] = float(params.level);
-    gl_TessLevelOuter[1] = float(params.level);
-    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelOuter[3] = float(params.level);
-    gl_TessLevelInner[0] = float(params.level);
+    gl_TessLevelOuter[2] = float(params.level);
+    gl_TessLevelOuter[1] = float(params.level);
     gl_TessLevelInner[1] = float(params.level);
+    gl_TessLevelInner[0] = float(params.level);
 #endif
 }

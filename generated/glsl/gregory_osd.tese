@@ -75,9 +75,10 @@ const uint KMAX = 20u;
 const uint KMAX4 = 15u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -170,10 +171,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -186,8 +187,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
     float nf = float(level);
-    vec3 fp0 = load_tcs_cp((cp_base + 3u));
-    vec3 fm0 = load_tcs_cp((cp_base + 4u));
+    vec3 fp0 = load_patch_cp((cp_base + 3u));
+    vec3 fm0 = load_patch_cp((cp_base + 4u));
     uint wp0 = iu;
     uint wm0 = iv;
     uint ws0 = (wp0 + wm0);
@@ -205,8 +206,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf0 = (float(wm0) / nf);
     vec3 dfm0 = (fp0 - fm0);
     float bw0 = (((3.0 * ru) * (lu * lu)) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp1 = load_tcs_cp((cp_base + 8u));
-    vec3 fm1 = load_tcs_cp((cp_base + 9u));
+    vec3 fp1 = load_patch_cp((cp_base + 8u));
+    vec3 fm1 = load_patch_cp((cp_base + 9u));
     uint wp1 = iv;
     uint wm1 = (level - iu);
     uint ws1 = (wp1 + wm1);
@@ -224,8 +225,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf1 = (float(wm1) / nf);
     vec3 dfm1 = (fp1 - fm1);
     float bw1 = (((3.0 * (ru * ru)) * lu) * ((3.0 * rv) * (lv * lv)));
-    vec3 fp2 = load_tcs_cp((cp_base + 13u));
-    vec3 fm2 = load_tcs_cp((cp_base + 14u));
+    vec3 fp2 = load_patch_cp((cp_base + 13u));
+    vec3 fm2 = load_patch_cp((cp_base + 14u));
     uint wp2 = (level - iu);
     uint wm2 = (level - iv);
     uint ws2 = (wp2 + wm2);
@@ -243,8 +244,8 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf2 = (float(wm2) / nf);
     vec3 dfm2 = (fp2 - fm2);
     float bw2 = (((3.0 * (ru * ru)) * lu) * ((3.0 * (rv * rv)) * lv));
-    vec3 fp3 = load_tcs_cp((cp_base + 18u));
-    vec3 fm3 = load_tcs_cp((cp_base + 19u));
+    vec3 fp3 = load_patch_cp((cp_base + 18u));
+    vec3 fm3 = load_patch_cp((cp_base + 19u));
     uint wp3 = (level - iv);
     uint wm3 = iu;
     uint ws3 = (wp3 + wm3);
@@ -262,10 +263,10 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float wmf3 = (float(wm3) / nf);
     vec3 dfm3 = (fp3 - fm3);
     float bw3 = (((3.0 * ru) * (lu * lu)) * ((3.0 * (rv * rv)) * lv));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 5u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), x0, x1, load_tcs_cp((cp_base + 6u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 16u)), x3, x2, load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 15u)), load_tcs_cp((cp_base + 17u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 10u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 5u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 2u)), x0, x1, load_patch_cp((cp_base + 6u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 16u)), x3, x2, load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 15u)), load_patch_cp((cp_base + 17u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 10u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     vec3 du = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
@@ -300,10 +301,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif
@@ -605,18 +606,17 @@ Sample eval_displaced_tess(uint face, uint class_, uint cp_base, uint iu, uint i
 
 #endif
 void main() {
-    // The grid point as integers: equal_spacing at an integer level puts vertex i
-    // at i/level, so rounding recovers i exactly. eval and the shared edge evaluator
-    // form every weight from these integers (watertight.md Rules 2 and 3), so the
-    // two patches of an edge compute the same bits. (u, v) = (y, x): see the
-    // layout declaration above.
+    // The grid point as integers: an integer level puts vertex i at i/level (fixed point),
+    // so rounding recovers i exactly. eval and the shared edge evaluator form every weight
+    // from these integers (watertight.md Rules 2 and 3), so the two patches of an edge
+    // compute the same bits.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
-    // fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are
-    // then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate
-    // at the hardware coordinate itself, and on an edge the neighbour, whose
-    // tessellator mirrors the edge's points (1 − t is exact in fixed point), passes
-    // the shared edge evaluator exactly the swapped pair.
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16 fixed-point
+    // grid, iu = u·2^16 (exact in f32). Both weights of every lerp are then formed from
+    // integers (m/2^16, (2^16 − m)/2^16): interior points evaluate at the hardware
+    // coordinate itself, and on an edge the neighbour, whose tessellator mirrors the
+    // edge's points (1 − t is exact in fixed point), passes the shared edge evaluator
+    // exactly the swapped pair.
     uint level = 65536u;
 #else
     uint level = params.level;
@@ -624,29 +624,33 @@ void main() {
     uint iu = uint(round((gl_TessCoord.y * float(level))));
     uint iv = uint(round((gl_TessCoord.x * float(level))));
 #ifdef TESSGEN_DISPLACE
-    // Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal
-    // on the boundary from the global control-point buffer.
+    // Displaced: this patch's sample from its own control points (cp_base 0), the
+    // owner's normal on the boundary from the global control-point buffer, filled
+    // by patch_main before the draw (watertight.md Rules 4 and 5).
     uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
     Sample result = eval_displaced_tess(face, params.class_, 0u, iu, iv, level);
 #else
     Sample result = eval(params.class_, 0u, iu, iv, level);
 #endif
-    te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
-#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
-    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
-    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
-#elif defined(TESSGEN_CAPTURE)
-    // Adaptive capture: the domain point in (u, v) and the patch of every vertex.
+    te_normal = result.normal;
+#ifdef TESSGEN_CAPTURE
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,
+    // for a harness that records the output triangles.
     te_domain = vec3(gl_TessCoord.y, gl_TessCoord.x, 0.0);
     te_patch = (params.first + uint(gl_PrimitiveID));
+#else
+    // Capture: the sample at eval_main's layout, patch p of the draw being patch
+    // out_base + p, sample grid_index(iu, iv), 6 floats (position, normal).
+    uint at = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
+    samples[at] = result.position.x;
+    samples[(at + 1u)] = result.position.y;
+    samples[(at + 2u)] = result.position.z;
+    samples[(at + 3u)] = result.normal.x;
+    samples[(at + 4u)] = result.normal.y;
+    samples[(at + 5u)] = result.normal.z;
+#endif
 #endif
 }

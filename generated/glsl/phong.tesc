@@ -80,16 +80,18 @@ const uint KMAX = 16u;
 const uint KMAX4 = 12u;
 layout(location = 0) patch out vec4 tcs_cp[KMAX4];
 
-void store_tcs_cp(uint i, vec3 v) {
-    uint c = (3u * i);
-    tcs_cp[(c / 4u)][(c % 4u)] = v.x;
-    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;
-    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;
+// Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.
+void store_patch_cp(uint j, vec3 p) {
+    uint k = (3u * j);
+    tcs_cp[(k / 4u)][(k % 4u)] = p.x;
+    tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = p.y;
+    tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = p.z;
 }
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 vec3 load_positions(uint i) {
@@ -157,48 +159,45 @@ void triangle_patch(uint face, uint cp_base) {
     vec3 mid_0 = (((pos_0 + pos_1) / 8.0) + (0.375 * ((pos_1 - (dot((pos_1 - pos_0), nrm_0) * nrm_0)) + (pos_0 - (dot((pos_0 - pos_1), nrm_1) * nrm_1)))));
     vec3 mid_1 = (((pos_1 + pos_2) / 8.0) + (0.375 * ((pos_2 - (dot((pos_2 - pos_1), nrm_1) * nrm_1)) + (pos_1 - (dot((pos_1 - pos_2), nrm_2) * nrm_2)))));
     vec3 mid_2 = (((pos_2 + pos_0) / 8.0) + (0.375 * ((pos_0 - (dot((pos_0 - pos_2), nrm_2) * nrm_2)) + (pos_2 - (dot((pos_2 - pos_0), nrm_0) * nrm_0)))));
-    store_tcs_cp((cp_base + 0u), pos_0);
-    store_tcs_cp((cp_base + 5u), pos_1);
-    store_tcs_cp((cp_base + 10u), pos_2);
-    store_tcs_cp((cp_base + 1u), ((pos_0 + (2.0 * mid_0)) / 3.0));
-    store_tcs_cp((cp_base + 6u), ((pos_1 + (2.0 * mid_1)) / 3.0));
-    store_tcs_cp((cp_base + 11u), ((pos_2 + (2.0 * mid_2)) / 3.0));
-    store_tcs_cp((cp_base + 2u), ((pos_0 + (2.0 * mid_2)) / 3.0));
-    store_tcs_cp((cp_base + 7u), ((pos_1 + (2.0 * mid_0)) / 3.0));
-    store_tcs_cp((cp_base + 12u), ((pos_2 + (2.0 * mid_1)) / 3.0));
-    store_tcs_cp((cp_base + 15u), (((mid_0 + mid_1) + mid_2) / 3.0));
-    store_tcs_cp((cp_base + 3u), nrm_0);
-    store_tcs_cp((cp_base + 8u), nrm_1);
-    store_tcs_cp((cp_base + 13u), nrm_2);
-    store_tcs_cp((cp_base + 4u), (nrm_0 + nrm_1));
-    store_tcs_cp((cp_base + 9u), (nrm_1 + nrm_2));
-    store_tcs_cp((cp_base + 14u), (nrm_2 + nrm_0));
+    store_patch_cp((cp_base + 0u), pos_0);
+    store_patch_cp((cp_base + 5u), pos_1);
+    store_patch_cp((cp_base + 10u), pos_2);
+    store_patch_cp((cp_base + 1u), ((pos_0 + (2.0 * mid_0)) / 3.0));
+    store_patch_cp((cp_base + 6u), ((pos_1 + (2.0 * mid_1)) / 3.0));
+    store_patch_cp((cp_base + 11u), ((pos_2 + (2.0 * mid_2)) / 3.0));
+    store_patch_cp((cp_base + 2u), ((pos_0 + (2.0 * mid_2)) / 3.0));
+    store_patch_cp((cp_base + 7u), ((pos_1 + (2.0 * mid_0)) / 3.0));
+    store_patch_cp((cp_base + 12u), ((pos_2 + (2.0 * mid_1)) / 3.0));
+    store_patch_cp((cp_base + 15u), (((mid_0 + mid_1) + mid_2) / 3.0));
+    store_patch_cp((cp_base + 3u), nrm_0);
+    store_patch_cp((cp_base + 8u), nrm_1);
+    store_patch_cp((cp_base + 13u), nrm_2);
+    store_patch_cp((cp_base + 4u), (nrm_0 + nrm_1));
+    store_patch_cp((cp_base + 9u), (nrm_1 + nrm_2));
+    store_patch_cp((cp_base + 14u), (nrm_2 + nrm_0));
 }
 
 void main() {
     uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
     triangle_patch(face, 0u);
-    // One factor per edge that depends only on the edge (here the uniform level),
-    // so both patches of an edge get the same parameters (watertight.md Rule 3).
-    // Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0),
-    // i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0), 0 (v0 -> v1).
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id,
-    // all data of the edge alone. Inner level: the largest of the three.
-    float f[3];
-    for (uint k = 0u; k < 3u; k = (k + 1u)) {
-        uint curve = ((params.class_ * 12u) + (k * 4u));
-        f[k] = tessgen_edge_factor(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * 3u) + k)], corner_vertex[((face * 3u) + ((k + 1u) % 3u))], face_edges[((face * 3u) + k)]);
-    }
-    gl_TessLevelOuter[0] = f[1];
-    gl_TessLevelOuter[1] = f[2];
-    gl_TessLevelOuter[2] = f[0];
-    gl_TessLevelInner[0] = max(max(f[0], f[1]), f[2]);
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factor: the largest of the three.
+    float f_0 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 12u) + 0u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 12u) + 0u) + 3u)]), corner_vertex[((face * 3u) + 0u)], corner_vertex[((face * 3u) + 1u)], face_edges[((face * 3u) + 0u)]);
+    float f_1 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 12u) + 4u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 12u) + 4u) + 3u)]), corner_vertex[((face * 3u) + 1u)], corner_vertex[((face * 3u) + 2u)], face_edges[((face * 3u) + 1u)]);
+    float f_2 = tessgen_edge_factor(load_patch_cp(EDGE_CURVE[((params.class_ * 12u) + 8u)]), load_patch_cp(EDGE_CURVE[(((params.class_ * 12u) + 8u) + 3u)]), corner_vertex[((face * 3u) + 2u)], corner_vertex[((face * 3u) + 0u)], face_edges[((face * 3u) + 2u)]);
+    gl_TessLevelOuter[2] = f_0;
+    gl_TessLevelOuter[0] = f_1;
+    gl_TessLevelOuter[1] = f_2;
+    gl_TessLevelInner[0] = max(max(f_0, f_1), f_2);
 #else
+    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelOuter[0] = float(params.level);
     gl_TessLevelOuter[1] = float(params.level);
-    gl_TessLevelOuter[2] = float(params.level);
     gl_TessLevelInner[0] = float(params.level);
 #endif
 }

@@ -69,9 +69,10 @@ const uint KMAX = 16u;
 const uint KMAX4 = 12u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -117,16 +118,16 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
 
 // Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
 Sample triangle_surface_at(uint cp_base, float w0, float w1, float w2) {
-    vec3 b0 = load_tcs_cp((cp_base + 0u));
-    vec3 bn0 = load_tcs_cp((cp_base + 1u));
-    vec3 bp0 = load_tcs_cp((cp_base + 2u));
-    vec3 b1 = load_tcs_cp((cp_base + 5u));
-    vec3 bn1 = load_tcs_cp((cp_base + 6u));
-    vec3 bp1 = load_tcs_cp((cp_base + 7u));
-    vec3 b2 = load_tcs_cp((cp_base + 10u));
-    vec3 bn2 = load_tcs_cp((cp_base + 11u));
-    vec3 bp2 = load_tcs_cp((cp_base + 12u));
-    vec3 center = load_tcs_cp((cp_base + 15u));
+    vec3 b0 = load_patch_cp((cp_base + 0u));
+    vec3 bn0 = load_patch_cp((cp_base + 1u));
+    vec3 bp0 = load_patch_cp((cp_base + 2u));
+    vec3 b1 = load_patch_cp((cp_base + 5u));
+    vec3 bn1 = load_patch_cp((cp_base + 6u));
+    vec3 bp1 = load_patch_cp((cp_base + 7u));
+    vec3 b2 = load_patch_cp((cp_base + 10u));
+    vec3 bn2 = load_patch_cp((cp_base + 11u));
+    vec3 bp2 = load_patch_cp((cp_base + 12u));
+    vec3 center = load_patch_cp((cp_base + 15u));
     vec3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
     vec3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
     vec3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
@@ -137,7 +138,7 @@ Sample triangle_surface_at(uint cp_base, float w0, float w1, float w2) {
     vec3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
     vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
     vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
-    return Sample(s0_000, tessgen_normalize(((((((load_tcs_cp((cp_base + 3u)) * (w0 * w0)) + (load_tcs_cp((cp_base + 4u)) * (w0 * w1))) + (load_tcs_cp((cp_base + 8u)) * (w1 * w1))) + (load_tcs_cp((cp_base + 9u)) * (w1 * w2))) + (load_tcs_cp((cp_base + 13u)) * (w2 * w2))) + (load_tcs_cp((cp_base + 14u)) * (w2 * w0)))));
+    return Sample(s0_000, tessgen_normalize(((((((load_patch_cp((cp_base + 3u)) * (w0 * w0)) + (load_patch_cp((cp_base + 4u)) * (w0 * w1))) + (load_patch_cp((cp_base + 8u)) * (w1 * w1))) + (load_patch_cp((cp_base + 9u)) * (w1 * w2))) + (load_patch_cp((cp_base + 13u)) * (w2 * w2))) + (load_patch_cp((cp_base + 14u)) * (w2 * w0)))));
 }
 
 // Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
@@ -167,10 +168,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 12u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif
@@ -190,28 +191,29 @@ Sample eval_domain(uint class_, uint cp_base, float x, float y, float z, uint le
 }
 
 void main() {
-    // Triangles: eval_domain takes the raw barycentric gl_TessCoord (x, y, z) of
-    // corners (0, 1, 2). On the outer ring (a coordinate exactly 0; equal_spacing at
-    // an integer level puts vertex i at i/level in fixed point) it rounds to the
-    // integer grid point and takes the shared edge evaluator, so the two patches of
-    // an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the
-    // hardware's inner rings (ring k: level − 2k segments per side) are not the
-    // barycentric lattice, so it evaluates the surface at gl_TessCoord itself.
+    // Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners
+    // (0, 1, 2). On the outer ring (a coordinate exactly 0; an integer level puts vertex i
+    // at i/level in fixed point) it rounds to the integer grid point and takes the shared
+    // edge evaluator, so the two patches of an edge compute the same bits (watertight.md
+    // Rules 2 and 3). Inside, the hardware's inner rings (ring k: level − 2k segments per
+    // side) are not the barycentric lattice, so it evaluates the surface at the raw point.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed
-    // point, so on an edge round(y·2^16), round(z·2^16) are exact and the neighbour,
-    // whose tessellator mirrors the edge's points (1 − t is exact in fixed point),
-    // hands the shared edge evaluator exactly the swapped integer pair.
+    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed point, so
+    // on an edge round(y·2^16), round(z·2^16) are exact and the neighbour, whose
+    // tessellator mirrors the edge's points (1 − t is exact in fixed point), hands the
+    // shared edge evaluator exactly the swapped integer pair.
     uint level = 65536u;
 #else
     uint level = params.level;
 #endif
     Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
-    te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+    te_normal = result.normal;
 #ifdef TESSGEN_CAPTURE
-    te_domain = gl_TessCoord;
+    // Capture: the domain point and the patch of every vertex, for a harness that
+    // records the output triangles (inner vertices are not grid points).
+    te_domain = vec3(gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z);
     te_patch = (params.first + uint(gl_PrimitiveID));
 #endif
 }

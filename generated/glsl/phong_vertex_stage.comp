@@ -103,12 +103,10 @@ void vertex_stage(uint vertex, uint out_base) {
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    if (k >= params.count) {
-        return;
+    if (k < params.count) {
+        uint vertex = (params.first + k);
+        if (valence[vertex] != 0u) {
+            vertex_stage(vertex, vertex_out_offsets[vertex]);
+        }
     }
-    uint vertex = (params.first + k);
-    if (valence[vertex] == 0u) {
-        return;
-    }
-    vertex_stage(vertex, vertex_out_offsets[vertex]);
 }

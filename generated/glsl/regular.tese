@@ -75,9 +75,10 @@ const uint KMAX = 16u;
 const uint KMAX4 = 12u;
 layout(location = 0) patch in vec4 tcs_cp[KMAX4];
 
-vec3 load_tcs_cp(uint i) {
-    uint c = (3u * i);
-    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+vec3 load_patch_cp(uint j) {
+    uint k = (3u * j);
+    return vec3(tcs_cp[(k / 4u)][(k % 4u)], tcs_cp[((k + 1u) / 4u)][((k + 1u) % 4u)], tcs_cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
 }
 
 layout(location = 0) out vec3 te_normal;
@@ -170,10 +171,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
     float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_tcs_cp((cp_base + 0u)), load_tcs_cp((cp_base + 4u)), load_tcs_cp((cp_base + 8u)), load_tcs_cp((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_tcs_cp((cp_base + 1u)), load_tcs_cp((cp_base + 5u)), load_tcs_cp((cp_base + 9u)), load_tcs_cp((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_tcs_cp((cp_base + 2u)), load_tcs_cp((cp_base + 6u)), load_tcs_cp((cp_base + 10u)), load_tcs_cp((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_tcs_cp((cp_base + 3u)), load_tcs_cp((cp_base + 7u)), load_tcs_cp((cp_base + 11u)), load_tcs_cp((cp_base + 15u)), lu, ru);
+    Curve row0 = tessgen_cubic(load_patch_cp((cp_base + 0u)), load_patch_cp((cp_base + 4u)), load_patch_cp((cp_base + 8u)), load_patch_cp((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_patch_cp((cp_base + 1u)), load_patch_cp((cp_base + 5u)), load_patch_cp((cp_base + 9u)), load_patch_cp((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_patch_cp((cp_base + 2u)), load_patch_cp((cp_base + 6u)), load_patch_cp((cp_base + 10u)), load_patch_cp((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
@@ -202,10 +203,10 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
             }
         }
         uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_tcs_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
+        vec3 b0 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_patch_cp((cp_base + EDGE_CURVE[(curve + 3u)]));
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif
@@ -409,18 +410,17 @@ Sample eval_displaced_tess(uint face, uint class_, uint cp_base, uint iu, uint i
 
 #endif
 void main() {
-    // The grid point as integers: equal_spacing at an integer level puts vertex i
-    // at i/level, so rounding recovers i exactly. eval and the shared edge evaluator
-    // form every weight from these integers (watertight.md Rules 2 and 3), so the
-    // two patches of an edge compute the same bits. (u, v) = (y, x): see the
-    // layout declaration above.
+    // The grid point as integers: an integer level puts vertex i at i/level (fixed point),
+    // so rounding recovers i exactly. eval and the shared edge evaluator form every weight
+    // from these integers (watertight.md Rules 2 and 3), so the two patches of an edge
+    // compute the same bits.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
-    // fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are
-    // then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate
-    // at the hardware coordinate itself, and on an edge the neighbour, whose
-    // tessellator mirrors the edge's points (1 − t is exact in fixed point), passes
-    // the shared edge evaluator exactly the swapped pair.
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16 fixed-point
+    // grid, iu = u·2^16 (exact in f32). Both weights of every lerp are then formed from
+    // integers (m/2^16, (2^16 − m)/2^16): interior points evaluate at the hardware
+    // coordinate itself, and on an edge the neighbour, whose tessellator mirrors the
+    // edge's points (1 − t is exact in fixed point), passes the shared edge evaluator
+    // exactly the swapped pair.
     uint level = 65536u;
 #else
     uint level = params.level;
@@ -428,29 +428,33 @@ void main() {
     uint iu = uint(round((gl_TessCoord.y * float(level))));
     uint iv = uint(round((gl_TessCoord.x * float(level))));
 #ifdef TESSGEN_DISPLACE
-    // Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal
-    // on the boundary from the global control-point buffer.
+    // Displaced: this patch's sample from its own control points (cp_base 0), the
+    // owner's normal on the boundary from the global control-point buffer, filled
+    // by patch_main before the draw (watertight.md Rules 4 and 5).
     uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
     Sample result = eval_displaced_tess(face, params.class_, 0u, iu, iv, level);
 #else
     Sample result = eval(params.class_, 0u, iu, iv, level);
 #endif
-    te_normal = result.normal;
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
-#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
-    // Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw
-    // being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).
-    uint o = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
-#elif defined(TESSGEN_CAPTURE)
-    // Adaptive capture: the domain point in (u, v) and the patch of every vertex.
+    te_normal = result.normal;
+#ifdef TESSGEN_CAPTURE
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,
+    // for a harness that records the output triangles.
     te_domain = vec3(gl_TessCoord.y, gl_TessCoord.x, 0.0);
     te_patch = (params.first + uint(gl_PrimitiveID));
+#else
+    // Capture: the sample at eval_main's layout, patch p of the draw being patch
+    // out_base + p, sample grid_index(iu, iv), 6 floats (position, normal).
+    uint at = ((((params.out_base + uint(gl_PrimitiveID)) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
+    samples[at] = result.position.x;
+    samples[(at + 1u)] = result.position.y;
+    samples[(at + 2u)] = result.position.z;
+    samples[(at + 3u)] = result.normal.x;
+    samples[(at + 4u)] = result.normal.y;
+    samples[(at + 5u)] = result.normal.z;
+#endif
 #endif
 }

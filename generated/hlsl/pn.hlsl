@@ -642,14 +642,12 @@ Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uin
 [numthreads(64, 1, 1)]
 void vertex_stage_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
-    if (k >= params.count) {
-        return;
+    if ((k < params.count)) {
+        uint vertex = (params.first + k);
+        if ((valence[vertex] != 0u)) {
+            vertex_stage(vertex, vertex_out_offsets[vertex]);
+        }
     }
-    uint vertex_index = (params.first + k);
-    if (valence[vertex_index] == 0u) {
-        return;
-    }
-    vertex_stage(vertex_index, vertex_out_offsets[vertex_index]);
 }
 
 // Patch stage of patches params.first .. params.first + params.count, all of
@@ -712,7 +710,9 @@ void eval_main(uint3 global_id : SV_DispatchThreadID) {
 // ---- tessellation pipeline: vs_main -> hs_main -> ds_main ----
 // Draw params.count patches of class params.class (patch list, 1 control
 // point per patch, no vertex buffer); patch p of the draw is face
-// patch_faces[params.first + p].
+// patch_faces[params.first + p]. The stage bodies are the Plan's; the
+// control points travel packed, point j at floats 3j .. 3j+2 of KMAX4
+// float4 patch constants.
 
 struct VsOut {
     float4 position : SV_Position;
@@ -729,9 +729,8 @@ struct HsControlPoint {
 };
 
 // Per-patch outputs. Tess factors: edges[k] is the edge opposite corner k
-// (barycentric coordinate k = 0). A factor must depend only on its edge so
-// both patches of an edge get the same parameters (watertight.md Rule 3):
-// the uniform level, or in adaptive builds a factor per edge.
+// (barycentric coordinate k = 0), i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0),
+// 0 (v0 -> v1); inside is the one inside factor.
 struct HsConstants {
     float edges[3] : SV_TessFactor;
     float inside : SV_InsideTessFactor;
@@ -741,47 +740,56 @@ struct HsConstants {
     // user input, so the hull passes the patch index on as a constant.
     uint patch_id : PATCH_ID;
 };
+// Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.
+void store_patch_cp(inout HsConstants c, uint j, float3 p) {
+    uint k = (3u * j);
+    c.cp[(k / 4u)][(k % 4u)] = p.x;
+    c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = p.y;
+    c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = p.z;
+}
 
-// The patch stage, once per patch: the class's patch function fills the
-// patch's control points (cp_base 0).
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+float3 load_patch_cp(HsConstants c, uint j) {
+    uint k = (3u * j);
+    return float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+}
+
+// The patch stage, once per patch, and the tessellation factors.
 HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
     HsConstants c;
-    uint face = patch_faces[(params.first + patch_id)];
     float3 cp_out[KMAX];
     for (uint i = 0u; i < KMAX; i += 1u) {
         cp_out[i] = float3(0.0f, 0.0f, 0.0f);
     }
+    uint face = patch_faces[(params.first + patch_id)];
     triangle_patch(cp_out, face, 0u);
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factor: the largest of the three.
+    float f_0 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 12u) + 0u)]], cp_out[EDGE_CURVE[(((params.class_ * 12u) + 0u) + 3u)]], corner_vertex[((face * 3u) + 0u)], corner_vertex[((face * 3u) + 1u)], face_edges[((face * 3u) + 0u)]);
+    float f_1 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 12u) + 4u)]], cp_out[EDGE_CURVE[(((params.class_ * 12u) + 4u) + 3u)]], corner_vertex[((face * 3u) + 1u)], corner_vertex[((face * 3u) + 2u)], face_edges[((face * 3u) + 1u)]);
+    float f_2 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 12u) + 8u)]], cp_out[EDGE_CURVE[(((params.class_ * 12u) + 8u) + 3u)]], corner_vertex[((face * 3u) + 2u)], corner_vertex[((face * 3u) + 0u)], face_edges[((face * 3u) + 2u)]);
+    c.edges[2] = f_0;
+    c.edges[0] = f_1;
+    c.edges[1] = f_2;
+    c.inside = max(max(f_0, f_1), f_2);
+#else
+    c.edges[2] = float(params.level);
+    c.edges[0] = float(params.level);
+    c.edges[1] = float(params.level);
+    c.inside = float(params.level);
+#endif
     for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {
         c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }
     for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
-        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
-        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+        store_patch_cp(c, j, cp_out[j]);
     }
     c.patch_id = patch_id;
-    float level = float(params.level);
-#ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id, all
-    // data of the edge alone. Inside factor: the largest of the three.
-    float f[3];
-    for (uint e = 0u; e < 3u; e += 1u) {
-        uint curve = ((params.class_ * 12u) + (e * 4u));
-        f[e] = tessgen_edge_factor(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 3u) + e)], corner_vertex[((face * 3u) + ((e + 1u) % 3u))], face_edges[((face * 3u) + e)]);
-    }
-    c.edges[0] = f[1];
-    c.edges[1] = f[2];
-    c.edges[2] = f[0];
-    c.inside = max(max(f[0], f[1]), f[2]);
-#else
-    c.edges[0] = level;
-    c.edges[1] = level;
-    c.edges[2] = level;
-    c.inside = level;
-#endif
     return c;
 }
 
@@ -810,42 +818,43 @@ struct DsOut {
     float3 world : WORLD_POSITION;
 #ifdef TESSGEN_CAPTURE
     // Capture: the domain point and the patch of every vertex, for a harness
-    // that records the output triangles (inner vertices are not grid points).
+    // that records the output triangles.
     float3 domain : TESSGEN_DOMAIN;
     nointerpolation uint patch_index : TESSGEN_PATCH;
 #endif
 };
 
-// Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing
-// corners (0, 1, 2), and eval_domain takes it raw. On the outer ring (a
-// coordinate exactly 0: the tessellator emits exact fixed-point i/level there)
-// it rounds to the integer grid point and takes the shared edge evaluator, so
-// both patches of an edge compute the same bits (watertight.md Rules 2 and 3).
-// Inside, the hardware's inner rings (ring k: level − 2k segments per side) are
-// not the barycentric lattice, so the surface is evaluated at the raw point.
+// SV_DomainLocation is barycentric, (x, y, z) weighing corners (0, 1, 2).
 [domain("tri")]
 DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
+    float3 cp[KMAX];
+    for (uint j = 0u; j < KMAX; j += 1u) {
+        cp[j] = load_patch_cp(c, j);
+    }
+    DsOut o;
+    // Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners
+    // (0, 1, 2). On the outer ring (a coordinate exactly 0; an integer level puts vertex i
+    // at i/level in fixed point) it rounds to the integer grid point and takes the shared
+    // edge evaluator, so the two patches of an edge compute the same bits (watertight.md
+    // Rules 2 and 3). Inside, the hardware's inner rings (ring k: level − 2k segments per
+    // side) are not the barycentric lattice, so it evaluates the surface at the raw point.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
-    // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp
-    // come from integers; the neighbour's tessellator mirrors the edge's points
-    // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.
+    // Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed point, so
+    // on an edge round(y·2^16), round(z·2^16) are exact and the neighbour, whose
+    // tessellator mirrors the edge's points (1 − t is exact in fixed point), hands the
+    // shared edge evaluator exactly the swapped integer pair.
     uint level = 65536u;
 #else
     uint level = params.level;
 #endif
-    float3 cp[KMAX];
-    for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
-    }
     Sample result = eval_domain(cp, params.class_, 0u, uv.x, uv.y, uv.z, level);
-    DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
-    o.normal = result.normal;
     o.world = result.position;
+    o.normal = result.normal;
 #ifdef TESSGEN_CAPTURE
-    o.domain = uv;
+    // Capture: the domain point and the patch of every vertex, for a harness that
+    // records the output triangles (inner vertices are not grid points).
+    o.domain = float3(uv.x, uv.y, uv.z);
     o.patch_index = (params.first + c.patch_id);
 #endif
     return o;

@@ -731,14 +731,12 @@ Sample eval_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_b
 [numthreads(64, 1, 1)]
 void vertex_stage_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
-    if (k >= params.count) {
-        return;
+    if ((k < params.count)) {
+        uint vertex = (params.first + k);
+        if ((valence[vertex] != 0u)) {
+            vertex_stage(vertex, vertex_out_offsets[vertex]);
+        }
     }
-    uint vertex_index = (params.first + k);
-    if (valence[vertex_index] == 0u) {
-        return;
-    }
-    vertex_stage(vertex_index, vertex_out_offsets[vertex_index]);
 }
 
 // Patch stage of patches params.first .. params.first + params.count, all of
@@ -801,7 +799,9 @@ void eval_main(uint3 global_id : SV_DispatchThreadID) {
 // ---- tessellation pipeline: vs_main -> hs_main -> ds_main ----
 // Draw params.count patches of class params.class (patch list, 1 control
 // point per patch, no vertex buffer); patch p of the draw is face
-// patch_faces[params.first + p].
+// patch_faces[params.first + p]. The stage bodies are the Plan's; the
+// control points travel packed, point j at floats 3j .. 3j+2 of KMAX4
+// float4 patch constants.
 
 struct VsOut {
     float4 position : SV_Position;
@@ -818,10 +818,8 @@ struct HsControlPoint {
 };
 
 // Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,
-// [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on
-// its edge so both patches of an edge get the same parameters
-// (watertight.md Rule 3): the uniform level, or in adaptive builds a factor
-// per edge.
+// [2] u = 1, [3] v = 1 (D3D and Vulkan alike), i.e. our edges 3, 0, 1, 2;
+// inside[0] subdivides along u (our edges 0 and 2), inside[1] along v.
 struct HsConstants {
     float edges[4] : SV_TessFactor;
     float inside[2] : SV_InsideTessFactor;
@@ -831,52 +829,61 @@ struct HsConstants {
     // user input, so the hull passes the patch index on as a constant.
     uint patch_id : PATCH_ID;
 };
+// Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.
+void store_patch_cp(inout HsConstants c, uint j, float3 p) {
+    uint k = (3u * j);
+    c.cp[(k / 4u)][(k % 4u)] = p.x;
+    c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = p.y;
+    c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = p.z;
+}
 
-// The patch stage, once per patch: the class's patch function fills the
-// patch's control points (cp_base 0).
+// Control point j from the packed per-patch storage (the inverse of store_patch_cp).
+float3 load_patch_cp(HsConstants c, uint j) {
+    uint k = (3u * j);
+    return float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+}
+
+// The patch stage, once per patch, and the tessellation factors.
 HsConstants hs_patch_constants(uint patch_id : SV_PrimitiveID) {
     HsConstants c;
-    uint face = patch_faces[(params.first + patch_id)];
     float3 cp_out[KMAX];
     for (uint i = 0u; i < KMAX; i += 1u) {
         cp_out[i] = float3(0.0f, 0.0f, 0.0f);
     }
+    uint face = patch_faces[(params.first + patch_id)];
     ordinary_patch(cp_out, face, 0u);
+    // One factor per edge that depends only on the edge, so both patches of an edge get the
+    // same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a
+    // factor per edge.
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared
+    // control points), their global vertices and the global edge id, all data of the edge
+    // alone. Inside factors: the larger of the two edges running in that direction.
+    float f_0 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 16u) + 0u)]], cp_out[EDGE_CURVE[(((params.class_ * 16u) + 0u) + 3u)]], corner_vertex[((face * 4u) + 0u)], corner_vertex[((face * 4u) + 1u)], face_edges[((face * 4u) + 0u)]);
+    float f_1 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 16u) + 4u)]], cp_out[EDGE_CURVE[(((params.class_ * 16u) + 4u) + 3u)]], corner_vertex[((face * 4u) + 1u)], corner_vertex[((face * 4u) + 2u)], face_edges[((face * 4u) + 1u)]);
+    float f_2 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 16u) + 8u)]], cp_out[EDGE_CURVE[(((params.class_ * 16u) + 8u) + 3u)]], corner_vertex[((face * 4u) + 2u)], corner_vertex[((face * 4u) + 3u)], face_edges[((face * 4u) + 2u)]);
+    float f_3 = tessgen_edge_factor(cp_out[EDGE_CURVE[((params.class_ * 16u) + 12u)]], cp_out[EDGE_CURVE[(((params.class_ * 16u) + 12u) + 3u)]], corner_vertex[((face * 4u) + 3u)], corner_vertex[((face * 4u) + 0u)], face_edges[((face * 4u) + 3u)]);
+    c.edges[1] = f_0;
+    c.edges[2] = f_1;
+    c.edges[3] = f_2;
+    c.edges[0] = f_3;
+    c.inside[0] = max(f_0, f_2);
+    c.inside[1] = max(f_1, f_3);
+#else
+    c.edges[1] = float(params.level);
+    c.edges[2] = float(params.level);
+    c.edges[3] = float(params.level);
+    c.edges[0] = float(params.level);
+    c.inside[0] = float(params.level);
+    c.inside[1] = float(params.level);
+#endif
     for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {
         c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }
     for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
-        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
-        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+        store_patch_cp(c, j, cp_out[j]);
     }
     c.patch_id = patch_id;
-    float level = float(params.level);
-#ifdef TESSGEN_ADAPTIVE
-    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,
-    // shared control points), their global vertices and the global edge id, all
-    // data of the edge alone. Inside factors: the larger of the two edges running
-    // in that direction (inside[0] subdivides along u: edges 0 and 2).
-    float f[4];
-    for (uint e = 0u; e < 4u; e += 1u) {
-        uint curve = ((params.class_ * 16u) + (e * 4u));
-        f[e] = tessgen_edge_factor(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * 4u) + e)], corner_vertex[((face * 4u) + ((e + 1u) % 4u))], face_edges[((face * 4u) + e)]);
-    }
-    c.edges[0] = f[3];
-    c.edges[1] = f[0];
-    c.edges[2] = f[1];
-    c.edges[3] = f[2];
-    c.inside[0] = max(f[0], f[2]);
-    c.inside[1] = max(f[1], f[3]);
-#else
-    c.edges[0] = level;
-    c.edges[1] = level;
-    c.edges[2] = level;
-    c.edges[3] = level;
-    c.inside[0] = level;
-    c.inside[1] = level;
-#endif
     return c;
 }
 
@@ -904,52 +911,60 @@ struct DsOut {
     float3 normal : NORMAL;
     float3 world : WORLD_POSITION;
 #if defined(TESSGEN_CAPTURE) && defined(TESSGEN_ADAPTIVE)
-    // Adaptive capture: the domain point (u, v, 0) and the patch of every
-    // vertex, for a harness that records the output triangles.
+    // Capture: the domain point and the patch of every vertex, for a harness
+    // that records the output triangles.
     float3 domain : TESSGEN_DOMAIN;
     nointerpolation uint patch_index : TESSGEN_PATCH;
 #endif
 };
 
-// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,
-// v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator
-// emits exact fixed-point i/level, and the Plan forms every weight from
-// integers (the shared edge evaluator takes i and level: watertight.md
-// Rules 2 and 3), so the integer coordinates are recovered by rounding.
+// SV_DomainLocation (x, y) is the patch's (u, v) as is: u along v0 -> v1,
+// v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1).
 [domain("quad")]
 DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {
+    float3 cp[KMAX];
+    for (uint j = 0u; j < KMAX; j += 1u) {
+        cp[j] = load_patch_cp(c, j);
+    }
+    DsOut o;
+    // The grid point as integers: an integer level puts vertex i at i/level (fixed point),
+    // so rounding recovers i exactly. eval and the shared edge evaluator form every weight
+    // from these integers (watertight.md Rules 2 and 3), so the two patches of an edge
+    // compute the same bits.
 #ifdef TESSGEN_ADAPTIVE
-    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16
-    // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp
-    // come from integers; the neighbour's tessellator mirrors the edge's points
-    // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.
+    // Adaptive (any partitioning): the coordinate on the tessellator's 16.16 fixed-point
+    // grid, iu = u·2^16 (exact in f32). Both weights of every lerp are then formed from
+    // integers (m/2^16, (2^16 − m)/2^16): interior points evaluate at the hardware
+    // coordinate itself, and on an edge the neighbour, whose tessellator mirrors the
+    // edge's points (1 − t is exact in fixed point), passes the shared edge evaluator
+    // exactly the swapped pair.
     uint level = 65536u;
 #else
     uint level = params.level;
 #endif
-    float3 cp[KMAX];
-    for (uint j = 0u; j < KMAX; j += 1u) {
-        uint k = (3u * j);
-        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
-    }
-    uint iu = (uint)round(uv.x * float(level));
-    uint iv = (uint)round(uv.y * float(level));
+    uint iu = uint(round((uv.x * float(level))));
+    uint iv = uint(round((uv.y * float(level))));
 #ifdef TESSGEN_DISPLACE
-    // Displaced: this patch's sample from cp (cp_base 0), the owner's normal
-    // on the boundary from the global control-point buffer, filled by
-    // patch_main before the draw (watertight.md Rules 4 and 5).
+    // Displaced: this patch's sample from its own control points (cp_base 0), the
+    // owner's normal on the boundary from the global control-point buffer, filled
+    // by patch_main before the draw (watertight.md Rules 4 and 5).
     uint face = patch_faces[(params.first + c.patch_id)];
     Sample result = eval_displaced_tess(cp, face, params.class_, 0u, iu, iv, level);
 #else
     Sample result = eval(cp, params.class_, 0u, iu, iv, level);
 #endif
-    DsOut o;
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
-    o.normal = result.normal;
     o.world = result.position;
-#if defined(TESSGEN_CAPTURE) && !defined(TESSGEN_ADAPTIVE)
-    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw
-    // being patch out_base + c.patch_id, sample grid_index(iu, iv).
+    o.normal = result.normal;
+#ifdef TESSGEN_CAPTURE
+#ifdef TESSGEN_ADAPTIVE
+    // Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,
+    // for a harness that records the output triangles.
+    o.domain = float3(uv.x, uv.y, 0.0f);
+    o.patch_index = (params.first + c.patch_id);
+#else
+    // Capture: the sample at eval_main's layout, patch p of the draw being patch
+    // out_base + p, sample grid_index(iu, iv), 6 floats (position, normal).
     uint at = ((((params.out_base + c.patch_id) * grid_len(level)) + grid_index(iu, iv, level)) * 6u);
     samples[at] = result.position.x;
     samples[(at + 1u)] = result.position.y;
@@ -957,10 +972,7 @@ DsOut ds_main(HsConstants c, float2 uv : SV_DomainLocation, const OutputPatch<Hs
     samples[(at + 3u)] = result.normal.x;
     samples[(at + 4u)] = result.normal.y;
     samples[(at + 5u)] = result.normal.z;
-#elif defined(TESSGEN_CAPTURE)
-    // Adaptive capture: the domain point and the patch of every vertex.
-    o.domain = float3(uv.x, uv.y, 0.0f);
-    o.patch_index = (params.first + c.patch_id);
+#endif
 #endif
     return o;
 }

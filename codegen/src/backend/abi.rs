@@ -90,6 +90,14 @@ pub fn binding_of(r: Resource) -> &'static Binding {
     // The global view of the control points is the same buffer.
     let r = match r {
         Resource::GlobalControlPoints => Resource::ControlPoints,
+        // Host-filled or output-only buffers whose binding has no Plan
+        // resource of its own (`resource: None` keeps their one view).
+        Resource::PatchFaces | Resource::Samples => {
+            return BINDINGS
+                .iter()
+                .find(|b| b.name == r.name())
+                .unwrap_or(&BINDINGS[0]);
+        }
         r => r,
     };
     BINDINGS

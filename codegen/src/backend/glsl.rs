@@ -22,6 +22,10 @@
 //! Like every printer this one only spells the Plan: binaries fully
 //! parenthesised as given, f32 literals in Rust's shortest round-trip digits,
 //! functions flagged `precise` get `precise` on their return value and locals.
+//! The `.tesc`/`.tese` `main` bodies are the Plan's too ([`TessStages`]):
+//! this printer names the stage inputs and outputs (`gl_TessCoord` with the
+//! quad axis swap, `gl_PrimitiveID`, `gl_TessLevelOuter`/`Inner` slots,
+//! `te_*`) and declares the stage I/O and the packed per-patch `tcs_cp`.
 
 use super::abi::{self, Binding, Kind};
 use super::binop;
@@ -328,8 +332,8 @@ impl<'a> Writer<'a> {
             "tcs_cp",
             "KMAX",
             "KMAX4",
-            "load_tcs_cp",
-            "store_tcs_cp",
+            "load_patch_cp",
+            "store_patch_cp",
             "te_normal",
             "te_position",
             "Params",
@@ -668,22 +672,14 @@ impl<'a> Writer<'a> {
                 "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));
             self.line("");
+            // The Plan's packing of the control points into tcs_cp.
+            let tess = &self.entries.tess;
             if self.stage == Stage::Tesc {
-                self.line("void store_tcs_cp(uint i, vec3 v) {");
-                self.line("    uint c = (3u * i);");
-                self.line("    tcs_cp[(c / 4u)][(c % 4u)] = v.x;");
-                self.line("    tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)] = v.y;");
-                self.line("    tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)] = v.z;");
-                self.line("}");
+                self.plan_function(module, &tess.store_cp);
                 self.line("");
             }
-            if self.stage.tess() {
-                self.line("vec3 load_tcs_cp(uint i) {");
-                self.line("    uint c = (3u * i);");
-                self.line("    return vec3(tcs_cp[(c / 4u)][(c % 4u)], tcs_cp[((c + 1u) / 4u)][((c + 1u) % 4u)], tcs_cp[((c + 2u) / 4u)][((c + 2u) % 4u)]);");
-                self.line("}");
-                self.line("");
-            }
+            self.plan_function(module, &tess.load_cp);
+            self.line("");
         }
         if self.stage == Stage::Tese {
             self.line("layout(location = 0) out vec3 te_normal;");
@@ -869,224 +865,23 @@ impl<'a> Writer<'a> {
         self.indent += 1;
         match self.stage {
             Stage::Vert => {}
-            Stage::Tesc => {
-                self.line(&format!(
-                    "uint face = patch_faces[({first} + uint(gl_PrimitiveID))];"
-                ));
-                self.class_chain(&|w, p| {
-                    format!("{}(face, 0u);", w.fn_name(FnRef::Local(p.function)))
-                });
-                self.line("// One factor per edge that depends only on the edge (here the uniform level),");
-                self.line(
-                    "// so both patches of an edge get the same parameters (watertight.md Rule 3).",
-                );
-                let sides = self.entries.sides;
-                if sides == 3 {
-                    self.line("// Triangles: outer level k is the edge opposite corner k (x = 0, y = 0, z = 0),");
-                    self.line("// i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0), 0 (v0 -> v1).");
+            // The Plan's stage bodies: this printer adds only the API's
+            // names for the stage inputs and outputs (`Expr::Stage`,
+            // `Stmt::Output`).
+            Stage::Tesc | Stage::Tese => {
+                let entries = self.entries;
+                let body = if self.stage == Stage::Tesc {
+                    &entries.tess.control
                 } else {
-                    self.line("// Outer levels 0..3 are the domain edges x = 0, y = 0, x = 1, y = 1, i.e. our");
-                    self.line("// edges 0 (v = 0), 3 (u = 0), 2 (v = 1), 1 (u = 1).");
-                }
-                let (outer, inner) = crate::lower::hw_factor_edges(sides, false);
-                self.out
-                    .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
-                self.line(
-                    "// Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,",
-                );
-                self.line(
-                    "// shared control points), their global vertices and the global edge id,",
-                );
-                if sides == 3 {
-                    self.line(
-                        "// all data of the edge alone. Inner level: the largest of the three.",
-                    );
-                } else {
-                    self.line(
-                        "// all data of the edge alone. Inner levels: the larger of the two edges",
-                    );
-                    self.line("// running in that direction (inner[0] subdivides along x = v: edges 1, 3).");
-                }
-                self.line(&format!("float f[{sides}];"));
-                self.line(&format!("for (uint k = 0u; k < {sides}u; k = (k + 1u)) {{"));
-                self.line(&format!(
-                    "    uint curve = (({class} * {}u) + (k * 4u));",
-                    4 * sides
-                ));
-                self.line(&format!(
-                    "    f[k] = {}(load_tcs_cp(EDGE_CURVE[curve]), load_tcs_cp(EDGE_CURVE[(curve + 3u)]), corner_vertex[((face * {sides}u) + k)], corner_vertex[((face * {sides}u) + ((k + 1u) % {sides}u))], face_edges[((face * {sides}u) + k)]);",
-                    self.fn_name(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR))
-                ));
-                self.line("}");
-                for (k, e) in outer.iter().enumerate() {
-                    self.line(&format!("gl_TessLevelOuter[{k}] = f[{e}];"));
-                }
-                for (k, es) in inner.iter().enumerate() {
-                    self.line(&format!(
-                        "gl_TessLevelInner[{k}] = {};",
-                        super::max_of_factors(es)
-                    ));
-                }
-                self.out.push_str("#else\n");
-                for k in 0..outer.len() {
-                    self.line(&format!("gl_TessLevelOuter[{k}] = float({level});"));
-                }
-                for k in 0..inner.len() {
-                    self.line(&format!("gl_TessLevelInner[{k}] = float({level});"));
-                }
-                self.out.push_str("#endif\n");
-            }
-            Stage::Tese => {
-                if let Some(d) = self.entries.eval_domain {
-                    self.line("// Triangles: eval_domain takes the raw barycentric gl_TessCoord (x, y, z) of");
-                    self.line("// corners (0, 1, 2). On the outer ring (a coordinate exactly 0; equal_spacing at");
-                    self.line("// an integer level puts vertex i at i/level in fixed point) it rounds to the");
-                    self.line("// integer grid point and takes the shared edge evaluator, so the two patches of");
-                    self.line("// an edge compute the same bits (watertight.md Rules 2 and 3). Inside, the");
-                    self.line("// hardware's inner rings (ring k: level − 2k segments per side) are not the");
-                    self.line("// barycentric lattice, so it evaluates the surface at gl_TessCoord itself.");
-                    self.out
-                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
-                    self.line("// Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed");
-                    self.line("// point, so on an edge round(y·2^16), round(z·2^16) are exact and the neighbour,");
-                    self.line("// whose tessellator mirrors the edge's points (1 − t is exact in fixed point),");
-                    self.line(
-                        "// hands the shared edge evaluator exactly the swapped integer pair.",
-                    );
-                    self.line(&format!("uint level = {}u;", crate::lower::ADAPTIVE_LEVEL));
-                    self.out.push_str("#else\n");
-                    self.line(&format!("uint level = {level};"));
-                    self.out.push_str("#endif\n");
-                    self.line(&format!(
-                        "{} result = {}({class}, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);",
-                        self.ty(&Ty::Struct(common::SAMPLE)),
-                        self.fn_name(FnRef::Local(d))
-                    ));
-                    self.line("te_normal = result.normal;");
-                    self.line("te_position = result.position;");
-                    self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
-                    self.out
-                        .push_str(&format!("#ifdef {}\n", Define::Capture.name()));
-                    self.line("te_domain = gl_TessCoord;");
-                    self.line(&format!("te_patch = ({first} + uint(gl_PrimitiveID));"));
-                    self.out.push_str("#endif\n");
-                    self.indent -= 1;
-                    self.line("}");
-                    return;
-                }
-                self.line("// The grid point as integers: equal_spacing at an integer level puts vertex i");
-                self.line("// at i/level, so rounding recovers i exactly. eval and the shared edge evaluator");
-                self.line("// form every weight from these integers (watertight.md Rules 2 and 3), so the");
-                if self.entries.sides == 3 {
-                    self.line(
-                        "// two patches of an edge compute the same bits. eval takes barycentric",
-                    );
-                    self.line(
-                        "// (level − iu − iv, iu, iv) of corners (0, 1, 2): iu from y, iv from z.",
-                    );
-                } else {
-                    self.line(
-                        "// two patches of an edge compute the same bits. (u, v) = (y, x): see the",
-                    );
-                    self.line("// layout declaration above.");
-                }
-                let (cu, cv) = if self.entries.sides == 3 {
-                    ("y", "z")
-                } else {
-                    ("y", "x")
+                    &entries.tess.evaluation
                 };
-                if self.entries.sides == 4 {
-                    self.out
-                        .push_str(&format!("#ifdef {}\n", Define::Adaptive.name()));
-                    self.line(
-                        "// Adaptive (any partitioning): the coordinate on the tessellator's 16.16",
-                    );
-                    self.line("// fixed-point grid, iu = u·2^16 (exact in f32). Both weights of every lerp are");
-                    self.line("// then formed from integers (m/2^16, (2^16 − m)/2^16): interior points evaluate");
-                    self.line(
-                        "// at the hardware coordinate itself, and on an edge the neighbour, whose",
-                    );
-                    self.line("// tessellator mirrors the edge's points (1 − t is exact in fixed point), passes");
-                    self.line("// the shared edge evaluator exactly the swapped pair.");
-                    self.line(&format!("uint level = {}u;", crate::lower::ADAPTIVE_LEVEL));
-                    self.out.push_str("#else\n");
-                    self.line(&format!("uint level = {level};"));
-                    self.out.push_str("#endif\n");
-                } else {
-                    self.line(&format!("uint level = {level};"));
-                }
-                let level = "level";
-                self.line(&format!(
-                    "uint iu = uint(round((gl_TessCoord.{cu} * float({level}))));"
-                ));
-                self.line(&format!(
-                    "uint iv = uint(round((gl_TessCoord.{cv} * float({level}))));"
-                ));
-                let eval_call = format!(
-                    "{} result = {}({class}, 0u, iu, iv, {level});",
-                    self.ty(&Ty::Struct(common::SAMPLE)),
-                    self.fn_name(FnRef::Local(self.entries.eval))
-                );
-                match &self.entries.tess_displaced {
-                    Some(t) => {
-                        self.out
-                            .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
-                        self.line("// Displaced: this patch's sample from tcs_cp (cp_base 0), the owner's normal");
-                        self.line("// on the boundary from the global control-point buffer.");
-                        self.line(&format!(
-                            "uint face = patch_faces[({first} + uint(gl_PrimitiveID))];"
-                        ));
-                        self.line(&format!(
-                            "{} result = {}(face, {class}, 0u, iu, iv, {level});",
-                            self.ty(&Ty::Struct(common::SAMPLE)),
-                            self.fn_name(FnRef::Local(t.eval_displaced))
-                        ));
-                        self.out.push_str("#else\n");
-                        self.line(&eval_call);
-                        self.out.push_str("#endif\n");
-                    }
-                    None => self.line(&eval_call),
-                }
-                self.line("te_normal = result.normal;");
-                self.line("te_position = result.position;");
-                self.line("gl_Position = (params.view_proj * vec4(result.position, 1.0));");
-                let grid_len = self.fn_name(FnRef::Local(self.entries.grid[0]));
-                let grid_index = self.fn_name(FnRef::Local(self.entries.grid_index));
-                self.out.push_str(&format!(
-                    "#if defined({}) && !defined({})\n",
-                    Define::Capture.name(),
-                    Define::Adaptive.name()
-                ));
-                self.line("// Capture: the sample at eval_main's layout, patch gl_PrimitiveID of the draw");
-                self.line("// being patch out_base + gl_PrimitiveID, sample grid_index(iu, iv).");
-                self.line(&format!(
-                    "uint o = ((((params.out_base + uint(gl_PrimitiveID)) * {grid_len}({level})) + {grid_index}(iu, iv, {level})) * 6u);"
-                ));
-                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
-                    self.line(&format!("samples[(o + {i}u)] = result.{c};"));
-                }
-                self.out
-                    .push_str(&format!("#elif defined({})\n", Define::Capture.name()));
-                self.line("// Adaptive capture: the domain point in (u, v) and the patch of every vertex.");
-                self.line(&format!(
-                    "te_domain = vec3(gl_TessCoord.{cu}, gl_TessCoord.{cv}, 0.0);"
-                ));
-                self.line(&format!("te_patch = ({first} + uint(gl_PrimitiveID));"));
-                self.out.push_str("#endif\n");
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
             Stage::CompVertex => {
-                self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("if (k >= {count}) {{"));
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!("uint vertex = ({first} + k);"));
-                self.line("if (valence[vertex] == 0u) {");
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!(
-                    "{}(vertex, vertex_out_offsets[vertex]);",
-                    self.fn_name(FnRef::Local(self.entries.vertex_stage))
-                ));
+                let body = &self.entries.compute_vertex;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
             Stage::CompPatch => {
                 self.line("uint k = gl_GlobalInvocationID.x;");
@@ -1218,7 +1013,7 @@ impl<'a> Writer<'a> {
                 Stmt::Store(r, i, v) => {
                     let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
                     let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("store_tcs_cp({i}, {v});")
+                        format!("{}({i}, {v});", ident(&self.entries.tess.store_cp.name))
                     } else if r.ty() == Ty::Vec3 {
                         format!("store_{}({i}, {v});", r.name())
                     } else {
@@ -1275,6 +1070,48 @@ impl<'a> Writer<'a> {
                     let s = format!("return {};", self.expr(m, f, e));
                     self.line(&s);
                 }
+                Stmt::Call(r, xs) => {
+                    let s = format!("{};", self.expr(m, f, &Expr::CallFn(*r, xs.clone())));
+                    self.line(&s);
+                }
+                Stmt::Comment(c) => self.doc(c),
+                Stmt::StorePatchSlot(a, b, v) => {
+                    let s = format!(
+                        "tcs_cp[{}][{}] = {};",
+                        self.expr(m, f, a),
+                        self.expr(m, f, b),
+                        self.expr(m, f, v)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Output(o, e) => {
+                    let v = self.expr(m, f, e);
+                    let sides = self.entries.sides;
+                    // GLSL's quad domain is (u, v) = (y, x): its slots are
+                    // `hw_factor_edges(sides, false)`.
+                    let (outer, inner) = crate::lower::hw_factor_edges(sides, false);
+                    match o {
+                        StageOut::EdgeFactor(k) => {
+                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
+                            self.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
+                        }
+                        StageOut::InsideFactor(d) => {
+                            let edges = crate::tess::inside_edges(sides, *d);
+                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
+                            self.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
+                        }
+                        StageOut::Position => {
+                            self.line(&format!("te_position = {v};"));
+                            self.line(&format!(
+                                "gl_Position = ({} * vec4({v}, 1.0));",
+                                param("view_proj")
+                            ));
+                        }
+                        StageOut::Normal => self.line(&format!("te_normal = {v};")),
+                        StageOut::Domain => self.line(&format!("te_domain = {v};")),
+                        StageOut::Patch => self.line(&format!("te_patch = {v};")),
+                    }
+                }
             }
         }
     }
@@ -1319,6 +1156,8 @@ impl<'a> Writer<'a> {
                     Builtin::Round => format!("round({})", a[0]),
                     Builtin::Floor => format!("floor({})", a[0]),
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
+                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
+                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -1344,7 +1183,7 @@ impl<'a> Writer<'a> {
             Expr::Fetch(r, i) => {
                 let idx = self.expr(m, f, i);
                 if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("load_tcs_cp({idx})")
+                    format!("{}({idx})", ident(&self.entries.tess.load_cp.name))
                 } else if r.ty() == Ty::Vec3 {
                     format!("load_{}({idx})", r.name())
                 } else {
@@ -1356,6 +1195,22 @@ impl<'a> Writer<'a> {
                 self.expr(m, f, col),
                 self.expr(m, f, row)
             ),
+            Expr::Stage(StageIn::TessCoord(k)) => {
+                // Quads: the patch's (u, v) is (gl_TessCoord.y, gl_TessCoord.x),
+                // see the layout declaration; triangles: barycentric as is.
+                let axes = if self.entries.sides == 4 {
+                    ["y", "x", "z"]
+                } else {
+                    ["x", "y", "z"]
+                };
+                format!("gl_TessCoord.{}", axes[*k as usize])
+            }
+            Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
+            Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
+            Expr::PatchSlot(a, b) => {
+                format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
+            }
+            Expr::Stage(StageIn::Param(n)) => param(n),
             Expr::Texel(r, x, y) => format!(
                 "texelFetch({}, ivec2(int({}), int({})), 0).x",
                 r.name(),

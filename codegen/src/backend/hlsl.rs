@@ -24,6 +24,13 @@
 //! numbers. `vec3` buffers are packed `float` triples read and written
 //! through `fetch_<name>`/`store_<name>` helpers.
 //!
+//! The bodies of `hs_patch_constants` and `ds_main` are the Plan's
+//! ([`TessStages`]); this printer adds the entry points' signatures, the
+//! `HsConstants`/`DsOut` structs with their semantics, the names of the
+//! stage inputs and outputs (`SV_DomainLocation`, the factor slots), and the
+//! copy of the control points into and out of the packed `float4`
+//! patch constants.
+//!
 //! Spelling only: every Binary is printed fully parenthesised as in the
 //! Plan, f32 literals with Rust's shortest round-trip digits and an `f`
 //! suffix, u32 literals with `u`; functions flagged `precise` get `precise`
@@ -188,6 +195,8 @@ struct Ctx<'f> {
     /// HLSL name of every local.
     names: Vec<String>,
     cp: Cp,
+    /// Spelling of [`StageIn::PatchInDraw`] (tessellation stage bodies).
+    patch: &'static str,
 }
 
 pub struct Writer<'a> {
@@ -211,6 +220,8 @@ impl<'a> Writer<'a> {
             "KMAX",
             "KMAX4",
             "CONTROL_POINTS",
+            "load_patch_cp",
+            "store_patch_cp",
             "cp",
             "cp_out",
             "VsOut",
@@ -532,6 +543,7 @@ impl<'a> Writer<'a> {
             f,
             names: self.local_names(f),
             cp: self.cp_of(m, f),
+            patch: "patch_id",
         };
         let mut args = Vec::new();
         match cx.cp {
@@ -649,6 +661,51 @@ impl<'a> Writer<'a> {
                     let s = format!("return {};", self.expr(cx, e));
                     self.line(&s);
                 }
+                Stmt::Call(r, xs) => {
+                    let s = format!("{};", self.expr(cx, &Expr::CallFn(*r, xs.clone())));
+                    self.line(&s);
+                }
+                Stmt::Comment(c) => self.doc(c),
+                Stmt::StorePatchSlot(a, b, v) => {
+                    let s = format!(
+                        "c.cp[{}][{}] = {};",
+                        self.expr(cx, a),
+                        self.expr(cx, b),
+                        self.expr(cx, v)
+                    );
+                    self.line(&s);
+                }
+                Stmt::Output(o, e) => {
+                    let v = self.expr(cx, e);
+                    let sides = self.entries.sides;
+                    // HLSL's quad domain is (u, v) = (x, y): its slots are
+                    // `hw_factor_edges(sides, true)`.
+                    let (outer, inner) = crate::lower::hw_factor_edges(sides, true);
+                    match o {
+                        StageOut::EdgeFactor(k) => {
+                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
+                            self.line(&format!("c.edges[{slot}] = {v};"));
+                        }
+                        StageOut::InsideFactor(d) => {
+                            let edges = crate::tess::inside_edges(sides, *d);
+                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
+                            if sides == 3 {
+                                self.line(&format!("c.inside = {v};"));
+                            } else {
+                                self.line(&format!("c.inside[{slot}] = {v};"));
+                            }
+                        }
+                        StageOut::Position => {
+                            self.line(&format!(
+                                "o.position = mul(params.view_proj, float4({v}, 1.0f));"
+                            ));
+                            self.line(&format!("o.world = {v};"));
+                        }
+                        StageOut::Normal => self.line(&format!("o.normal = {v};")),
+                        StageOut::Domain => self.line(&format!("o.domain = {v};")),
+                        StageOut::Patch => self.line(&format!("o.patch_index = {v};")),
+                    }
+                }
             }
         }
     }
@@ -700,6 +757,8 @@ impl<'a> Writer<'a> {
                     Builtin::Round => format!("round({})", a[0]),
                     Builtin::Floor => format!("floor({})", a[0]),
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
+                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
+                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -739,6 +798,12 @@ impl<'a> Writer<'a> {
                 self.expr(cx, col),
                 self.expr(cx, row)
             ),
+            // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
+            Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
+            Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
+            Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
+            Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
+            Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
             Expr::Texel(r, x, y) => format!(
                 "{}.Load(int3(int({}), int({}), 0))",
                 r.name(),
@@ -790,9 +855,8 @@ impl<'a> Writer<'a> {
     fn compute_entries(&mut self) {
         let wg = abi::WORKGROUP_SIZE;
         let class = ident("class");
-        let vs = &self.module.functions[self.entries.vertex_stage];
         let eval = &self.module.functions[self.entries.eval];
-        let (vs_name, eval_name) = (ident(&vs.name), ident(&eval.name));
+        let eval_name = ident(&eval.name);
         let eval_ret = eval
             .ret
             .as_ref()
@@ -809,17 +873,8 @@ impl<'a> Writer<'a> {
             abi::entry::VERTEX_STAGE
         ));
         self.indent += 1;
-        self.line("uint k = global_id.x;");
-        self.line("if (k >= params.count) {");
-        self.line("    return;");
-        self.line("}");
-        self.line("uint vertex_index = (params.first + k);");
-        self.line("if (valence[vertex_index] == 0u) {");
-        self.line("    return;");
-        self.line("}");
-        self.line(&format!(
-            "{vs_name}(vertex_index, vertex_out_offsets[vertex_index]);"
-        ));
+        let entries = self.entries;
+        self.tess_body(&entries.compute_vertex, "patch_id");
         self.indent -= 1;
         self.line("}");
 
@@ -913,207 +968,113 @@ impl<'a> Writer<'a> {
         self.line("}");
     }
 
-    fn tessellation_entries(&mut self) {
-        let class = ident("class");
-        let eval = &self.module.functions[self.entries.eval];
-        let eval_name = ident(&eval.name);
-        let eval_ret = eval
+    /// A tessellation stage body of the Plan ([`TessStages`]) inside its
+    /// entry point; `patch` spells [`StageIn::PatchInDraw`] there.
+    fn tess_body(&mut self, f: &Function, patch: &'static str) {
+        let module = self.module;
+        let mut names = self.local_names(f);
+        // The entry point's own names.
+        for n in names.iter_mut() {
+            while ["c", "o", "uv", "ctrl", "patch_id", "i", "j", "j4"].contains(&n.as_str()) {
+                n.push('_');
+            }
+        }
+        let cx = Ctx {
+            m: module,
+            f,
+            names,
+            cp: self.cp_of(module, f),
+            patch,
+        };
+        self.stmts(&cx, &f.body);
+    }
+
+    /// The Plan's packing function `f` ([`TessStages::store_cp`],
+    /// [`TessStages::load_cp`]) with the patch constants `c` as its first
+    /// parameter ([`Expr::PatchSlot`] is `c.cp[slot][comp]`).
+    fn patch_slot_function(&mut self, f: &Function, c: &str) {
+        self.doc(&f.doc);
+        let mut names = self.local_names(f);
+        for n in names.iter_mut() {
+            while n == "c" {
+                n.push('_');
+            }
+        }
+        let mut args = vec![c.to_string()];
+        for id in &f.params {
+            args.push(format!("{} {}", self.ty(&f.locals[id.0].ty), names[id.0]));
+        }
+        let ret = f
             .ret
             .as_ref()
             .map(|t| self.ty(t))
             .unwrap_or_else(|| "void".into());
-        let (position, normal) = self.sample_fields();
-        let capture = Define::Capture.name();
-        let grid_len = ident(&self.module.functions[self.entries.grid[0]].name);
-        let grid_index = ident(&self.module.functions[self.entries.grid_index].name);
+        self.line(&format!("{ret} {}({}) {{", ident(&f.name), args.join(", ")));
+        let cx = Ctx {
+            m: self.module,
+            f,
+            names,
+            cp: Cp::None,
+            patch: "patch_id",
+        };
+        self.indent += 1;
+        self.stmts(&cx, &f.body);
+        self.indent -= 1;
+        self.line("}");
+    }
+
+    fn tessellation_entries(&mut self) {
+        let store = ident(&self.entries.tess.store_cp.name);
+        let load = ident(&self.entries.tess.load_cp.name);
         let tri = self.entries.sides == 3;
-        let (domain, edges, inside, uv_ty, cu, cv) = if tri {
-            ("tri", 3, 1, "float3", "y", "z")
+        let (domain, edges, uv_ty) = if tri {
+            ("tri", 3, "float3")
         } else {
-            ("quad", 4, 2, "float2", "x", "y")
+            ("quad", 4, "float2")
         };
         let factor_doc = if tri {
             "// Per-patch outputs. Tess factors: edges[k] is the edge opposite corner k\n\
-             // (barycentric coordinate k = 0). A factor must depend only on its edge so\n\
-             // both patches of an edge get the same parameters (watertight.md Rule 3):\n\
-             // the uniform level, or in adaptive builds a factor per edge."
+             // (barycentric coordinate k = 0), i.e. our edges 1 (v1 -> v2), 2 (v2 -> v0),\n\
+             // 0 (v0 -> v1); inside is the one inside factor."
         } else {
             "// Per-patch outputs. Tess factors: edges[0] is the u = 0 edge, [1] v = 0,\n\
-             // [2] u = 1, [3] v = 1 (D3D and Vulkan alike). A factor must depend only on\n\
-             // its edge so both patches of an edge get the same parameters\n\
-             // (watertight.md Rule 3): the uniform level, or in adaptive builds a factor\n\
-             // per edge."
+             // [2] u = 1, [3] v = 1 (D3D and Vulkan alike), i.e. our edges 3, 0, 1, 2;\n\
+             // inside[0] subdivides along u (our edges 0 and 2), inside[1] along v."
         };
         let inside_decl = if tri {
             "float inside : SV_InsideTessFactor;"
         } else {
             "float inside[2] : SV_InsideTessFactor;"
         };
-        let uniform_factors: String = (0..edges)
-            .map(|k| format!("    c.edges[{k}] = level;\n"))
-            .chain(if tri {
-                vec!["    c.inside = level;\n".to_string()]
-            } else {
-                (0..inside)
-                    .map(|k| format!("    c.inside[{k}] = level;\n"))
-                    .collect()
-            })
-            .collect();
-        let adaptive = Define::Adaptive.name();
-        let set_factors = {
-            let edge_factor = ident(crate::lower::EDGE_FACTOR_FN);
-            let (outer, inner) = crate::lower::hw_factor_edges(edges, true);
-            let inside_doc = if tri {
-                "data of the edge alone. Inside factor: the largest of the three."
-            } else {
-                "data of the edge alone. Inside factors: the larger of the two edges running\n\
-                 \x20   // in that direction (inside[0] subdivides along u: edges 0 and 2)."
-            };
-            let mut assign: String = outer
-                .iter()
-                .enumerate()
-                .map(|(k, e)| format!("    c.edges[{k}] = f[{e}];\n"))
-                .collect();
-            if tri {
-                assign.push_str(&format!(
-                    "    c.inside = {};\n",
-                    super::max_of_factors(&inner[0])
-                ));
-            } else {
-                for (k, es) in inner.iter().enumerate() {
-                    assign.push_str(&format!(
-                        "    c.inside[{k}] = {};\n",
-                        super::max_of_factors(es)
-                    ));
-                }
-            }
-            format!(
-                "#ifdef {adaptive}\n\
-                 \x20   // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points,\n\
-                 \x20   // shared control points), their global vertices and the global edge id, all\n\
-                 \x20   // {inside_doc}\n\
-                 \x20   float f[{edges}];\n\
-                 \x20   for (uint e = 0u; e < {edges}u; e += 1u) {{\n\
-                 \x20       uint curve = ((params.{class} * {per_class}u) + (e * 4u));\n\
-                 \x20       f[e] = {edge_factor}(cp_out[EDGE_CURVE[curve]], cp_out[EDGE_CURVE[(curve + 3u)]], corner_vertex[((face * {edges}u) + e)], corner_vertex[((face * {edges}u) + ((e + 1u) % {edges}u))], face_edges[((face * {edges}u) + e)]);\n\
-                 \x20   }}\n\
-                 {assign}\
-                 #else\n{uniform_factors}#endif\n",
-                per_class = 4 * edges
-            )
-        };
-        let partitioning = {
-            format!(
-                "// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or\n\
-                 // TESSGEN_FRACTIONAL_EVEN (adaptive builds only).\n\
-                 #if defined({})\n[partitioning(\"fractional_odd\")]\n#elif defined({})\n[partitioning(\"fractional_even\")]\n#else\n[partitioning(\"integer\")]\n#endif",
-                Define::FractionalOdd.name(),
-                Define::FractionalEven.name()
-            )
-        };
-        let ds_level = {
-            format!(
-                "#ifdef {adaptive}\n\
-                 \x20   // Adaptive (any partitioning): the coordinate on the tessellator's 16.16\n\
-                 \x20   // fixed-point grid, iu = u·2^16 (exact in f32), so both weights of every lerp\n\
-                 \x20   // come from integers; the neighbour's tessellator mirrors the edge's points\n\
-                 \x20   // (1 − t is exact in fixed point) and passes the edge evaluator the swapped pair.\n\
-                 \x20   uint level = {}u;\n\
-                 #else\n\
-                 \x20   uint level = params.level;\n\
-                 #endif",
-                crate::lower::ADAPTIVE_LEVEL
-            )
-        };
-        let capture_if = if tri {
-            format!("#ifdef {capture}")
+        let partitioning = format!(
+            "// Partitioning: integer unless the build defines TESSGEN_FRACTIONAL_ODD or\n\
+             // TESSGEN_FRACTIONAL_EVEN (adaptive builds only).\n\
+             #if defined({})\n[partitioning(\"fractional_odd\")]\n#elif defined({})\n[partitioning(\"fractional_even\")]\n#else\n[partitioning(\"integer\")]\n#endif",
+            Define::FractionalOdd.name(),
+            Define::FractionalEven.name()
+        );
+        let capture = Define::Capture.name();
+        let ds_out_capture = if tri {
+            format!("#ifdef {capture}\n")
         } else {
-            format!("#if defined({capture}) && !defined({adaptive})")
+            format!(
+                "#if defined({capture}) && defined({})\n",
+                Define::Adaptive.name()
+            )
         };
         let domain_doc = if tri {
-            "// Triangle schemes: SV_DomainLocation is barycentric, (x, y, z) weighing\n\
-             // corners (0, 1, 2), and eval_domain takes it raw. On the outer ring (a\n\
-             // coordinate exactly 0: the tessellator emits exact fixed-point i/level there)\n\
-             // it rounds to the integer grid point and takes the shared edge evaluator, so\n\
-             // both patches of an edge compute the same bits (watertight.md Rules 2 and 3).\n\
-             // Inside, the hardware's inner rings (ring k: level − 2k segments per side) are\n\
-             // not the barycentric lattice, so the surface is evaluated at the raw point."
+            "// SV_DomainLocation is barycentric, (x, y, z) weighing corners (0, 1, 2)."
         } else {
-            "// Hardware domain location (u, v) is our convention as is: u along v0 -> v1,\n\
-             // v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1). The tessellator\n\
-             // emits exact fixed-point i/level, and the Plan forms every weight from\n\
-             // integers (the shared edge evaluator takes i and level: watertight.md\n\
-             // Rules 2 and 3), so the integer coordinates are recovered by rounding."
-        };
-        let (ds_out_capture, evaluate, capture_body) = match self.entries.eval_domain {
-            Some(d) => (
-                format!(
-                    "#ifdef {capture}\n    \
-                     // Capture: the domain point and the patch of every vertex, for a harness\n    \
-                     // that records the output triangles (inner vertices are not grid points).\n    \
-                     float3 domain : TESSGEN_DOMAIN;\n    \
-                     nointerpolation uint patch_index : TESSGEN_PATCH;\n\
-                     #endif\n"
-                ),
-                format!(
-                    "    {eval_ret} result = {}(cp, params.{class}, 0u, uv.x, uv.y, uv.z, level);",
-                    ident(&self.module.functions[d].name)
-                ),
-                "    o.domain = uv;\n    o.patch_index = (params.first + c.patch_id);".to_string(),
-            ),
-            None => (
-                format!(
-                    "#if defined({capture}) && defined({adaptive})\n    \
-                     // Adaptive capture: the domain point (u, v, 0) and the patch of every\n    \
-                     // vertex, for a harness that records the output triangles.\n    \
-                     float3 domain : TESSGEN_DOMAIN;\n    \
-                     nointerpolation uint patch_index : TESSGEN_PATCH;\n\
-                     #endif\n"
-                ),
-                match &self.entries.tess_displaced {
-                    Some(t) => format!(
-                        "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
-                         uint iv = (uint)round(uv.{cv} * float(level));\n\
-                         #ifdef {displace}\n    \
-                         // Displaced: this patch's sample from cp (cp_base 0), the owner's normal\n    \
-                         // on the boundary from the global control-point buffer, filled by\n    \
-                         // patch_main before the draw (watertight.md Rules 4 and 5).\n    \
-                         uint face = patch_faces[(params.first + c.patch_id)];\n    \
-                         {eval_ret} result = {}(cp, face, params.{class}, 0u, iu, iv, level);\n\
-                         #else\n    \
-                         {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);\n\
-                         #endif",
-                        ident(&self.module.functions[t.eval_displaced].name),
-                        displace = Define::Displace.name(),
-                    ),
-                    None => format!(
-                        "    uint iu = (uint)round(uv.{cu} * float(level));\n    \
-                         uint iv = (uint)round(uv.{cv} * float(level));\n    \
-                         {eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
-                    ),
-                },
-                format!(
-                    "    // Capture: the sample at eval_main's layout, patch c.patch_id of the draw\n    \
-                     // being patch out_base + c.patch_id, sample grid_index(iu, iv).\n    \
-                     uint at = ((((params.out_base + c.patch_id) * {grid_len}(level)) + {grid_index}(iu, iv, level)) * 6u);\n    \
-                     samples[at] = result.{position}.x;\n    \
-                     samples[(at + 1u)] = result.{position}.y;\n    \
-                     samples[(at + 2u)] = result.{position}.z;\n    \
-                     samples[(at + 3u)] = result.{normal}.x;\n    \
-                     samples[(at + 4u)] = result.{normal}.y;\n    \
-                     samples[(at + 5u)] = result.{normal}.z;\n\
-                     #elif defined({capture})\n    \
-                     // Adaptive capture: the domain point and the patch of every vertex.\n    \
-                     o.domain = float3(uv.x, uv.y, 0.0f);\n    \
-                     o.patch_index = (params.first + c.patch_id);"
-                ),
-            ),
+            "// SV_DomainLocation (x, y) is the patch's (u, v) as is: u along v0 -> v1,\n\
+             // v along v0 -> v3, corner k at (0,0), (1,0), (1,1), (0,1)."
         };
         let text = format!(
             r#"// ---- tessellation pipeline: {VS_MAIN} -> {HS_MAIN} -> {DS_MAIN} ----
 // Draw params.count patches of class params.class (patch list, 1 control
 // point per patch, no vertex buffer); patch p of the draw is face
-// patch_faces[params.first + p].
+// patch_faces[params.first + p]. The stage bodies are the Plan's; the
+// control points travel packed, point j at floats 3j .. 3j+2 of KMAX4
+// float4 patch constants.
 
 struct VsOut {{
     float4 position : SV_Position;
@@ -1139,12 +1100,20 @@ struct HsConstants {{
     // user input, so the hull passes the patch index on as a constant.
     uint patch_id : PATCH_ID;
 }};
-
-// The patch stage, once per patch: the class's patch function fills the
-// patch's control points (cp_base 0).
+"#
+        );
+        for l in text.lines() {
+            self.line(l);
+        }
+        let entries = self.entries;
+        self.patch_slot_function(&entries.tess.store_cp, "inout HsConstants c");
+        self.line("");
+        self.patch_slot_function(&entries.tess.load_cp, "HsConstants c");
+        self.line("");
+        let text = format!(
+            r#"// The patch stage, once per patch, and the tessellation factors.
 HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
     HsConstants c;
-    uint face = patch_faces[(params.first + patch_id)];
     float3 cp_out[KMAX];
     for (uint i = 0u; i < KMAX; i += 1u) {{
         cp_out[i] = float3(0.0f, 0.0f, 0.0f);
@@ -1154,21 +1123,17 @@ HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
             self.line(l);
         }
         self.indent += 1;
-        self.class_dispatch(|w, p| w.patch_call(p, "cp_out", "face"));
+        self.tess_body(&entries.tess.control, "patch_id");
         self.indent -= 1;
         let text = format!(
             r#"    for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {{
         c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
     }}
     for (uint j = 0u; j < KMAX; j += 1u) {{
-        uint k = (3u * j);
-        c.cp[(k / 4u)][(k % 4u)] = cp_out[j].x;
-        c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)] = cp_out[j].y;
-        c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)] = cp_out[j].z;
+        {store}(c, j, cp_out[j]);
     }}
     c.patch_id = patch_id;
-    float level = float(params.level);
-{set_factors}    return c;
+    return c;
 }}
 
 [domain("{domain}")]
@@ -1186,30 +1151,29 @@ struct DsOut {{
     float4 position : SV_Position;
     float3 normal : NORMAL;
     float3 world : WORLD_POSITION;
-{ds_out_capture}}};
+{ds_out_capture}    // Capture: the domain point and the patch of every vertex, for a harness
+    // that records the output triangles.
+    float3 domain : TESSGEN_DOMAIN;
+    nointerpolation uint patch_index : TESSGEN_PATCH;
+#endif
+}};
 
 {domain_doc}
 [domain("{domain}")]
 DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
-{ds_level}
     float3 cp[KMAX];
     for (uint j = 0u; j < KMAX; j += 1u) {{
-        uint k = (3u * j);
-        cp[j] = float3(c.cp[(k / 4u)][(k % 4u)], c.cp[((k + 1u) / 4u)][((k + 1u) % 4u)], c.cp[((k + 2u) / 4u)][((k + 2u) % 4u)]);
+        cp[j] = {load}(c, j);
     }}
-{evaluate}
-    DsOut o;
-    o.position = mul(params.view_proj, float4(result.{position}, 1.0f));
-    o.normal = result.{normal};
-    o.world = result.{position};
-{capture_if}
-{capture_body}
-#endif
-    return o;
-}}"#
+    DsOut o;"#
         );
         for l in text.lines() {
             self.line(l);
         }
+        self.indent += 1;
+        self.tess_body(&entries.tess.evaluation, "c.patch_id");
+        self.line("return o;");
+        self.indent -= 1;
+        self.line("}");
     }
 }

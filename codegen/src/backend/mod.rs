@@ -81,7 +81,10 @@ pub fn called(f: &Function) -> Vec<FnRef> {
             Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
                 expr(a, out)
             }
-            Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::Texel(_, a, b) => {
+            Expr::Binary(_, a, b)
+            | Expr::TableWeight(a, b)
+            | Expr::Texel(_, a, b)
+            | Expr::PatchSlot(a, b) => {
                 expr(a, out);
                 expr(b, out);
             }
@@ -112,6 +115,19 @@ pub fn called(f: &Function) -> Vec<FnRef> {
                     expr(a, out);
                     expr(b, out);
                     stmts(body, out);
+                }
+                Stmt::Call(r, xs) => {
+                    if !out.contains(r) {
+                        out.push(*r);
+                    }
+                    xs.iter().for_each(|x| expr(x, out));
+                }
+                Stmt::Output(_, e) => expr(e, out),
+                Stmt::Comment(_) => {}
+                Stmt::StorePatchSlot(a, b, v) => {
+                    expr(a, out);
+                    expr(b, out);
+                    expr(v, out);
                 }
             }
         }

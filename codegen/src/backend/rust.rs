@@ -417,6 +417,14 @@ pub struct SchemeKernels {
                         self.line("}");
                     }
                 }
+                // Only in the tessellation stage bodies (`Entries::tess`),
+                // which this target has no stages for and never prints.
+                Stmt::Call(..)
+                | Stmt::Output(..)
+                | Stmt::Comment(..)
+                | Stmt::StorePatchSlot(..) => {
+                    unreachable!("tessellation-stage statement outside Entries::tess")
+                }
                 // No preprocessor: always the default branch.
                 Stmt::IfDef(_, _, b) => self.stmts(m, f, b),
                 Stmt::For(id, a, b, body) => {
@@ -482,6 +490,8 @@ pub struct SchemeKernels {
                     Builtin::Round => format!("{}.round_ties_even()", a[0]),
                     Builtin::Floor => format!("{}.floor()", a[0]),
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("({} as u32)", a[0]),
+                    Builtin::Max => format!("{}.max({})", a[0], a[1]),
+                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -521,6 +531,10 @@ pub struct SchemeKernels {
                     Resource::ControlPoints => format!("cp[({idx}) as usize]"),
                     other => format!("inputs.{}[({idx}) as usize]", other.name()),
                 }
+            }
+            // Only in the tessellation stage bodies (`Entries::tess`).
+            Expr::Stage(_) | Expr::PatchSlot(..) => {
+                unreachable!("tessellation-stage input outside Entries::tess")
             }
             Expr::Texel(r, x, y) => format!(
                 "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",

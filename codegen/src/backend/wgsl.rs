@@ -485,6 +485,14 @@ impl<'a> Writer<'a> {
                         self.line("}");
                     }
                 }
+                // Only in the tessellation stage bodies (`Entries::tess`),
+                // which this target has no stages for and never prints.
+                Stmt::Call(..)
+                | Stmt::Output(..)
+                | Stmt::Comment(..)
+                | Stmt::StorePatchSlot(..) => {
+                    unreachable!("tessellation-stage statement outside Entries::tess")
+                }
                 // No preprocessor: always the default branch.
                 Stmt::IfDef(_, _, b) => self.stmts(m, f, written, b),
                 Stmt::For(id, a, b, body) => {
@@ -551,6 +559,8 @@ impl<'a> Writer<'a> {
                     Builtin::Round => format!("round({})", a[0]),
                     Builtin::Floor => format!("floor({})", a[0]),
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("u32({})", a[0]),
+                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
+                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -593,6 +603,10 @@ impl<'a> Writer<'a> {
                 self.expr(m, f, written, col),
                 self.expr(m, f, written, row)
             ),
+            // Only in the tessellation stage bodies (`Entries::tess`).
+            Expr::Stage(_) | Expr::PatchSlot(..) => {
+                unreachable!("tessellation-stage input outside Entries::tess")
+            }
             Expr::Texel(r, x, y) => format!(
                 "textureLoad({}, vec2<u32>({}, {}), 0u).x",
                 r.name(),

@@ -1,0 +1,461 @@
+//! The bodies of the hardware tessellation stages ([`TessStages`]): the
+//! control stage (patch function, tessellation factors) and the evaluation
+//! stage (integer grid point or raw domain point, the sample, the stage
+//! outputs, the capture of harness builds), built once as Plan statements.
+//!
+//! The GLSL and HLSL printers print these bodies inside their entry points
+//! (`.tesc`/`.tese` `main`, `hs_patch_constants`/`ds_main`) and add only
+//! their API's declarations around them. Every choice that decides bits
+//! lives here: how the integer grid point is recovered from the
+//! tessellator's coordinate (`round(u·level)`), the adaptive fixed-point
+//! level, which evaluator runs under which define, the capture layout
+//! (`eval_main`'s), and how the factors are formed from the edges alone
+//! (watertight.md Rules 2 and 3).
+
+use crate::lower::{common_fn, ADAPTIVE_LEVEL};
+use crate::plan::build::*;
+use crate::plan::*;
+
+/// The patch edges (k: `v_k → v_{k+1}`) whose largest factor is the inside
+/// factor along patch axis `d` ([`StageOut::InsideFactor`]): quads, along
+/// `u` (d = 0) the edges `v = 0` and `v = 1` (0 and 2), along `v` the
+/// edges 1 and 3; triangles, all three. Printers find the API slot of that
+/// set in [`crate::lower::hw_factor_edges`].
+pub fn inside_edges(sides: u32, d: u8) -> Vec<usize> {
+    match (sides, d) {
+        (3, _) => vec![0, 1, 2],
+        (_, 0) => vec![0, 2],
+        _ => vec![1, 3],
+    }
+}
+
+fn stage(s: StageIn) -> Expr {
+    Expr::Stage(s)
+}
+
+fn param(name: &'static str) -> Expr {
+    stage(StageIn::Param(name))
+}
+
+/// `params.first + patch in draw`: the patch's index into `patch_faces`.
+fn patch_index() -> Expr {
+    add(param("first"), stage(StageIn::PatchInDraw))
+}
+
+fn comment(s: &str) -> Stmt {
+    Stmt::Comment(s.to_string())
+}
+
+/// `#ifdef TESSGEN_ADAPTIVE level = 2^16 #else level = params.level`.
+fn level_stmt(level: LocalId, adaptive_doc: &str) -> Stmt {
+    Stmt::IfDef(
+        Define::Adaptive,
+        vec![comment(adaptive_doc), Stmt::Let(level, u(ADAPTIVE_LEVEL))],
+        vec![Stmt::Let(level, param("level"))],
+    )
+}
+
+/// Both stage bodies of a scheme. `curve_const` is the scheme's
+/// `EDGE_CURVE` constant.
+pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
+    TessStages {
+        control: control(entries, curve_const),
+        evaluation: evaluation(entries),
+        store_cp: store_cp(),
+        load_cp: load_cp(),
+    }
+}
+
+/// The body of the compute entry `vertex_stage_main` (GLSL, HLSL; see
+/// [`Entries::compute_vertex`]).
+pub fn compute_vertex(entries: &Entries) -> Function {
+    let mut f = Function::new(
+        "compute_vertex",
+        "Vertex stage of vertices params.first .. params.first + params.count (valence 0 = unused vertex, skipped).",
+    );
+    let k = f.local("k", Ty::U32);
+    let vertex = f.local("vertex", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::If(
+            bin(BinOp::Lt, l(k), param("count")),
+            vec![
+                Stmt::Let(vertex, add(param("first"), l(k))),
+                Stmt::If(
+                    bin(BinOp::Ne, fetch(Resource::Valence, l(vertex)), u(0)),
+                    vec![Stmt::Call(
+                        FnRef::Local(entries.vertex_stage),
+                        vec![l(vertex), fetch(Resource::VertexOutOffsets, l(vertex))],
+                    )],
+                    vec![],
+                ),
+            ],
+            vec![],
+        ),
+    ];
+    f
+}
+
+/// The `vec4` slot and component of float `k` of the packed control points.
+fn slot(k: Expr) -> (Expr, Expr) {
+    (div(k.clone(), u(4)), bin(BinOp::Rem, k, u(4)))
+}
+
+fn store_cp() -> Function {
+    let mut f = Function::new(
+        "store_patch_cp",
+        "Control point j into the packed per-patch storage: floats 3j .. 3j+2 of the vec4 slots.",
+    );
+    let j = f.param("j", Ty::U32);
+    let p = f.param("p", Ty::Vec3);
+    let k = f.local("k", Ty::U32);
+    f.body.push(Stmt::Let(k, mul(u(3), l(j))));
+    for c in 0..3u8 {
+        let at = if c == 0 { l(k) } else { add(l(k), u(c as u32)) };
+        let (s, comp) = slot(at);
+        f.body.push(Stmt::StorePatchSlot(
+            s,
+            comp,
+            Expr::Call(Builtin::Component(c), vec![l(p)]),
+        ));
+    }
+    f
+}
+
+fn load_cp() -> Function {
+    let mut f = Function::new(
+        "load_patch_cp",
+        "Control point j from the packed per-patch storage (the inverse of store_patch_cp).",
+    );
+    let j = f.param("j", Ty::U32);
+    f.ret = Some(Ty::Vec3);
+    let k = f.local("k", Ty::U32);
+    f.body.push(Stmt::Let(k, mul(u(3), l(j))));
+    let xs = (0..3u32)
+        .map(|c| {
+            let at = if c == 0 { l(k) } else { add(l(k), u(c)) };
+            let (s, comp) = slot(at);
+            Expr::PatchSlot(Box::new(s), Box::new(comp))
+        })
+        .collect();
+    f.body.push(Stmt::Return(Expr::Call(Builtin::Vec3, xs)));
+    f
+}
+
+fn control(entries: &Entries, curve_const: usize) -> Function {
+    let sides = entries.sides;
+    let mut f = Function::new(
+        "tess_control",
+        "The patch stage of the draw's class, once per patch, into the patch's control points (cp_base 0), then the tessellation factors.",
+    );
+    let face = f.local("face", Ty::U32);
+    f.body
+        .push(Stmt::Let(face, fetch(Resource::PatchFaces, patch_index())));
+    // `if (class == 0) {…} else if … else {…}`, the last class unconditional
+    // (like `eval`'s dispatch).
+    let mut chain: Vec<Stmt> = Vec::new();
+    for (k, p) in entries.patches.iter().enumerate().rev() {
+        let call = Stmt::Call(FnRef::Local(p.function), vec![l(face), u(0)]);
+        chain = if chain.is_empty() {
+            vec![call]
+        } else {
+            vec![Stmt::If(
+                bin(BinOp::Eq, param("class"), u(k as u32)),
+                vec![call],
+                chain,
+            )]
+        };
+    }
+    f.body.extend(chain);
+    f.body.push(comment(
+        "One factor per edge that depends only on the edge, so both patches of an edge get the\n\
+         same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a\n\
+         factor per edge.",
+    ));
+    // Adaptive: edge k's factor from its two corners (EDGE_CURVE's end
+    // points, shared control points), their global vertices and the global
+    // edge id.
+    let mut adaptive = vec![comment(if sides == 3 {
+        "Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared\n\
+         control points), their global vertices and the global edge id, all data of the edge\n\
+         alone. Inside factor: the largest of the three."
+    } else {
+        "Adaptive: edge k's factor from its two corners (EDGE_CURVE's end points, shared\n\
+         control points), their global vertices and the global edge id, all data of the edge\n\
+         alone. Inside factors: the larger of the two edges running in that direction."
+    })];
+    let mut factors = Vec::new();
+    for k in 0..sides {
+        let fk = f.local(format!("f_{k}"), Ty::F32);
+        let curve = add(mul(param("class"), u(4 * sides)), u(4 * k));
+        let corner = |c: u32| add(mul(l(face), u(sides)), u(c));
+        adaptive.push(Stmt::Let(
+            fk,
+            call(
+                FnRef::Common(common_fn::EDGE_FACTOR),
+                vec![
+                    fetch(
+                        Resource::ControlPoints,
+                        Expr::ConstIndex(curve_const, Box::new(curve.clone())),
+                    ),
+                    fetch(
+                        Resource::ControlPoints,
+                        Expr::ConstIndex(curve_const, Box::new(add(curve, u(3)))),
+                    ),
+                    fetch(Resource::CornerVertex, corner(k)),
+                    fetch(Resource::CornerVertex, corner((k + 1) % sides)),
+                    fetch(Resource::FaceEdges, corner(k)),
+                ],
+            ),
+        ));
+        factors.push(fk);
+    }
+    let inside = if sides == 3 { 1 } else { 2 };
+    let mut uniform = Vec::new();
+    for (k, fk) in factors.iter().enumerate() {
+        adaptive.push(Stmt::Output(StageOut::EdgeFactor(k as u8), l(*fk)));
+        uniform.push(Stmt::Output(
+            StageOut::EdgeFactor(k as u8),
+            to_f32(param("level")),
+        ));
+    }
+    for d in 0..inside {
+        let mut es = inside_edges(sides, d).into_iter();
+        let first = es.next().map(|e| l(factors[e])).unwrap_or(f32c(1.0));
+        let max = es.fold(first, |acc, e| {
+            Expr::Call(Builtin::Max, vec![acc, l(factors[e])])
+        });
+        adaptive.push(Stmt::Output(StageOut::InsideFactor(d), max));
+        uniform.push(Stmt::Output(
+            StageOut::InsideFactor(d),
+            to_f32(param("level")),
+        ));
+    }
+    f.body
+        .push(Stmt::IfDef(Define::Adaptive, adaptive, uniform));
+    f
+}
+
+fn f32c(x: f32) -> Expr {
+    Expr::F32(x)
+}
+
+fn evaluation(entries: &Entries) -> Function {
+    let mut f = Function::new(
+        "tess_evaluation",
+        "Position and normal at the tessellator's domain point; capture builds also record it.",
+    );
+    let level = f.local("level", Ty::U32);
+    let result = f.local("result", Ty::Struct(common::SAMPLE));
+    let tc = |k: u8| stage(StageIn::TessCoord(k));
+    let outputs = |result: LocalId| {
+        vec![
+            Stmt::Output(StageOut::Position, Expr::Field(Box::new(l(result)), 0)),
+            Stmt::Output(StageOut::Normal, Expr::Field(Box::new(l(result)), 1)),
+        ]
+    };
+    if let Some(d) = entries.eval_domain {
+        f.body.push(comment(
+            "Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners\n\
+             (0, 1, 2). On the outer ring (a coordinate exactly 0; an integer level puts vertex i\n\
+             at i/level in fixed point) it rounds to the integer grid point and takes the shared\n\
+             edge evaluator, so the two patches of an edge compute the same bits (watertight.md\n\
+             Rules 2 and 3). Inside, the hardware's inner rings (ring k: level − 2k segments per\n\
+             side) are not the barycentric lattice, so it evaluates the surface at the raw point.",
+        ));
+        f.body.push(level_stmt(
+            level,
+            "Adaptive (any partitioning): the tessellator's coordinates are 16.16 fixed point, so\n\
+             on an edge round(y·2^16), round(z·2^16) are exact and the neighbour, whose\n\
+             tessellator mirrors the edge's points (1 − t is exact in fixed point), hands the\n\
+             shared edge evaluator exactly the swapped integer pair.",
+        ));
+        f.body.push(Stmt::Let(
+            result,
+            call(
+                FnRef::Local(d),
+                vec![param("class"), u(0), tc(0), tc(1), tc(2), l(level)],
+            ),
+        ));
+        f.body.extend(outputs(result));
+        f.body.push(Stmt::IfDef(
+            Define::Capture,
+            vec![
+                comment(
+                    "Capture: the domain point and the patch of every vertex, for a harness that\n\
+                     records the output triangles (inner vertices are not grid points).",
+                ),
+                Stmt::Output(
+                    StageOut::Domain,
+                    Expr::Call(Builtin::Vec3, vec![tc(0), tc(1), tc(2)]),
+                ),
+                Stmt::Output(StageOut::Patch, patch_index()),
+            ],
+            vec![],
+        ));
+        return f;
+    }
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    let at = f.local("at", Ty::U32);
+    f.body.push(comment(
+        "The grid point as integers: an integer level puts vertex i at i/level (fixed point),\n\
+         so rounding recovers i exactly. eval and the shared edge evaluator form every weight\n\
+         from these integers (watertight.md Rules 2 and 3), so the two patches of an edge\n\
+         compute the same bits.",
+    ));
+    if entries.sides == 4 {
+        f.body.push(level_stmt(
+            level,
+            "Adaptive (any partitioning): the coordinate on the tessellator's 16.16 fixed-point\n\
+             grid, iu = u·2^16 (exact in f32). Both weights of every lerp are then formed from\n\
+             integers (m/2^16, (2^16 − m)/2^16): interior points evaluate at the hardware\n\
+             coordinate itself, and on an edge the neighbour, whose tessellator mirrors the\n\
+             edge's points (1 − t is exact in fixed point), passes the shared edge evaluator\n\
+             exactly the swapped pair.",
+        ));
+    } else {
+        f.body.push(Stmt::Let(level, param("level")));
+    }
+    // Triangles without eval_domain: eval takes barycentric
+    // (level − iu − iv, iu, iv) of corners (0, 1, 2), iu from y, iv from z.
+    let (cu, cv) = if entries.sides == 3 { (1, 2) } else { (0, 1) };
+    let grid = |c: u8| {
+        Expr::Call(
+            Builtin::U32FromF32,
+            vec![Expr::Call(
+                Builtin::Round,
+                vec![mul(tc(c), to_f32(l(level)))],
+            )],
+        )
+    };
+    f.body.push(Stmt::Let(iu, grid(cu)));
+    f.body.push(Stmt::Let(iv, grid(cv)));
+    let eval = Stmt::Let(
+        result,
+        call(
+            FnRef::Local(entries.eval),
+            vec![param("class"), u(0), l(iu), l(iv), l(level)],
+        ),
+    );
+    match &entries.tess_displaced {
+        Some(t) => {
+            let face = f.local("face", Ty::U32);
+            f.body.push(Stmt::IfDef(
+                Define::Displace,
+                vec![
+                    comment(
+                        "Displaced: this patch's sample from its own control points (cp_base 0), the\n\
+                         owner's normal on the boundary from the global control-point buffer, filled\n\
+                         by patch_main before the draw (watertight.md Rules 4 and 5).",
+                    ),
+                    Stmt::Let(face, fetch(Resource::PatchFaces, patch_index())),
+                    Stmt::Let(
+                        result,
+                        call(
+                            FnRef::Local(t.eval_displaced),
+                            vec![l(face), param("class"), u(0), l(iu), l(iv), l(level)],
+                        ),
+                    ),
+                ],
+                vec![eval],
+            ));
+        }
+        None => f.body.push(eval),
+    }
+    f.body.extend(outputs(result));
+    // Grid capture: the sample at eval_main's layout, patch p of the draw
+    // being patch out_base + p, sample grid_index(iu, iv), 6 floats.
+    let mut grid_capture = vec![
+        comment(
+            "Capture: the sample at eval_main's layout, patch p of the draw being patch\n\
+             out_base + p, sample grid_index(iu, iv), 6 floats (position, normal).",
+        ),
+        Stmt::Let(
+            at,
+            mul(
+                add(
+                    mul(
+                        add(param("out_base"), stage(StageIn::PatchInDraw)),
+                        call(FnRef::Local(entries.grid[0]), vec![l(level)]),
+                    ),
+                    call(
+                        FnRef::Local(entries.grid_index),
+                        vec![l(iu), l(iv), l(level)],
+                    ),
+                ),
+                u(6),
+            ),
+        ),
+    ];
+    for (i, (field, c)) in [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2)]
+        .into_iter()
+        .enumerate()
+    {
+        let index = if i == 0 {
+            l(at)
+        } else {
+            add(l(at), u(i as u32))
+        };
+        grid_capture.push(Stmt::Store(
+            Resource::Samples,
+            index,
+            Expr::Call(
+                Builtin::Component(c),
+                vec![Expr::Field(Box::new(l(result)), field)],
+            ),
+        ));
+    }
+    let capture = if entries.sides == 4 {
+        // Adaptive patterns are not a grid: like the triangle capture,
+        // export the domain point and the patch.
+        vec![Stmt::IfDef(
+            Define::Adaptive,
+            vec![
+                comment(
+                    "Adaptive capture: the domain point (u, v, 0) and the patch of every vertex,\n\
+                     for a harness that records the output triangles.",
+                ),
+                Stmt::Output(
+                    StageOut::Domain,
+                    Expr::Call(Builtin::Vec3, vec![tc(0), tc(1), f32c(0.0)]),
+                ),
+                Stmt::Output(StageOut::Patch, patch_index()),
+            ],
+            grid_capture,
+        )]
+    } else {
+        grid_capture
+    };
+    f.body.push(Stmt::IfDef(Define::Capture, capture, vec![]));
+    f
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lower::hw_factor_edges;
+
+    /// Every inside factor the Plan forms is one of the API's inside slots,
+    /// in both axis conventions (GLSL swaps u and v), and every edge feeds
+    /// exactly one outer slot: the printers' slot look-up always succeeds.
+    #[test]
+    fn inside_and_edge_factors_have_a_slot() {
+        for sides in [3u32, 4] {
+            for first_is_u in [false, true] {
+                let (outer, inner) = hw_factor_edges(sides, first_is_u);
+                let mut seen = outer.clone();
+                seen.sort_unstable();
+                assert_eq!(seen, (0..sides as usize).collect::<Vec<_>>());
+                let dirs = if sides == 3 { 1 } else { 2 };
+                assert_eq!(inner.len(), dirs as usize);
+                for d in 0..dirs {
+                    assert!(
+                        inner.contains(&inside_edges(sides, d)),
+                        "sides {sides} d {d}"
+                    );
+                }
+            }
+        }
+    }
+}
