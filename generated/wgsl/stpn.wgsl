@@ -706,6 +706,91 @@ fn eval_adaptive(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u3
     return eval(class_, cp_base, su, sv, sl);
 }
 
+// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+fn eval_adaptive_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+    var su: u32 = iu;
+    var sv: u32 = iv;
+    var sl: u32 = level;
+    var t: u32 = 0u;
+    if (iv == 0u) {
+        t = (iu / (level / l0));
+        su = t;
+        sv = 0u;
+        sl = l0;
+    } else {
+        if ((iu + iv) == level) {
+            t = (iv / (level / l1));
+            su = (l1 - t);
+            sv = t;
+            sl = l1;
+        } else {
+            if (iu == 0u) {
+                t = ((level - iv) / (level / l2));
+                su = 0u;
+                sv = (l2 - t);
+                sl = l2;
+            }
+        }
+    }
+    if (((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl))) {
+        su = (su / sl);
+        sv = (sv / sl);
+        sl = 1u;
+    }
+    var sample: Sample = eval(class_, cp_base, su, sv, sl);
+    let scale: f32 = displace_info[0u];
+    if (scale != 0.0f) {
+        var n: vec3<f32> = sample.normal;
+        if (((sv == 0u) || (su == 0u)) || ((su + sv) == sl)) {
+            var slot: u32 = 2u;
+            var t_18: u32 = (sl - sv);
+            if (sv == 0u) {
+                slot = 0u;
+                t_18 = su;
+            } else {
+                if ((su + sv) == sl) {
+                    slot = 1u;
+                    t_18 = sv;
+                }
+            }
+            if (t_18 == 0u) {
+                slot = (slot + 3u);
+            } else {
+                if (t_18 == sl) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            let rec: u32 = ((face * 24u) + (slot * 4u));
+            let owner_class: u32 = owners[rec];
+            let owner_cp: u32 = owners[(rec + 1u)];
+            let owner_k: u32 = owners[(rec + 2u)];
+            var ot: u32 = t_18;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (sl - t_18);
+            }
+            if (slot >= 3u) {
+                ot = 0u;
+            }
+            var ou: u32 = ot;
+            var ov: u32 = 0u;
+            if (owner_k == 1u) {
+                ou = (sl - ot);
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = 0u;
+                    ov = (sl - ot);
+                }
+            }
+            let owner_sample: Sample = eval(owner_class, owner_cp, ou, ov, sl);
+            n = owner_sample.normal;
+        }
+        let h: f32 = tessgen_height_at(face, su, sv, sl);
+        sample.position = tessgen_displace(sample.position, n, (scale * h));
+    }
+    return sample;
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -835,7 +920,8 @@ fn adaptive_classify_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // One bucket of one class at its level params.level: grid_len(level) samples of each of
-// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into
+// the entries first .. first + count of bucket_patches, snapped and displaced by
+// eval_adaptive_displaced (displacement off: eval_adaptive bit for bit), into
 // samples[(out_base + k)·6 ..]: position xyz, normal xyz.
 @compute @workgroup_size(64)
 fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -850,7 +936,8 @@ fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let iv: u32 = grid_iv(s, params.level);
     let e: u32 = (6u * (params.first + patch_index));
     let cp: u32 = bucket_patches[(e + 1u)];
-    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
     let o: u32 = ((params.out_base + k) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;
@@ -861,14 +948,15 @@ fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Instanced adaptive draw of one bucket of one class: the level-params.level grid index
-// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.
+// buffer, instance inst = entry first + inst of bucket_patches, through eval_adaptive_displaced.
 @vertex
 fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
     let iu: u32 = grid_iu(vi, params.level);
     let iv: u32 = grid_iv(vi, params.level);
     let e: u32 = (6u * (params.first + inst));
     let cp: u32 = bucket_patches[(e + 1u)];
-    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
     var out: VsOut;
     out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
     out.world_position = result.position;

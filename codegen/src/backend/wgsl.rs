@@ -818,7 +818,9 @@ impl<'a> Writer<'a> {
         let cp_base = param("cp_base");
         let sample_ty = self.ty(&Ty::Struct(common::SAMPLE));
         let edge_level = self.fn_name(FnRef::Local(a.edge_level));
-        let eval = self.fn_name(FnRef::Local(a.eval));
+        // Through the displacement step (a no-op, bit for bit, while
+        // displace_info[0] == 0), which takes the face, as the uniform entries.
+        let eval = self.fn_name(FnRef::Local(a.eval_displaced));
         let bucket = self.fn_name(FnRef::Common(crate::lower::common_fn::BUCKET_LEVEL));
         let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
         self.line("");
@@ -849,12 +851,16 @@ impl<'a> Writer<'a> {
         let entry = |w: &mut Self, index: &str| {
             w.line(&format!("let e: u32 = (6u * ({first} + {index}));"));
             w.line("let cp: u32 = bucket_patches[(e + 1u)];");
+            w.line("let face: u32 = patch_faces[bucket_patches[e]];");
             w.line(&format!(
-                "let result: {sample_ty} = {eval}({class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
+                "let result: {sample_ty} = {eval}(face, {class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
             ));
         };
         self.line("// One bucket of one class at its level params.level: grid_len(level) samples of each of");
-        self.line("// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into");
+        self.line(
+            "// the entries first .. first + count of bucket_patches, snapped and displaced by",
+        );
+        self.line("// eval_adaptive_displaced (displacement off: eval_adaptive bit for bit), into");
         self.line("// samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
         self.compute_head("eval_adaptive_main");
         self.line(&format!("let spp: u32 = {grid_len}({level});"));
@@ -879,7 +885,7 @@ impl<'a> Writer<'a> {
         self.end_fn();
 
         self.line("// Instanced adaptive draw of one bucket of one class: the level-params.level grid index");
-        self.line("// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.");
+        self.line("// buffer, instance inst = entry first + inst of bucket_patches, through eval_adaptive_displaced.");
         self.line("@vertex");
         self.line(
             "fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
