@@ -551,27 +551,25 @@ fn adaptive_cpu(
         total += (kernels.grid_len)(l) as usize;
     }
     offsets.push(total);
-    let mut samples = vec![
-        Sample {
-            position: Vec3::ZERO,
-            normal: Vec3::ZERO,
-        };
-        total
-    ];
-    // One disjoint slice per face (grids of different sizes).
-    let mut grids: Vec<(usize, &mut [Sample])> = Vec::with_capacity(faces);
-    let mut rest = samples.as_mut_slice();
+    let mut positions = vec![Vec3::ZERO; total];
+    let mut normals = vec![Vec3::ZERO; total];
+    // One disjoint pair of slices per face (grids of different sizes),
+    // written in place: no intermediate sample buffer.
+    let mut grids: Vec<(usize, &mut [Vec3], &mut [Vec3])> = Vec::with_capacity(faces);
+    let (mut pos, mut nrm) = (positions.as_mut_slice(), normals.as_mut_slice());
     for f in 0..faces {
-        let (grid, tail) = rest.split_at_mut(offsets[f + 1] - offsets[f]);
-        grids.push((f, grid));
-        rest = tail;
+        let len = offsets[f + 1] - offsets[f];
+        let (p, p_tail) = pos.split_at_mut(len);
+        let (n, n_tail) = nrm.split_at_mut(len);
+        grids.push((f, p, n));
+        (pos, nrm) = (p_tail, n_tail);
     }
-    grids.into_par_iter().for_each(|(f, grid)| {
+    grids.into_par_iter().for_each(|(f, pos, nrm)| {
         let (class, l, e) = (patches.face_class[f], levels[f], slots[f]);
-        for (s, out) in grid.iter_mut().enumerate() {
+        for (s, (p, n)) in pos.iter_mut().zip(nrm.iter_mut()).enumerate() {
             let s = s as u32;
             let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
-            *out = match displace {
+            let r: Sample = match displace {
                 None => (ak.eval)(cp_of(f), class, 0, iu, iv, l, e[0], e[1], e[2], e[3]),
                 Some(_) => (ak.eval_displaced)(
                     &inputs,
@@ -588,6 +586,7 @@ fn adaptive_cpu(
                     e[3],
                 ),
             };
+            (*p, *n) = (r.position, r.normal);
         }
     });
     Ok(AdaptiveTessellation {
@@ -595,8 +594,8 @@ fn adaptive_cpu(
         levels,
         edge_levels,
         offsets,
-        positions: samples.iter().map(|s| s.position).collect(),
-        normals: samples.iter().map(|s| s.normal).collect(),
+        positions,
+        normals,
     })
 }
 

@@ -308,3 +308,29 @@ fn displacement_data_of_another_mesh_is_an_error() {
     .unwrap_err();
     assert!(err.to_string().contains("24 faces"), "{err}");
 }
+
+/// The CPU adaptive walk runs in parallel over faces (per-face slices of
+/// the output): one thread and four give the same bits, undisplaced and
+/// displaced.
+#[test]
+fn cpu_adaptive_output_does_not_depend_on_the_thread_count() {
+    let d = displacement(Ownership::LowestFace, 0.5);
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    for scheme in ["gregory", "pn"] {
+        let c = Case::new(
+            scheme,
+            per_face_charts(common::mesh("catmark_toroidal_tet")),
+        );
+        let a = c.random();
+        for disp in [None, Some(&d)] {
+            let one = pool(1).install(|| c.cpu(&a, disp));
+            let four = pool(4).install(|| c.cpu(&a, disp));
+            assert!(bit_equal(&one, &four), "{scheme} {}", disp.is_some());
+        }
+    }
+}
