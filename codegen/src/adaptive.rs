@@ -24,6 +24,12 @@
 //!   whatever their buckets; fine boundary triangles whose two boundary
 //!   corners snapped onto one point are degenerate (zero area), and the rest
 //!   stitch the two levels without T-junctions.
+//! * `eval_adaptive_displaced(face, class, cp_base, iu, iv, level, l0..l3)`
+//!   (per scheme): the same snap, then the displacement step of
+//!   `eval_displaced` at the snapped point — on an edge the owner's normal
+//!   and texture coordinate at the edge's own level, a snapped corner as the
+//!   level-1 grid point — so displaced neighbours in different buckets
+//!   still agree bit for bit. The WGSL adaptive entries call it.
 
 use crate::plan::build::*;
 use crate::plan::{self, *};

@@ -733,6 +733,14 @@ impl<'g> GpuMesh<'g> {
     ///
     /// A renderer draws step 3 with `eval_adaptive_vs` instead: one
     /// instanced draw of the level's grid per (class, bucket).
+    ///
+    /// Both entries evaluate through `eval_adaptive_displaced`: on a mesh
+    /// uploaded with displacement ([`GpuMesh::new_displaced`],
+    /// [`GpuMesh::new_tri_displaced`]) the result is displaced with
+    /// ownership (measured: the same bits as
+    /// [`crate::adaptive::evaluate_cpu_adaptive_displaced`] for pccm, pn
+    /// and phong; gregory within 2.4e-8 × diagonal, its interior normal);
+    /// otherwise (scale 0) it is the undisplaced tessellation bit for bit.
     pub fn evaluate_adaptive<'m>(
         &self,
         mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
