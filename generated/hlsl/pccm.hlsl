@@ -107,8 +107,14 @@ struct Params {
 // binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 [[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
 
-// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 [[vk::binding(26, 0)]] StructuredBuffer<uint> bucket_patches : register(t26);
+
+// binding 27: GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+[[vk::binding(27, 0)]] RWStructuredBuffer<uint> bucket_list : register(u27);
+
+// binding 28: GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
+[[vk::binding(28, 0)]] RWStructuredBuffer<uint> bucket_dispatch : register(u28);
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 24u;

@@ -486,6 +486,36 @@ fn entry_point_bindings() {
                     "24 displace_map -",
                     "26 bucket_patches read",
                 ],
+                // GPU-driven buckets: counting and scattering read the
+                // levels and write the lists, the plan pass writes the
+                // lists' header and the indirect arguments; the indirect
+                // evaluation reads the lists as bucket_patches.
+                "adaptive_count_main" => &[
+                    "10 params -",
+                    "25 patch_levels read_write",
+                    "27 bucket_list read_write",
+                ],
+                "adaptive_plan_main" => &[
+                    "10 params -",
+                    "27 bucket_list read_write",
+                    "28 bucket_dispatch read_write",
+                ],
+                "adaptive_scatter_main" => &[
+                    "10 params -",
+                    "25 patch_levels read_write",
+                    "27 bucket_list read_write",
+                ],
+                "eval_adaptive_indirect_main" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "12 samples read_write",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
+                    "26 bucket_patches read",
+                ],
                 other => panic!("{}: unexpected entry point {other}", f.path),
             };
             assert_eq!(got, want, "{}: {}", f.path, ep.name);
