@@ -232,7 +232,7 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
-    /// Displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed. Quad schemes on every backend; triangle schemes (pn, stpn, phong; with --split-quads for quad meshes) on cpu and wgpu.
+    /// Displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed. Quad schemes on every backend; triangle schemes (pn, stpn, phong; with --split-quads for quad meshes) on cpu and wgpu. With --adaptive: cpu and wgpu (owner's normal and texture coordinate at each edge's own level).
     #[arg(long, value_name = "MAP.png")]
     displace: Option<PathBuf>,
     /// Displacement scale: position + scale · height · normal.
@@ -500,16 +500,34 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
         Some(path) => Some(load_tags(path, mesh)?),
         None => None,
     };
+    let displacement = match &args.displace {
+        Some(path) => {
+            if tags.is_some() {
+                return Err("--displace does not take --tags".into());
+            }
+            if !matches!(args.backend, Backend::Cpu | Backend::Wgpu) {
+                return Err(
+                    "--adaptive with --displace runs on --backend cpu|wgpu (the instanced \
+                     path's eval_adaptive_displaced)"
+                        .into(),
+                );
+            }
+            Some(displacement_arg(path, args)?)
+        }
+        None => None,
+    };
     let start = Instant::now();
     let tris = match args.backend {
-        Backend::Cpu => cpu_adaptive(mesh, args, tags.as_ref()),
+        Backend::Cpu => cpu_adaptive(mesh, args, tags.as_ref(), displacement.as_ref()),
         Backend::Wgpu => instanced_adaptive(mesh, args, tags.as_ref()).and_then(|a| {
             gpu_cmds::wgpu_adaptive(
                 &args.scheme,
+                mesh,
                 a.domain.edges(),
                 &a.positions,
                 &a.adaptive,
                 a.max_level,
+                displacement.as_ref(),
             )
         }),
         _ => vulkan_adaptive(mesh, args, tags.as_ref()),
@@ -681,11 +699,13 @@ fn instanced_adaptive(
 /// `--backend cpu --adaptive …`: power-of-two edge levels, patches
 /// bucketed by their largest edge level, boundary samples snapped onto the
 /// edges' own points (`adaptive::evaluate_cpu_adaptive`, the generated Rust
-/// of the Plan functions the WGSL path runs).
+/// of the Plan functions the WGSL path runs); with `--displace`,
+/// `adaptive::evaluate_cpu_adaptive_displaced`.
 fn cpu_adaptive(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     tags: Option<&TagFile>,
+    displacement: Option<&Displacement>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
     let a = instanced_adaptive(mesh, args, tags)?;
     let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
@@ -694,12 +714,28 @@ fn cpu_adaptive(
         InstancedDomain::Triangles(t) => cpu::construct_tri(t, kernels),
     }
     .map_err(|e| e.to_string())?;
-    let t = tessgen_runtime::adaptive::evaluate_cpu_adaptive(
-        &patches,
-        a.domain.edges(),
-        &a.adaptive,
-        a.max_level,
-    )
+    let t = match displacement {
+        None => tessgen_runtime::adaptive::evaluate_cpu_adaptive(
+            &patches,
+            a.domain.edges(),
+            &a.adaptive,
+            a.max_level,
+        ),
+        Some(d) => {
+            let data = match &a.domain {
+                InstancedDomain::Quads(t) => cpu::displacement_data(mesh, t, &patches, d),
+                InstancedDomain::Triangles(t) => cpu::displacement_data_tri(mesh, t, &patches, d),
+            }
+            .map_err(|e| e.to_string())?;
+            tessgen_runtime::adaptive::evaluate_cpu_adaptive_displaced(
+                &patches,
+                a.domain.edges(),
+                &a.adaptive,
+                a.max_level,
+                &data,
+            )
+        }
+    }
     .map_err(|e| e.to_string())?;
     Ok(t.triangles())
 }
@@ -845,6 +881,19 @@ enum Output {
     Vulkan(VkOutput),
 }
 
+/// `--displace MAP [--displace-scale S] [--displace-per-patch]`.
+fn displacement_arg(path: &std::path::Path, args: &TessellateArgs) -> Result<Displacement, String> {
+    Ok(Displacement {
+        map: DisplaceMap::from_png(path).map_err(|e| e.to_string())?,
+        scale: args.displace_scale,
+        ownership: if args.displace_per_patch {
+            Ownership::PerPatch
+        } else {
+            Ownership::LowestFace
+        },
+    })
+}
+
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
     if args.adaptive.is_some() {
@@ -878,15 +927,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
                         .into(),
                 );
             }
-            Some(Displacement {
-                map: DisplaceMap::from_png(path).map_err(|e| e.to_string())?,
-                scale: args.displace_scale,
-                ownership: if args.displace_per_patch {
-                    Ownership::PerPatch
-                } else {
-                    Ownership::LowestFace
-                },
-            })
+            Some(displacement_arg(path, args)?)
         }
         None => None,
     };

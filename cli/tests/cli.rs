@@ -819,3 +819,64 @@ fn tessellate_triangle_schemes_with_displacement() {
     assert!(!o.status.success());
     assert!(all(&o).contains("--backend cpu|wgpu"), "{}", all(&o));
 }
+
+/// `--adaptive … --displace MAP` on the instanced path (cpu, wgpu): the
+/// displaced cube with a texture seam on every edge welds closed with
+/// random per-edge factors, quads and split triangles; the per-patch
+/// control does not; the hardware backends refuse the combination.
+#[test]
+fn tessellate_adaptive_with_displacement() {
+    let tmp = TempDir::new("tess-adaptive-displace");
+    let cube = mesh("catmark_cube_uv.obj");
+    let map = cube
+        .parent()
+        .and_then(|p| p.parent())
+        .map(|d| d.join("displace").join("atlas_seams.png"))
+        .unwrap();
+    let run = |scheme: &str, backend: &str, per_patch: bool| {
+        let out = tmp
+            .path()
+            .join(format!("{scheme}_{backend}_{per_patch}.obj"));
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "tessellate".as_ref(),
+            cube.as_os_str(),
+            "--scheme".as_ref(),
+            scheme.as_ref(),
+            "--split-quads".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--adaptive".as_ref(),
+            "random:7:1:12".as_ref(),
+            "--max-factor".as_ref(),
+            "16".as_ref(),
+            "--displace".as_ref(),
+            map.as_os_str(),
+            "--displace-scale".as_ref(),
+            "0.4".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+            "--check-watertight".as_ref(),
+        ];
+        if per_patch {
+            args.push("--displace-per-patch".as_ref());
+        }
+        tessgen(args)
+    };
+    for (scheme, backend) in [
+        ("acc", "cpu"),
+        ("acc", "wgpu"),
+        ("pn", "cpu"),
+        ("pn", "wgpu"),
+    ] {
+        let o = run(scheme, backend, false);
+        assert_ok(&o);
+        assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+    }
+    for backend in ["cpu", "wgpu"] {
+        let o = run("acc", backend, true);
+        assert!(stdout(&o).contains("NOT watertight"), "{}", all(&o));
+    }
+    let o = run("acc", "glsl", false);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr(&o).contains("cpu|wgpu"), "{}", all(&o));
+}

@@ -24,6 +24,12 @@
 //!   whatever their buckets; fine boundary triangles whose two boundary
 //!   corners snapped onto one point are degenerate (zero area), and the rest
 //!   stitch the two levels without T-junctions.
+//! * `eval_adaptive_displaced(face, class, cp_base, iu, iv, level, l0..l3)`
+//!   (per scheme): the same snap, then the displacement step of
+//!   `eval_displaced` at the snapped point — on an edge the owner's normal
+//!   and texture coordinate at the edge's own level, a snapped corner as the
+//!   level-1 grid point — so displaced neighbours in different buckets
+//!   still agree bit for bit. The WGSL adaptive entries call it.
 
 use crate::plan::build::*;
 use crate::plan::{self, *};
@@ -188,11 +194,132 @@ pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
 /// of a quad (`sides` 4) or triangle (`sides` 3) scheme; `eval` is the
 /// scheme's `eval`.
 pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
+    let callee = Callee::Eval(eval);
     if sides == 3 {
-        return eval_adaptive_tri_fn(eval);
+        return eval_adaptive_tri_fn(callee);
     }
-    let mut f = Function::new(
-        "eval_adaptive",
+    eval_adaptive_quad_fn(callee)
+}
+
+/// `eval_adaptive_displaced(face, class, cp_base, iu, iv, level, l0, l1,
+/// l2, l3) -> Sample` of a quad (`sides` 4) or triangle (`sides` 3) scheme:
+/// the snap of [`eval_adaptive_fn`], then `eval_displaced`'s body
+/// ([`crate::displace::displacement_step`], on the callees `c`) at the
+/// snapped point. The step is inlined rather than a call to
+/// `eval_displaced` because the HLSL printer leaves `eval_displaced` out
+/// (its evaluation reads a patch-local array) but prints every other
+/// function; like `eval_adaptive` it is dead code there.
+///
+/// Why this is watertight whatever the two neighbours' buckets: after the
+/// snap a boundary sample of edge k is the grid point `(t', l_k)` of that
+/// edge at the edge's own level `l_k` — a function of the edge alone — so
+/// `eval_displaced`'s boundary path sees the same edge, the same parameter
+/// (mirrored by the neighbour) and the same level in both patches: the
+/// owner's normal is `eval(owner, owner's (iu, iv) at l_k)` — the owner is
+/// evaluated at the *edge's* level, which need not be its own bucket — and
+/// the texture coordinate is the edge owner's pair weighted
+/// `(l_k − t')/l_k, t'/l_k`. A corner, though, is reached from every patch
+/// around the vertex through whichever edge its snap picked, so at
+/// different levels; every corner weight is an exact 0 or 1 whatever the
+/// level, but rather than rely on each scheme's formulas for that, a
+/// snapped corner is handed on as the level-1 grid point (`su/sl`, `sv/sl`
+/// at level 1): every patch around the vertex then makes the identical
+/// call (the vertex owner's `eval` at its corner at level 1, its single
+/// texture coordinate). The position there is the corner point itself in
+/// either form (the shared edge evaluator returns it for `i = 0` and
+/// `i = level`).
+pub fn eval_adaptive_displaced_fn(c: crate::displace::Callees, sides: u32) -> Function {
+    let callee = Callee::Displaced(c);
+    if sides == 3 {
+        return eval_adaptive_tri_fn(callee);
+    }
+    eval_adaptive_quad_fn(callee)
+}
+
+/// What the snap of `eval_adaptive` hands its point to.
+#[derive(Clone, Copy)]
+enum Callee {
+    /// `eval(class, cp_base, su, sv, sl)`: `eval_adaptive`.
+    Eval(usize),
+    /// `eval_displaced`'s step on `(face, class, cp_base, su, sv, sl)`,
+    /// corners at level 1: `eval_adaptive_displaced` (which takes `face`
+    /// first).
+    Displaced(crate::displace::Callees),
+}
+
+impl Callee {
+    fn name(self) -> &'static str {
+        match self {
+            Callee::Eval(_) => "eval_adaptive",
+            Callee::Displaced(_) => "eval_adaptive_displaced",
+        }
+    }
+
+    /// The function with its leading parameters: `face` for the displaced
+    /// variant.
+    fn function(self, doc: &str) -> (Function, Option<LocalId>) {
+        let (mut f, face) = match self {
+            Callee::Eval(_) => (Function::new(self.name(), doc), None),
+            Callee::Displaced(_) => {
+                let mut f = Function::new(
+                    self.name(),
+                    format!(
+                        "{doc} Then eval_displaced at the snapped point (watertight.md Rules 4–5): \
+                         on an edge the owner's normal and texture coordinate at the edge's own \
+                         level l_k, the same call from both patches whatever their buckets; a \
+                         snapped corner as the level-1 grid point, the same call from every \
+                         patch around the vertex. displace_info[0] == 0 gives eval_adaptive's \
+                         sample bit for bit."
+                    ),
+                );
+                let face = f.param("face", Ty::U32);
+                (f, Some(face))
+            }
+        };
+        f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+        (f, face)
+    }
+
+    /// The statements after the snap, on `(su, sv, sl)`.
+    fn finish(self, f: &mut Function, face: Option<LocalId>, sides: u32, at: [LocalId; 5]) {
+        let [class, cp, su, sv, sl] = at;
+        match (self, face) {
+            (Callee::Displaced(c), Some(face)) => {
+                let edge = |x: LocalId| {
+                    bin(
+                        BinOp::Or,
+                        bin(BinOp::Eq, l(x), u(0)),
+                        bin(BinOp::Eq, l(x), l(sl)),
+                    )
+                };
+                // A corner (both coordinates 0 or sl; quads and triangles
+                // alike): the level-1 grid point.
+                f.body.push(Stmt::If(
+                    bin(BinOp::And, edge(su), edge(sv)),
+                    vec![
+                        Stmt::Assign(su, div(l(su), l(sl))),
+                        Stmt::Assign(sv, div(l(sv), l(sl))),
+                        Stmt::Assign(sl, u(1)),
+                    ],
+                    vec![],
+                ));
+                crate::displace::displacement_step(f, &c, sides, [face, class, cp, su, sv, sl]);
+            }
+            (Callee::Eval(e), _) => f.body.push(Stmt::Return(call(
+                FnRef::Local(e),
+                vec![l(class), l(cp), l(su), l(sv), l(sl)],
+            ))),
+            (Callee::Displaced(c), None) => f.body.push(Stmt::Return(call(
+                FnRef::Local(c.eval),
+                vec![l(class), l(cp), l(su), l(sv), l(sl)],
+            ))),
+        }
+    }
+}
+
+fn eval_adaptive_quad_fn(callee: Callee) -> Function {
+    let sides = 4;
+    let (mut f, face) = callee.function(
         "Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two \
          levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior \
          samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the \
@@ -206,7 +333,6 @@ pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
     let iv = f.param("iv", Ty::U32);
     let level = f.param("level", Ty::U32);
     let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
-    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
     let su = f.local("su", Ty::U32);
     let sv = f.local("sv", Ty::U32);
     let sl = f.local("sl", Ty::U32);
@@ -240,11 +366,8 @@ pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
                 )],
             )],
         ),
-        Stmt::Return(call(
-            FnRef::Local(eval),
-            vec![l(class), l(cp), l(su), l(sv), l(sl)],
-        )),
     ];
+    callee.finish(&mut f, face, sides, [class, cp, su, sv, sl]);
     f
 }
 
@@ -267,9 +390,9 @@ pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
 /// along each edge's own direction, so only edge k's points collapse into
 /// corner k: a fine triangle whose corners snap together is degenerate
 /// (skipped by the weld), none folds over another.
-fn eval_adaptive_tri_fn(eval: usize) -> Function {
-    let mut f = Function::new(
-        "eval_adaptive",
+fn eval_adaptive_tri_fn(callee: Callee) -> Function {
+    let sides = 3;
+    let (mut f, face) = callee.function(
         "Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its \
          bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = \
          iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides \
@@ -286,7 +409,6 @@ fn eval_adaptive_tri_fn(eval: usize) -> Function {
     let iv = f.param("iv", Ty::U32);
     let level = f.param("level", Ty::U32);
     let ls: Vec<LocalId> = (0..4).map(|k| f.param(format!("l{k}"), Ty::U32)).collect();
-    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
     let su = f.local("su", Ty::U32);
     let sv = f.local("sv", Ty::U32);
     let sl = f.local("sl", Ty::U32);
@@ -319,10 +441,7 @@ fn eval_adaptive_tri_fn(eval: usize) -> Function {
                 )],
             )],
         ),
-        Stmt::Return(call(
-            FnRef::Local(eval),
-            vec![l(class), l(cp), l(su), l(sv), l(sl)],
-        )),
     ];
+    callee.finish(&mut f, face, sides, [class, cp, su, sv, sl]);
     f
 }

@@ -322,6 +322,7 @@ pub fn displace_point_fn() -> Function {
 }
 
 /// Indices (in the scheme module) of the functions `eval_displaced` calls.
+#[derive(Clone, Copy, Debug)]
 pub struct Callees {
     /// The patch's own sample.
     pub eval: usize,
@@ -503,6 +504,16 @@ fn displaced_fn(c: &Callees, sides: u32, name: &str, doc: &str) -> Function {
     let iv = f.param("iv", Ty::U32);
     let level = f.param("level", Ty::U32);
     f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    displacement_step(&mut f, c, sides, [face, class, cp, iu, iv, level]);
+    f
+}
+
+/// The body of `eval_displaced` on the locals `[face, class, cp_base, iu,
+/// iv, level]` of `f` (parameters, or the snapped point of
+/// `eval_adaptive_displaced`): `eval`, the displacement step, `return`.
+/// One lowering for every displacing function, so they cannot drift apart.
+pub fn displacement_step(f: &mut Function, c: &Callees, sides: u32, at: [LocalId; 6]) {
+    let [face, class, cp, iu, iv, level] = at;
     let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
     f.body.push(Stmt::Var(
         sample,
@@ -511,12 +522,7 @@ fn displaced_fn(c: &Callees, sides: u32, name: &str, doc: &str) -> Function {
             vec![l(class), l(cp), l(iu), l(iv), l(level)],
         ),
     ));
-    let scale = let_(
-        &mut f,
-        "scale",
-        Ty::F32,
-        fetch(Resource::DisplaceInfo, u(0)),
-    );
+    let scale = let_(f, "scale", Ty::F32, fetch(Resource::DisplaceInfo, u(0)));
     let mut on = Vec::new();
     let n = f.local("n", Ty::Vec3);
     on.push(Stmt::Var(n, Expr::Field(Box::new(l(sample)), 1)));
@@ -709,5 +715,4 @@ fn displaced_fn(c: &Callees, sides: u32, name: &str, doc: &str) -> Function {
         vec![],
     ));
     f.body.push(Stmt::Return(l(sample)));
-    f
 }

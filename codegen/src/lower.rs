@@ -489,15 +489,28 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     // Adaptive tessellation on the instanced path (quad and triangle
     // schemes: the same signatures, the domain's snap inside).
     let adaptive = {
+        let (_, texcoord, displace) = eval_displaced;
         let edge_level = m.functions.len();
         m.functions
             .push(crate::adaptive::patch_edge_level_fn(curve_const, sides));
         let eval_a = m.functions.len();
         m.functions
             .push(crate::adaptive::eval_adaptive_fn(eval, sides));
+        let eval_ad = m.functions.len();
+        m.functions
+            .push(crate::adaptive::eval_adaptive_displaced_fn(
+                crate::displace::Callees {
+                    eval,
+                    owner_eval: eval,
+                    texcoord,
+                    displace,
+                },
+                sides,
+            ));
         Some(AdaptiveEntries {
             edge_level,
             eval: eval_a,
+            eval_displaced: eval_ad,
         })
     };
     // The tessellation stages' variant: own sample from the patch-local

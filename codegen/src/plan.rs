@@ -653,6 +653,11 @@ pub struct AdaptiveEntries {
     pub edge_level: usize,
     /// `eval_adaptive(class, cp_base, iu, iv, level, l0, l1, l2, l3) -> Sample`.
     pub eval: usize,
+    /// `eval_adaptive_displaced(face, class, cp_base, iu, iv, level, l0, l1,
+    /// l2, l3) -> Sample`: the same snap, then `eval_displaced` at the
+    /// snapped point (what the WGSL adaptive entries call; with
+    /// displacement off, `eval_adaptive`'s sample bit for bit).
+    pub eval_displaced: usize,
 }
 
 /// The displacing evaluation of the hardware tessellation stages (`.tese`,

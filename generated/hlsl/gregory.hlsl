@@ -107,8 +107,14 @@ struct Params {
 // binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 [[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
 
-// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 [[vk::binding(26, 0)]] StructuredBuffer<uint> bucket_patches : register(t26);
+
+// binding 27: GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+[[vk::binding(27, 0)]] RWStructuredBuffer<uint> bucket_list : register(u27);
+
+// binding 28: GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
+[[vk::binding(28, 0)]] RWStructuredBuffer<uint> bucket_dispatch : register(u28);
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 20u;
@@ -773,6 +779,103 @@ Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uin
         }
     }
     return eval(cp, class_, cp_base, su, sv, sl);
+}
+
+// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
+    uint su = iu;
+    uint sv = iv;
+    uint sl = level;
+    if ((iv == 0u)) {
+        su = (iu / (level / l0));
+        sv = 0u;
+        sl = l0;
+    } else {
+        if ((iu == level)) {
+            su = l1;
+            sv = (iv / (level / l1));
+            sl = l1;
+        } else {
+            if ((iv == level)) {
+                su = (iu / (level / l2));
+                sv = l2;
+                sl = l2;
+            } else {
+                if ((iu == 0u)) {
+                    su = 0u;
+                    sv = (iv / (level / l3));
+                    sl = l3;
+                }
+            }
+        }
+    }
+    if ((((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl)))) {
+        su = (su / sl);
+        sv = (sv / sl);
+        sl = 1u;
+    }
+    Sample sample_ = eval(cp, class_, cp_base, su, sv, sl);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((su == 0u) || (su == sl)) || ((sv == 0u) || (sv == sl)))) {
+            uint slot = 3u;
+            uint t = (sl - sv);
+            if ((sv == 0u)) {
+                slot = 0u;
+                t = su;
+            } else {
+                if ((su == sl)) {
+                    slot = 1u;
+                    t = sv;
+                } else {
+                    if ((sv == sl)) {
+                        slot = 2u;
+                        t = (sl - su);
+                    }
+                }
+            }
+            if ((t == 0u)) {
+                slot = (slot + 4u);
+            } else {
+                if ((t == sl)) {
+                    slot = (((slot + 1u) % 4u) + 4u);
+                }
+            }
+            uint rec = ((face * 32u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (sl - t);
+            }
+            if ((slot >= 4u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = sl;
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = (sl - ot);
+                    ov = sl;
+                } else {
+                    if ((owner_k == 3u)) {
+                        ou = 0u;
+                        ov = (sl - ot);
+                    }
+                }
+            }
+            Sample owner_sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, su, sv, sl);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
 }
 
 // Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)

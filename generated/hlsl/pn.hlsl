@@ -107,8 +107,14 @@ struct Params {
 // binding 25: adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 [[vk::binding(25, 0)]] RWStructuredBuffer<uint> patch_levels : register(u25);
 
-// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+// binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 [[vk::binding(26, 0)]] StructuredBuffer<uint> bucket_patches : register(t26);
+
+// binding 27: GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+[[vk::binding(27, 0)]] RWStructuredBuffer<uint> bucket_list : register(u27);
+
+// binding 28: GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
+[[vk::binding(28, 0)]] RWStructuredBuffer<uint> bucket_dispatch : register(u28);
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
@@ -633,6 +639,91 @@ Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uin
         }
     }
     return eval(cp, class_, cp_base, su, sv, sl);
+}
+
+// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
+    uint su = iu;
+    uint sv = iv;
+    uint sl = level;
+    uint t = 0u;
+    if ((iv == 0u)) {
+        t = (iu / (level / l0));
+        su = t;
+        sv = 0u;
+        sl = l0;
+    } else {
+        if (((iu + iv) == level)) {
+            t = (iv / (level / l1));
+            su = (l1 - t);
+            sv = t;
+            sl = l1;
+        } else {
+            if ((iu == 0u)) {
+                t = ((level - iv) / (level / l2));
+                su = 0u;
+                sv = (l2 - t);
+                sl = l2;
+            }
+        }
+    }
+    if ((((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl)))) {
+        su = (su / sl);
+        sv = (sv / sl);
+        sl = 1u;
+    }
+    Sample sample_ = eval(cp, class_, cp_base, su, sv, sl);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((sv == 0u) || (su == 0u)) || ((su + sv) == sl))) {
+            uint slot = 2u;
+            uint t_18 = (sl - sv);
+            if ((sv == 0u)) {
+                slot = 0u;
+                t_18 = su;
+            } else {
+                if (((su + sv) == sl)) {
+                    slot = 1u;
+                    t_18 = sv;
+                }
+            }
+            if ((t_18 == 0u)) {
+                slot = (slot + 3u);
+            } else {
+                if ((t_18 == sl)) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            uint rec = ((face * 24u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t_18;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (sl - t_18);
+            }
+            if ((slot >= 3u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = (sl - ot);
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = 0u;
+                    ov = (sl - ot);
+                }
+            }
+            Sample owner_sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, su, sv, sl);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
 }
 
 // ---- compute entry points ----

@@ -88,6 +88,10 @@ pub mod common {
         /// `(cp, class, cp_base, iu, iv, level, l0, l1, l2, l3)`: `eval` with
         /// boundary samples snapped onto the edges' own levels.
         pub eval: fn(&[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
+        /// `(inputs, cp, face, class, cp_base, iu, iv, level, l0, l1, l2, l3)`:
+        /// the same snap, then the displacement step at the snapped point.
+        #[allow(clippy::type_complexity)]
+        pub eval_displaced: fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
     }
     
     /// Entry points of one scheme.
@@ -595,6 +599,103 @@ pub mod regular {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((su == 0u32) || (su == sl)) || ((sv == 0u32) || (sv == sl))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t = su;
+                } else {
+                    if (su == sl) {
+                        slot = 1u32;
+                        t = sv;
+                    } else {
+                        if (sv == sl) {
+                            slot = 2u32;
+                            t = (sl - su);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == sl) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = sl;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (sl - ot);
+                        ov = sl;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (sl - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "regular",
@@ -607,7 +708,7 @@ pub mod regular {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1142,6 +1243,103 @@ pub mod pccm {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((su == 0u32) || (su == sl)) || ((sv == 0u32) || (sv == sl))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t = su;
+                } else {
+                    if (su == sl) {
+                        slot = 1u32;
+                        t = sv;
+                    } else {
+                        if (sv == sl) {
+                            slot = 2u32;
+                            t = (sl - su);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == sl) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = sl;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (sl - ot);
+                        ov = sl;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (sl - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pccm",
@@ -1155,7 +1353,7 @@ pub mod pccm {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -1642,6 +1840,103 @@ pub mod acc {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((su == 0u32) || (su == sl)) || ((sv == 0u32) || (sv == sl))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t = su;
+                } else {
+                    if (su == sl) {
+                        slot = 1u32;
+                        t = sv;
+                    } else {
+                        if (sv == sl) {
+                            slot = 2u32;
+                            t = (sl - su);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == sl) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = sl;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (sl - ot);
+                        ov = sl;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (sl - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "acc",
@@ -1655,7 +1950,7 @@ pub mod acc {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2167,6 +2462,103 @@ pub mod gregory {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((su == 0u32) || (su == sl)) || ((sv == 0u32) || (sv == sl))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t = su;
+                } else {
+                    if (su == sl) {
+                        slot = 1u32;
+                        t = sv;
+                    } else {
+                        if (sv == sl) {
+                            slot = 2u32;
+                            t = (sl - su);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == sl) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = sl;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (sl - ot);
+                        ov = sl;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (sl - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory",
@@ -2180,7 +2572,7 @@ pub mod gregory {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -2692,6 +3084,103 @@ pub mod gregory_osd {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        if (iv == 0u32) {
+            su = (iu / (level / l0));
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if (iu == level) {
+                su = l1;
+                sv = (iv / (level / l1));
+                sl = l1;
+            } else {
+                if (iv == level) {
+                    su = (iu / (level / l2));
+                    sv = l2;
+                    sl = l2;
+                } else {
+                    if (iu == 0u32) {
+                        su = 0u32;
+                        sv = (iv / (level / l3));
+                        sl = l3;
+                    }
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((su == 0u32) || (su == sl)) || ((sv == 0u32) || (sv == sl))) {
+                let mut slot: u32 = 3u32;
+                let mut t: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t = su;
+                } else {
+                    if (su == sl) {
+                        slot = 1u32;
+                        t = sv;
+                    } else {
+                        if (sv == sl) {
+                            slot = 2u32;
+                            t = (sl - su);
+                        }
+                    }
+                }
+                if (t == 0u32) {
+                    slot = (slot + 4u32);
+                } else {
+                    if (t == sl) {
+                        slot = (((slot + 1u32) % 4u32) + 4u32);
+                    }
+                }
+                let rec: u32 = ((face * 32u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t);
+                }
+                if (slot >= 4u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = sl;
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = (sl - ot);
+                        ov = sl;
+                    } else {
+                        if (owner_k == 3u32) {
+                            ou = 0u32;
+                            ov = (sl - ot);
+                        }
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "gregory_osd",
@@ -2705,7 +3194,7 @@ pub mod gregory_osd {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3067,6 +3556,91 @@ pub mod pn {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((sv == 0u32) || (su == 0u32)) || ((su + sv) == sl)) {
+                let mut slot: u32 = 2u32;
+                let mut t_18: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t_18 = su;
+                } else {
+                    if ((su + sv) == sl) {
+                        slot = 1u32;
+                        t_18 = sv;
+                    }
+                }
+                if (t_18 == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t_18 == sl) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t_18;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t_18);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (sl - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (sl - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pn",
@@ -3079,7 +3653,7 @@ pub mod pn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3484,6 +4058,91 @@ pub mod stpn {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((sv == 0u32) || (su == 0u32)) || ((su + sv) == sl)) {
+                let mut slot: u32 = 2u32;
+                let mut t_18: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t_18 = su;
+                } else {
+                    if ((su + sv) == sl) {
+                        slot = 1u32;
+                        t_18 = sv;
+                    }
+                }
+                if (t_18 == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t_18 == sl) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t_18;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t_18);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (sl - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (sl - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "stpn",
@@ -3496,7 +4155,7 @@ pub mod stpn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,
@@ -3852,6 +4511,91 @@ pub mod phong {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+        let mut su: u32 = iu;
+        let mut sv: u32 = iv;
+        let mut sl: u32 = level;
+        let mut t: u32 = 0u32;
+        if (iv == 0u32) {
+            t = (iu / (level / l0));
+            su = t;
+            sv = 0u32;
+            sl = l0;
+        } else {
+            if ((iu + iv) == level) {
+                t = (iv / (level / l1));
+                su = (l1 - t);
+                sv = t;
+                sl = l1;
+            } else {
+                if (iu == 0u32) {
+                    t = ((level - iv) / (level / l2));
+                    su = 0u32;
+                    sv = (l2 - t);
+                    sl = l2;
+                }
+            }
+        }
+        if (((su == 0u32) || (su == sl)) && ((sv == 0u32) || (sv == sl))) {
+            su = (su / sl);
+            sv = (sv / sl);
+            sl = 1u32;
+        }
+        let mut sample: Sample = eval(cp, class, cp_base, su, sv, sl);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let mut n: Vec3 = sample.normal;
+            if (((sv == 0u32) || (su == 0u32)) || ((su + sv) == sl)) {
+                let mut slot: u32 = 2u32;
+                let mut t_18: u32 = (sl - sv);
+                if (sv == 0u32) {
+                    slot = 0u32;
+                    t_18 = su;
+                } else {
+                    if ((su + sv) == sl) {
+                        slot = 1u32;
+                        t_18 = sv;
+                    }
+                }
+                if (t_18 == 0u32) {
+                    slot = (slot + 3u32);
+                } else {
+                    if (t_18 == sl) {
+                        slot = (((slot + 1u32) % 3u32) + 3u32);
+                    }
+                }
+                let rec: u32 = ((face * 24u32) + (slot * 4u32));
+                let owner_class: u32 = inputs.owners[(rec) as usize];
+                let owner_cp: u32 = inputs.owners[((rec + 1u32)) as usize];
+                let owner_k: u32 = inputs.owners[((rec + 2u32)) as usize];
+                let mut ot: u32 = t_18;
+                if (inputs.owners[((rec + 3u32)) as usize] == 1u32) {
+                    ot = (sl - t_18);
+                }
+                if (slot >= 3u32) {
+                    ot = 0u32;
+                }
+                let mut ou: u32 = ot;
+                let mut ov: u32 = 0u32;
+                if (owner_k == 1u32) {
+                    ou = (sl - ot);
+                    ov = ot;
+                } else {
+                    if (owner_k == 2u32) {
+                        ou = 0u32;
+                        ov = (sl - ot);
+                    }
+                }
+                let owner_sample: Sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+                n = owner_sample.normal;
+            }
+            let h: f32 = tessgen_height_at(inputs, face, su, sv, sl);
+            sample.position = tessgen_displace(sample.position, n, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "phong",
@@ -3864,7 +4608,7 @@ pub mod phong {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
-        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive }),
+        adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,
         grid_iu: grid_iu,

@@ -109,8 +109,14 @@ struct Params {
 // adaptive classify output (WGSL instanced path), 5 u32 per patch p (class-sorted, as patch_faces) at 5p: the power-of-two levels of edges 0-3 (triangles: edges 0-2, slot 3 is 1) and the patch's bucket (their largest)
 @group(0) @binding(25) var<storage, read_write> patch_levels: array<u32>;
 
-// adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw
+// adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 @group(0) @binding(26) var<storage, read> bucket_patches: array<u32>;
+
+// GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+@group(0) @binding(27) var<storage, read_write> bucket_list: array<u32>;
+
+// GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
+@group(0) @binding(28) var<storage, read_write> bucket_dispatch: array<u32>;
 
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
@@ -651,6 +657,91 @@ fn eval_adaptive(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u3
     return eval(class_, cp_base, su, sv, sl);
 }
 
+// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+fn eval_adaptive_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
+    var su: u32 = iu;
+    var sv: u32 = iv;
+    var sl: u32 = level;
+    var t: u32 = 0u;
+    if (iv == 0u) {
+        t = (iu / (level / l0));
+        su = t;
+        sv = 0u;
+        sl = l0;
+    } else {
+        if ((iu + iv) == level) {
+            t = (iv / (level / l1));
+            su = (l1 - t);
+            sv = t;
+            sl = l1;
+        } else {
+            if (iu == 0u) {
+                t = ((level - iv) / (level / l2));
+                su = 0u;
+                sv = (l2 - t);
+                sl = l2;
+            }
+        }
+    }
+    if (((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl))) {
+        su = (su / sl);
+        sv = (sv / sl);
+        sl = 1u;
+    }
+    var sample: Sample = eval(class_, cp_base, su, sv, sl);
+    let scale: f32 = displace_info[0u];
+    if (scale != 0.0f) {
+        var n: vec3<f32> = sample.normal;
+        if (((sv == 0u) || (su == 0u)) || ((su + sv) == sl)) {
+            var slot: u32 = 2u;
+            var t_18: u32 = (sl - sv);
+            if (sv == 0u) {
+                slot = 0u;
+                t_18 = su;
+            } else {
+                if ((su + sv) == sl) {
+                    slot = 1u;
+                    t_18 = sv;
+                }
+            }
+            if (t_18 == 0u) {
+                slot = (slot + 3u);
+            } else {
+                if (t_18 == sl) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            let rec: u32 = ((face * 24u) + (slot * 4u));
+            let owner_class: u32 = owners[rec];
+            let owner_cp: u32 = owners[(rec + 1u)];
+            let owner_k: u32 = owners[(rec + 2u)];
+            var ot: u32 = t_18;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (sl - t_18);
+            }
+            if (slot >= 3u) {
+                ot = 0u;
+            }
+            var ou: u32 = ot;
+            var ov: u32 = 0u;
+            if (owner_k == 1u) {
+                ou = (sl - ot);
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = 0u;
+                    ov = (sl - ot);
+                }
+            }
+            let owner_sample: Sample = eval(owner_class, owner_cp, ou, ov, sl);
+            n = owner_sample.normal;
+        }
+        let h: f32 = tessgen_height_at(face, su, sv, sl);
+        sample.position = tessgen_displace(sample.position, n, (scale * h));
+    }
+    return sample;
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
@@ -780,7 +871,8 @@ fn adaptive_classify_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // One bucket of one class at its level params.level: grid_len(level) samples of each of
-// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into
+// the entries first .. first + count of bucket_patches, snapped and displaced by
+// eval_adaptive_displaced (displacement off: eval_adaptive bit for bit), into
 // samples[(out_base + k)·6 ..]: position xyz, normal xyz.
 @compute @workgroup_size(64)
 fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -795,7 +887,8 @@ fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let iv: u32 = grid_iv(s, params.level);
     let e: u32 = (6u * (params.first + patch_index));
     let cp: u32 = bucket_patches[(e + 1u)];
-    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
     let o: u32 = ((params.out_base + k) * 6u);
     samples[(o + 0u)] = result.position.x;
     samples[(o + 1u)] = result.position.y;
@@ -806,14 +899,15 @@ fn eval_adaptive_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Instanced adaptive draw of one bucket of one class: the level-params.level grid index
-// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.
+// buffer, instance inst = entry first + inst of bucket_patches, through eval_adaptive_displaced.
 @vertex
 fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
     let iu: u32 = grid_iu(vi, params.level);
     let iv: u32 = grid_iv(vi, params.level);
     let e: u32 = (6u * (params.first + inst));
     let cp: u32 = bucket_patches[(e + 1u)];
-    let result: Sample = eval_adaptive(params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
     var out: VsOut;
     out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
     out.world_position = result.position;
@@ -822,3 +916,106 @@ fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ins
     out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32(params.level));
     return out;
 }
+
+// GPU-driven buckets 1: for the class range of patches first .. first + count, invocation j < 16
+// counts the patches whose bucket (patch_levels[5p + 4]) is 2^j into bucket_list[4·(out_base + j)].
+@compute @workgroup_size(64)
+fn adaptive_count_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k >= 16u) {
+        return;
+    }
+    var n: u32 = 0u;
+    for (var i: u32 = 0u; i < params.count; i = i + 1u) {
+        if (patch_levels[((5u * (params.first + i)) + 4u)] == (1u << k)) {
+            n = (n + 1u);
+        }
+    }
+    bucket_list[(4u * (params.out_base + k))] = n;
+}
+
+// GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample
+// (prefix sums of count and count·grid_len(2^(slot % 16))) and the indirect dispatch arguments
+// (x = min(workgroups, 32768), y = the rest) into bucket_list and bucket_dispatch.
+@compute @workgroup_size(64)
+fn adaptive_plan_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k >= 1u) {
+        return;
+    }
+    var entry: u32 = 0u;
+    var first_sample: u32 = 0u;
+    for (var b: u32 = 0u; b < params.count; b = b + 1u) {
+        let n: u32 = bucket_list[(4u * b)];
+        let spp: u32 = grid_len((1u << (b % 16u)));
+        let groups: u32 = (((n * spp) + 63u) / 64u);
+        let x: u32 = min(groups, 32768u);
+        var y: u32 = 0u;
+        if (x > 0u) {
+            y = ((groups + (x - 1u)) / x);
+        }
+        bucket_list[((4u * b) + 1u)] = entry;
+        bucket_list[((4u * b) + 2u)] = first_sample;
+        bucket_list[((4u * b) + 3u)] = x;
+        bucket_dispatch[(3u * b)] = x;
+        bucket_dispatch[((3u * b) + 1u)] = y;
+        bucket_dispatch[((3u * b) + 2u)] = 1u;
+        entry = (entry + n);
+        first_sample = (first_sample + (n * spp));
+    }
+}
+
+// GPU-driven buckets 3: for the class range of patches first .. first + count, invocation j < 16
+// writes the entries of slot out_base + j in patch order at bucket_list[4·level + 6·(first entry + m) ..]
+// (level = the number of slots, the header's length / 4): patch, first control point, edge levels.
+@compute @workgroup_size(64)
+fn adaptive_scatter_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k >= 16u) {
+        return;
+    }
+    var points: u32 = 0u;
+    points = 16u;
+    var at: u32 = ((4u * params.level) + (6u * bucket_list[((4u * (params.out_base + k)) + 1u)]));
+    for (var i: u32 = 0u; i < params.count; i = i + 1u) {
+        let p: u32 = (params.first + i);
+        if (patch_levels[((5u * p) + 4u)] == (1u << k)) {
+            bucket_list[at] = p;
+            bucket_list[(at + 1u)] = (params.cp_base + (i * points));
+            bucket_list[(at + 2u)] = patch_levels[((5u * p) + 0u)];
+            bucket_list[(at + 3u)] = patch_levels[((5u * p) + 1u)];
+            bucket_list[(at + 4u)] = patch_levels[((5u * p) + 2u)];
+            bucket_list[(at + 5u)] = patch_levels[((5u * p) + 3u)];
+            at = (at + 6u);
+        }
+    }
+}
+
+// GPU-driven buckets 4, one indirect dispatch per slot out_base (class, level = its bucket):
+// the slot's header in bucket_patches (count, first entry, first sample, x workgroups),
+// entries after the header (first = the number of slots), samples from the slot's first sample.
+@compute @workgroup_size(64)
+fn eval_adaptive_indirect_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let h: u32 = (4u * params.out_base);
+    let k: u32 = (gid.x + ((gid.y * bucket_patches[(h + 3u)]) * 64u));
+    let spp: u32 = grid_len(params.level);
+    if (k >= (bucket_patches[h] * spp)) {
+        return;
+    }
+    let patch_index: u32 = (k / spp);
+    let s: u32 = (k % spp);
+    let iu: u32 = grid_iu(s, params.level);
+    let iv: u32 = grid_iv(s, params.level);
+    let e: u32 = ((4u * params.first) + (6u * (bucket_patches[(h + 1u)] + patch_index)));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    let o: u32 = ((bucket_patches[(h + 2u)] + k) * 6u);
+    samples[(o + 0u)] = result.position.x;
+    samples[(o + 1u)] = result.position.y;
+    samples[(o + 2u)] = result.position.z;
+    samples[(o + 3u)] = result.normal.x;
+    samples[(o + 4u)] = result.normal.y;
+    samples[(o + 5u)] = result.normal.z;
+}
+

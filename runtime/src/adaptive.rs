@@ -262,6 +262,15 @@ pub enum AdaptiveError {
         want: &'static str,
         got: &'static str,
     },
+    #[error(
+        "the displacement data has {what} for {got} faces, the patches have {patches} faces \
+         (build it from the same mesh and patches)"
+    )]
+    DisplaceMismatch {
+        what: &'static str,
+        got: usize,
+        patches: usize,
+    },
 }
 
 /// The power-of-two level of an edge: the smallest `2^k ≥ factor`, clamped
@@ -433,7 +442,41 @@ pub fn evaluate_cpu_adaptive<'m>(
     a: &Adaptive,
     max_level: u32,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
-    let mesh = mesh.into();
+    adaptive_cpu(patches, mesh.into(), a, max_level, None)
+}
+
+/// [`evaluate_cpu_adaptive`] through the displacement step
+/// (`eval_adaptive_displaced`: the same snap, then `p + scale · h(tc) · n`
+/// with the owner's normal and texture coordinate on shared edges and
+/// corners, evaluated at the edge's own level, see `crate::displace`).
+/// `data` must be built for these patches in the CPU layout
+/// ([`crate::cpu::displacement_data`], [`crate::cpu::displacement_data_tri`]);
+/// with a zero scale the result is [`evaluate_cpu_adaptive`]'s, bit for
+/// bit.
+pub fn evaluate_cpu_adaptive_displaced<'m>(
+    patches: &crate::cpu::Patches,
+    mesh: impl Into<AdaptiveMesh<'m>>,
+    a: &Adaptive,
+    max_level: u32,
+    data: &crate::displace::DisplaceData,
+) -> Result<AdaptiveTessellation, AdaptiveError> {
+    adaptive_cpu(patches, mesh.into(), a, max_level, Some(data))
+}
+
+/// The CPU adaptive walk, in parallel over faces (rayon, as
+/// `cpu::evaluate`): the four level slots of every face, the buckets and
+/// sample offsets, then every face's variable-size grid into its own slice
+/// of the output. Each sample is a pure function of its face and grid
+/// point, so the result does not depend on the thread count.
+fn adaptive_cpu(
+    patches: &crate::cpu::Patches,
+    mesh: AdaptiveMesh<'_>,
+    a: &Adaptive,
+    max_level: u32,
+    displace: Option<&crate::displace::DisplaceData>,
+) -> Result<AdaptiveTessellation, AdaptiveError> {
+    use crate::kernels::common::Sample;
+    use rayon::prelude::*;
     let kernels = patches.scheme;
     let Some(ak) = kernels.adaptive else {
         return Err(crate::cpu::facet_error(kernels).into());
@@ -442,39 +485,63 @@ pub fn evaluate_cpu_adaptive<'m>(
     let inp = edge_inputs(mesh, a, max_level)?;
     let corner_vertex = mesh.corner_vertex();
     let sides = kernels.sides as usize;
+    let faces = patches.face_class.len();
+    let off = crate::displace::DisplaceData::off();
+    let data = displace.unwrap_or(&off);
+    if data.info[0] != 0.0 {
+        let stride = 8 * sides;
+        for (what, len) in [
+            ("texture coordinates", data.texcoords.len()),
+            ("owner records", data.owners.len()),
+        ] {
+            if len != stride * faces {
+                return Err(AdaptiveError::DisplaceMismatch {
+                    what,
+                    got: len / stride,
+                    patches: faces,
+                });
+            }
+        }
+    }
     let inputs = crate::kernels::common::Inputs {
         corner_vertex: &corner_vertex,
         face_edges: &inp.face_edges,
         edge_factors: &inp.edge_factors,
         adaptive: &inp.params,
+        texcoords: &data.texcoords,
+        owners: &data.owners,
+        displace_info: &data.info,
+        displace_map: &data.map.texels,
+        displace_width: data.map.width,
         ..Default::default()
     };
-    let faces = patches.face_class.len();
     let cp_of = |f: usize| {
         &patches.control_points[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize]
     };
     // Four level slots per patch, as the WGSL classify pass writes them (a
     // triangle's slot 3 is 1 and unread); `edge_levels` keeps the real ones.
-    let mut slots = Vec::with_capacity(4 * faces);
-    for f in 0..faces {
-        for k in 0..4 {
-            slots.push((ak.edge_level)(
-                &inputs,
-                cp_of(f),
-                f as u32,
-                patches.face_class[f],
-                0,
-                k,
-                max_level,
-            ));
-        }
-    }
+    let slots: Vec<[u32; 4]> = (0..faces)
+        .into_par_iter()
+        .map(|f| {
+            [0, 1, 2, 3].map(|k| {
+                (ak.edge_level)(
+                    &inputs,
+                    cp_of(f),
+                    f as u32,
+                    patches.face_class[f],
+                    0,
+                    k,
+                    max_level,
+                )
+            })
+        })
+        .collect();
     let levels: Vec<u32> = slots
-        .chunks_exact(4)
+        .iter()
         .map(|e| crate::kernels::common::tessgen_bucket_level(e[0], e[1], e[2], e[3]))
         .collect();
     let edge_levels: Vec<u32> = slots
-        .chunks_exact(4)
+        .iter()
         .flat_map(|e| e[..sides].iter().copied())
         .collect();
     let mut offsets = Vec::with_capacity(faces + 1);
@@ -486,16 +553,42 @@ pub fn evaluate_cpu_adaptive<'m>(
     offsets.push(total);
     let mut positions = vec![Vec3::ZERO; total];
     let mut normals = vec![Vec3::ZERO; total];
+    // One disjoint pair of slices per face (grids of different sizes),
+    // written in place: no intermediate sample buffer.
+    let mut grids: Vec<(usize, &mut [Vec3], &mut [Vec3])> = Vec::with_capacity(faces);
+    let (mut pos, mut nrm) = (positions.as_mut_slice(), normals.as_mut_slice());
     for f in 0..faces {
-        let (cp, class, l) = (cp_of(f), patches.face_class[f], levels[f]);
-        let e = &slots[4 * f..4 * f + 4];
-        for s in 0..(kernels.grid_len)(l) {
-            let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
-            let r = (ak.eval)(cp, class, 0, iu, iv, l, e[0], e[1], e[2], e[3]);
-            positions[offsets[f] + s as usize] = r.position;
-            normals[offsets[f] + s as usize] = r.normal;
-        }
+        let len = offsets[f + 1] - offsets[f];
+        let (p, p_tail) = pos.split_at_mut(len);
+        let (n, n_tail) = nrm.split_at_mut(len);
+        grids.push((f, p, n));
+        (pos, nrm) = (p_tail, n_tail);
     }
+    grids.into_par_iter().for_each(|(f, pos, nrm)| {
+        let (class, l, e) = (patches.face_class[f], levels[f], slots[f]);
+        for (s, (p, n)) in pos.iter_mut().zip(nrm.iter_mut()).enumerate() {
+            let s = s as u32;
+            let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
+            let r: Sample = match displace {
+                None => (ak.eval)(cp_of(f), class, 0, iu, iv, l, e[0], e[1], e[2], e[3]),
+                Some(_) => (ak.eval_displaced)(
+                    &inputs,
+                    &patches.control_points,
+                    f as u32,
+                    class,
+                    patches.cp_offsets[f],
+                    iu,
+                    iv,
+                    l,
+                    e[0],
+                    e[1],
+                    e[2],
+                    e[3],
+                ),
+            };
+            (*p, *n) = (r.position, r.normal);
+        }
+    });
     Ok(AdaptiveTessellation {
         sides: kernels.sides,
         levels,

@@ -733,7 +733,19 @@ impl<'g> GpuMesh<'g> {
     ///
     /// A renderer draws step 3 with `eval_adaptive_vs` instead: one
     /// instanced draw of the level's grid per (class, bucket).
-    pub fn evaluate_adaptive<'m>(
+    ///
+    /// Both entries evaluate through `eval_adaptive_displaced`: on a mesh
+    /// uploaded with displacement ([`GpuMesh::new_displaced`],
+    /// [`GpuMesh::new_tri_displaced`]) the result is displaced with
+    /// ownership (measured: the same bits as
+    /// [`crate::adaptive::evaluate_cpu_adaptive_displaced`] for pccm, pn
+    /// and phong; gregory within 2.4e-8 × diagonal, its interior normal);
+    /// otherwise (scale 0) it is the undisplaced tessellation bit for bit.
+    ///
+    /// This is the host-list path; [`GpuMesh::evaluate_adaptive`] runs
+    /// [`GpuMesh::evaluate_adaptive_gpu_driven`] instead whenever its
+    /// samples buffer (every patch at `max_level`) fits the binding limit.
+    pub fn evaluate_adaptive_host_lists<'m>(
         &self,
         mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
         a: &crate::adaptive::Adaptive,
@@ -970,6 +982,315 @@ impl<'g> GpuMesh<'g> {
                 k += count;
             }
             start += n;
+        }
+        Ok(crate::adaptive::AdaptiveTessellation {
+            sides: self.scheme.sides,
+            levels,
+            edge_levels,
+            offsets,
+            positions,
+            normals,
+        })
+    }
+
+    /// Adaptive tessellation on the instanced path (quad schemes on a
+    /// [`Topology`], triangle schemes on the [`crate::trimesh::TriMesh`]
+    /// uploaded with [`GpuMesh::new_tri`]), the same result as
+    /// [`crate::adaptive::evaluate_cpu_adaptive`] (or `_displaced`, on a
+    /// mesh uploaded with displacement): GPU-driven buckets
+    /// ([`GpuMesh::evaluate_adaptive_gpu_driven`], no readback before the
+    /// evaluation) when every patch's samples at `max_level` fit one
+    /// storage binding, otherwise the host-list path
+    /// ([`GpuMesh::evaluate_adaptive_host_lists`], which splits its
+    /// dispatches at the limits). Both give the same bits.
+    pub fn evaluate_adaptive<'m>(
+        &self,
+        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+        let bytes = self.patch_faces.len() as u64 * (self.scheme.grid_len)(max_level) as u64 * 24;
+        if max_level.is_power_of_two()
+            && max_level <= cpu::MAX_LEVEL
+            && bytes <= self.limits.max_storage_buffer_binding_size
+        {
+            self.evaluate_adaptive_gpu_driven(mesh, a, max_level)
+        } else {
+            self.evaluate_adaptive_host_lists(mesh, a, max_level)
+        }
+    }
+
+    /// [`GpuMesh::evaluate_adaptive_host_lists`] with the buckets built on the GPU:
+    /// nothing is read back before the evaluation.
+    ///
+    /// 1. `adaptive_classify_main` as there;
+    /// 2. per class range r, `adaptive_count_main`: one invocation per
+    ///    bucket slot `16r + j` counts the range's patches of bucket `2^j`;
+    /// 3. `adaptive_plan_main` (one invocation): each slot's first entry
+    ///    and first sample (prefix sums) and its `dispatch_workgroups_indirect`
+    ///    arguments (x ≤ 32768 workgroups, the rest in y);
+    /// 4. per class range, `adaptive_scatter_main`: each slot's entries in
+    ///    patch order (no atomics: the lists are the host-built ones);
+    /// 5. one `dispatch_workgroups_indirect` of `eval_adaptive_indirect_main`
+    ///    per slot up to `max_level` (empty slots dispatch nothing).
+    ///
+    /// Then one readback of `patch_levels`, the lists and the samples,
+    /// reassembled per face: the same [`crate::adaptive::AdaptiveTessellation`]
+    /// as [`GpuMesh::evaluate_adaptive_host_lists`], bit for bit. The samples buffer
+    /// is sized for every patch at `max_level` (the host does not know the
+    /// buckets before the evaluation): `BufferTooLarge` beyond the binding
+    /// limit.
+    pub fn evaluate_adaptive_gpu_driven<'m>(
+        &self,
+        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+        use crate::upload::{f32_bytes, u32_bytes};
+        const SLOTS: u32 = 16;
+        let mesh = mesh.into();
+        if self.scheme.adaptive.is_none() {
+            return Err(cpu::facet_error(self.scheme).into());
+        }
+        let faces = self.patch_faces.len();
+        crate::adaptive::check_mesh(self.scheme, &mesh, faces)?;
+        let sides = self.scheme.sides as usize;
+        let inp = crate::adaptive::edge_inputs(mesh, a, max_level)?;
+        let dev = &self.gpu.device;
+        let storage = |label: &'static str, bytes: &[u8], extra: wgpu::BufferUsages| {
+            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: (bytes.len() as u64).max(16),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+                mapped_at_creation: false,
+            });
+            self.gpu.queue.write_buffer(&buf, 0, bytes);
+            buf
+        };
+        let patches = faces as u64;
+        let slots = SLOTS * self.classes.len() as u32;
+        let max_spp = (self.scheme.grid_len)(max_level) as u64;
+        let list_words = 4 * slots as u64 + 6 * patches;
+        let sample_bytes = (patches * max_spp * 24).max(24);
+        check(&self.limits, "patch_levels", patches * 20)?;
+        check(&self.limits, "bucket_list", list_words * 4)?;
+        check(
+            &self.limits,
+            "samples (every patch at the largest level)",
+            sample_bytes,
+        )?;
+        let face_edges = storage(
+            "face_edges",
+            &u32_bytes(&inp.face_edges),
+            wgpu::BufferUsages::empty(),
+        );
+        let edge_factors = storage(
+            "edge_factors",
+            &f32_bytes(&inp.edge_factors),
+            wgpu::BufferUsages::empty(),
+        );
+        let params_buf = storage(
+            "adaptive",
+            &f32_bytes(&inp.params),
+            wgpu::BufferUsages::empty(),
+        );
+        let levels_buf = storage(
+            "patch_levels",
+            &vec![0u8; patches as usize * 20],
+            wgpu::BufferUsages::COPY_SRC,
+        );
+        let list_buf = storage(
+            "bucket_list",
+            &vec![0u8; list_words as usize * 4],
+            wgpu::BufferUsages::COPY_SRC,
+        );
+        let dispatch_buf = storage(
+            "bucket_dispatch",
+            &vec![0u8; slots as usize * 12],
+            wgpu::BufferUsages::INDIRECT,
+        );
+        let samples = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("samples"),
+            size: sample_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let extra = [
+            (binding::FACE_EDGES, &face_edges),
+            (binding::EDGE_FACTORS, &edge_factors),
+            (binding::ADAPTIVE, &params_buf),
+            (binding::PATCH_LEVELS, &levels_buf),
+            (binding::BUCKET_LIST, &list_buf),
+            (binding::BUCKET_DISPATCH, &dispatch_buf),
+            (binding::BUCKET_PATCHES, &list_buf),
+        ];
+        let pipe = |entry: &str| {
+            self.gpu.scoped(|| {
+                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: None,
+                    module: &self.module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+            })
+        };
+        let staging = |label: &'static str, size: u64| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size.max(16),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let levels_read = staging("patch_levels readback", patches * 20);
+        let list_read = staging("bucket_list readback", list_words * 4);
+        let samples_read = staging("samples readback", sample_bytes);
+        // (entry, params, x workgroups or the indirect offset of the slot).
+        enum Run {
+            Direct(u32),
+            Indirect(u64),
+        }
+        let mut phases: Vec<(&str, Vec<(wgpu::Buffer, Run)>)> = Vec::new();
+        let prm = |first, count, class, cp_base, level, out_base| {
+            self.params_buffer(&params_bytes(
+                Mat4::IDENTITY,
+                first,
+                count,
+                class,
+                cp_base,
+                level,
+                out_base,
+            ))
+        };
+        let chunk = self.chunk(1) as u32;
+        let mut classify = Vec::new();
+        for c in &self.classes {
+            let mut k = 0;
+            while k < c.count {
+                let count = chunk.min(c.count - k);
+                let p = prm(
+                    c.first + k,
+                    count,
+                    c.class,
+                    c.cp_base + k * c.points,
+                    max_level,
+                    0,
+                );
+                classify.push((p, Run::Direct(count.div_ceil(64))));
+                k += count;
+            }
+        }
+        phases.push(("adaptive_classify_main", classify));
+        let per_range = |level: u32| {
+            self.classes
+                .iter()
+                .enumerate()
+                .map(|(r, c)| {
+                    let p = prm(
+                        c.first,
+                        c.count,
+                        c.class,
+                        c.cp_base,
+                        level,
+                        SLOTS * r as u32,
+                    );
+                    (p, Run::Direct(1))
+                })
+                .collect::<Vec<_>>()
+        };
+        phases.push(("adaptive_count_main", per_range(0)));
+        phases.push((
+            "adaptive_plan_main",
+            vec![(prm(0, slots, 0, 0, 0, 0), Run::Direct(1))],
+        ));
+        phases.push(("adaptive_scatter_main", per_range(slots)));
+        let mut evals = Vec::new();
+        for (r, c) in self.classes.iter().enumerate() {
+            let mut j = 0;
+            while (1u32 << j) <= max_level {
+                let b = SLOTS * r as u32 + j;
+                evals.push((
+                    prm(slots, 0, c.class, 0, 1 << j, b),
+                    Run::Indirect(12 * b as u64),
+                ));
+                j += 1;
+            }
+        }
+        phases.push(("eval_adaptive_indirect_main", evals));
+        self.gpu.scoped(|| -> Result<(), GpuError> {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("adaptive, GPU-driven"),
+            });
+            for (entry, runs) in &phases {
+                let pipeline = pipe(entry)?;
+                let layout = pipeline.get_bind_group_layout(0);
+                let groups: Vec<wgpu::BindGroup> = runs
+                    .iter()
+                    .map(|(p, _)| self.bind_group_with(entry, &layout, p, Some(&samples), &extra))
+                    .collect();
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(entry),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&pipeline);
+                for ((_, run), group) in runs.iter().zip(&groups) {
+                    pass.set_bind_group(0, group, &[]);
+                    match run {
+                        Run::Direct(x) => pass.dispatch_workgroups(*x, 1, 1),
+                        Run::Indirect(at) => pass.dispatch_workgroups_indirect(&dispatch_buf, *at),
+                    }
+                }
+            }
+            enc.copy_buffer_to_buffer(&levels_buf, 0, &levels_read, 0, patches * 20);
+            enc.copy_buffer_to_buffer(&list_buf, 0, &list_read, 0, list_words * 4);
+            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, sample_bytes);
+            self.gpu.queue.submit([enc.finish()]);
+            Ok(())
+        })??;
+        let words = |b: &wgpu::Buffer| -> Result<Vec<u32>, GpuError> {
+            Ok(self
+                .read_bytes(b)?
+                .chunks_exact(4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect())
+        };
+        let lv = words(&levels_read)?;
+        let list = words(&list_read)?;
+        let floats = self.read(&samples_read)?;
+        let mut levels = vec![0u32; faces];
+        let mut edge_levels = vec![0u32; sides * faces];
+        for (p, &face) in self.patch_faces.iter().enumerate() {
+            let (w, face) = (&lv[5 * p..5 * p + 5], face as usize);
+            levels[face] = w[4];
+            edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
+        }
+        let mut offsets = Vec::with_capacity(faces + 1);
+        let mut total = 0usize;
+        for &l in &levels {
+            offsets.push(total);
+            total += (self.scheme.grid_len)(l) as usize;
+        }
+        offsets.push(total);
+        let mut positions = vec![Vec3::ZERO; total];
+        let mut normals = vec![Vec3::ZERO; total];
+        for b in 0..slots as usize {
+            let (n, first, sample) = (
+                list[4 * b] as usize,
+                list[4 * b + 1] as usize,
+                list[4 * b + 2] as usize,
+            );
+            let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as usize;
+            for m in 0..n {
+                let e = 4 * slots as usize + 6 * (first + m);
+                let face = self.patch_faces[list[e] as usize] as usize;
+                for s in 0..spp {
+                    let f = &floats[6 * (sample + m * spp + s)..][..6];
+                    positions[offsets[face] + s] = Vec3::new(f[0], f[1], f[2]);
+                    normals[offsets[face] + s] = Vec3::new(f[3], f[4], f[5]);
+                }
+            }
         }
         Ok(crate::adaptive::AdaptiveTessellation {
             sides: self.scheme.sides,

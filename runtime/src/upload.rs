@@ -50,6 +50,11 @@ pub mod binding {
     pub const PATCH_LEVELS: u32 = 25;
     /// Adaptive draw lists (WGSL instanced path), per call as well.
     pub const BUCKET_PATCHES: u32 = 26;
+    /// GPU-driven adaptive buckets: the lists the GPU builds (bound again
+    /// as [`BUCKET_PATCHES`] for the evaluation) and the indirect dispatch
+    /// arguments; per call of `gpu::GpuMesh::evaluate_adaptive`.
+    pub const BUCKET_LIST: u32 = 27;
+    pub const BUCKET_DISPATCH: u32 = 28;
 }
 
 /// Errors building an [`Upload`].

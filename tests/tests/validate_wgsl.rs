@@ -451,7 +451,10 @@ fn entry_point_bindings() {
                 // Adaptive instanced path: the classify pass reads the
                 // patch corners, vertices, edge ids, factors and metric
                 // parameters, writes the levels (7 storage buffers, under
-                // WebGPU's default 8); the evaluation reads the draw list.
+                // WebGPU's default 8); the evaluation reads the draw list
+                // and, through eval_adaptive_displaced, the face and the
+                // displacement data (7 storage buffers in
+                // eval_adaptive_main).
                 "adaptive_classify_main" => &[
                     "6 corner_vertex read",
                     "8 control_points_ro read",
@@ -465,12 +468,52 @@ fn entry_point_bindings() {
                 "eval_adaptive_main" => &[
                     "8 control_points_ro read",
                     "10 params -",
+                    "11 patch_faces read",
                     "12 samples read_write",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
                     "26 bucket_patches read",
                 ],
                 "eval_adaptive_vs" => &[
                     "8 control_points_ro read",
                     "10 params -",
+                    "11 patch_faces read",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
+                    "26 bucket_patches read",
+                ],
+                // GPU-driven buckets: counting and scattering read the
+                // levels and write the lists, the plan pass writes the
+                // lists' header and the indirect arguments; the indirect
+                // evaluation reads the lists as bucket_patches.
+                "adaptive_count_main" => &[
+                    "10 params -",
+                    "25 patch_levels read_write",
+                    "27 bucket_list read_write",
+                ],
+                "adaptive_plan_main" => &[
+                    "10 params -",
+                    "27 bucket_list read_write",
+                    "28 bucket_dispatch read_write",
+                ],
+                "adaptive_scatter_main" => &[
+                    "10 params -",
+                    "25 patch_levels read_write",
+                    "27 bucket_list read_write",
+                ],
+                "eval_adaptive_indirect_main" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
+                    "12 samples read_write",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
                     "26 bucket_patches read",
                 ],
                 other => panic!("{}: unexpected entry point {other}", f.path),

@@ -229,6 +229,10 @@ pub struct AdaptiveKernels {
     /// `(cp, class, cp_base, iu, iv, level, l0, l1, l2, l3)`: `eval` with
     /// boundary samples snapped onto the edges' own levels.
     pub eval: fn(&[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
+    /// `(inputs, cp, face, class, cp_base, iu, iv, level, l0, l1, l2, l3)`:
+    /// the same snap, then the displacement step at the snapped point.
+    #[allow(clippy::type_complexity)]
+    pub eval_displaced: fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32, u32, u32, u32, u32) -> Sample,
 }
 
 /// Entry points of one scheme.
@@ -320,8 +324,10 @@ pub struct SchemeKernels {
         }
         match e.adaptive {
             Some(a) => self.line(&format!(
-                "    adaptive: Some(AdaptiveKernels {{ edge_level: {}, eval: {} }}),",
-                m.functions[a.edge_level].name, m.functions[a.eval].name
+                "    adaptive: Some(AdaptiveKernels {{ edge_level: {}, eval: {}, eval_displaced: {} }}),",
+                m.functions[a.edge_level].name,
+                m.functions[a.eval].name,
+                m.functions[a.eval_displaced].name
             )),
             None => self.line("    adaptive: None,"),
         }

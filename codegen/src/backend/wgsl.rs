@@ -67,7 +67,19 @@ pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
     ("adaptive_classify_main", "compute"),
     ("eval_adaptive_main", "compute"),
     ("eval_adaptive_vs", "vertex"),
+    ("adaptive_count_main", "compute"),
+    ("adaptive_plan_main", "compute"),
+    ("adaptive_scatter_main", "compute"),
+    ("eval_adaptive_indirect_main", "compute"),
 ];
+
+/// Bucket slots per class range in the GPU-driven adaptive buffers: slot
+/// `16·r + j` holds the patches of class range r whose bucket is `2^j`
+/// (levels up to 2^15).
+pub const BUCKET_SLOTS: u32 = 16;
+/// Largest x workgroup count of one GPU-driven evaluation dispatch; the
+/// rest goes to y (WebGPU allows 65,535 per dimension).
+pub const INDIRECT_X: u32 = 32768;
 
 /// WGSL keywords and reserved words (WGSL §15), then the predeclared types
 /// and built-in functions this printer uses: never used as a plain name.
@@ -832,7 +844,9 @@ impl<'a> Writer<'a> {
         let cp_base = param("cp_base");
         let sample_ty = self.ty(&Ty::Struct(common::SAMPLE));
         let edge_level = self.fn_name(FnRef::Local(a.edge_level));
-        let eval = self.fn_name(FnRef::Local(a.eval));
+        // Through the displacement step (a no-op, bit for bit, while
+        // displace_info[0] == 0), which takes the face, as the uniform entries.
+        let eval = self.fn_name(FnRef::Local(a.eval_displaced));
         let bucket = self.fn_name(FnRef::Common(crate::lower::common_fn::BUCKET_LEVEL));
         let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
         self.line("");
@@ -863,12 +877,16 @@ impl<'a> Writer<'a> {
         let entry = |w: &mut Self, index: &str| {
             w.line(&format!("let e: u32 = (6u * ({first} + {index}));"));
             w.line("let cp: u32 = bucket_patches[(e + 1u)];");
+            w.line("let face: u32 = patch_faces[bucket_patches[e]];");
             w.line(&format!(
-                "let result: {sample_ty} = {eval}({class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
+                "let result: {sample_ty} = {eval}(face, {class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
             ));
         };
         self.line("// One bucket of one class at its level params.level: grid_len(level) samples of each of");
-        self.line("// the entries first .. first + count of bucket_patches, snapped by eval_adaptive, into");
+        self.line(
+            "// the entries first .. first + count of bucket_patches, snapped and displaced by",
+        );
+        self.line("// eval_adaptive_displaced (displacement off: eval_adaptive bit for bit), into");
         self.line("// samples[(out_base + k)·6 ..]: position xyz, normal xyz.");
         self.compute_head("eval_adaptive_main");
         self.line(&format!("let spp: u32 = {grid_len}({level});"));
@@ -893,7 +911,7 @@ impl<'a> Writer<'a> {
         self.end_fn();
 
         self.line("// Instanced adaptive draw of one bucket of one class: the level-params.level grid index");
-        self.line("// buffer, instance inst = entry first + inst of bucket_patches, snapped by eval_adaptive.");
+        self.line("// buffer, instance inst = entry first + inst of bucket_patches, through eval_adaptive_displaced.");
         self.line("@vertex");
         self.line(
             "fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
@@ -913,5 +931,165 @@ impl<'a> Writer<'a> {
         self.line("return out;");
         self.indent -= 1;
         self.line("}");
+        self.line("");
+        self.gpu_driven_entry_points(&sample_ty, &eval);
+    }
+
+    /// GPU-driven buckets: the lists of `bucket_patches` and the indirect
+    /// dispatch arguments built on the GPU from `patch_levels`, so nothing
+    /// is read back before the evaluation. Per class range r (slots
+    /// `16r + j`, bucket `2^j`): `adaptive_count_main` (one invocation per
+    /// slot) counts the range's patches of its bucket, `adaptive_plan_main`
+    /// (one invocation) prefix-sums the counts into each slot's first entry
+    /// and first sample and writes the dispatch arguments,
+    /// `adaptive_scatter_main` (one invocation per slot) writes the slot's
+    /// entries in patch order — the order the host lists had, with no
+    /// atomics — and `eval_adaptive_indirect_main` runs one indirect
+    /// dispatch per slot. `bucket_list` (written here) is bound as
+    /// `bucket_patches` for the evaluation: a header of 4 u32 per slot
+    /// (count, first entry, first sample, x workgroups), then the entries.
+    fn gpu_driven_entry_points(&mut self, sample_ty: &str, eval: &str) {
+        let first = param("first");
+        let count = param("count");
+        let level = param("level");
+        let class = param("class");
+        let cp_base = param("cp_base");
+        let out_base = param("out_base");
+        let slots = BUCKET_SLOTS;
+        let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
+        self.line(&format!(
+            "// GPU-driven buckets 1: for the class range of patches first .. first + count, invocation j < {slots}"
+        ));
+        self.line("// counts the patches whose bucket (patch_levels[5p + 4]) is 2^j into bucket_list[4·(out_base + j)].");
+        self.compute_head("adaptive_count_main");
+        self.early_return(&format!("(k >= {slots}u)"));
+        self.line("var n: u32 = 0u;");
+        self.line(&format!(
+            "for (var i: u32 = 0u; i < {count}; i = i + 1u) {{"
+        ));
+        self.line(&format!(
+            "    if (patch_levels[((5u * ({first} + i)) + 4u)] == (1u << k)) {{"
+        ));
+        self.line("        n = (n + 1u);");
+        self.line("    }");
+        self.line("}");
+        self.line(&format!("bucket_list[(4u * ({out_base} + k))] = n;"));
+        self.end_fn();
+
+        self.line("// GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample");
+        self.line("// (prefix sums of count and count·grid_len(2^(slot % 16))) and the indirect dispatch arguments");
+        self.line(&format!(
+            "// (x = min(workgroups, {INDIRECT_X}), y = the rest) into bucket_list and bucket_dispatch."
+        ));
+        self.compute_head("adaptive_plan_main");
+        self.early_return("(k >= 1u)");
+        self.line("var entry: u32 = 0u;");
+        self.line("var first_sample: u32 = 0u;");
+        self.line(&format!(
+            "for (var b: u32 = 0u; b < {count}; b = b + 1u) {{"
+        ));
+        self.indent += 1;
+        self.line("let n: u32 = bucket_list[(4u * b)];");
+        self.line(&format!(
+            "let spp: u32 = {grid_len}((1u << (b % {slots}u)));"
+        ));
+        self.line(&format!(
+            "let groups: u32 = (((n * spp) + {}u) / {}u);",
+            abi::WORKGROUP_SIZE - 1,
+            abi::WORKGROUP_SIZE
+        ));
+        self.line(&format!("let x: u32 = min(groups, {INDIRECT_X}u);"));
+        self.line("var y: u32 = 0u;");
+        self.line("if (x > 0u) {");
+        self.line("    y = ((groups + (x - 1u)) / x);");
+        self.line("}");
+        self.line("bucket_list[((4u * b) + 1u)] = entry;");
+        self.line("bucket_list[((4u * b) + 2u)] = first_sample;");
+        self.line("bucket_list[((4u * b) + 3u)] = x;");
+        self.line("bucket_dispatch[(3u * b)] = x;");
+        self.line("bucket_dispatch[((3u * b) + 1u)] = y;");
+        self.line("bucket_dispatch[((3u * b) + 2u)] = 1u;");
+        self.line("entry = (entry + n);");
+        self.line("first_sample = (first_sample + (n * spp));");
+        self.indent -= 1;
+        self.line("}");
+        self.end_fn();
+
+        self.line(&format!(
+            "// GPU-driven buckets 3: for the class range of patches first .. first + count, invocation j < {slots}"
+        ));
+        self.line("// writes the entries of slot out_base + j in patch order at bucket_list[4·level + 6·(first entry + m) ..]");
+        self.line("// (level = the number of slots, the header's length / 4): patch, first control point, edge levels.");
+        self.compute_head("adaptive_scatter_main");
+        self.early_return(&format!("(k >= {slots}u)"));
+        self.points_of_class();
+        self.line(&format!(
+            "var at: u32 = ((4u * {level}) + (6u * bucket_list[((4u * ({out_base} + k)) + 1u)]));"
+        ));
+        self.line(&format!(
+            "for (var i: u32 = 0u; i < {count}; i = i + 1u) {{"
+        ));
+        self.indent += 1;
+        self.line(&format!("let p: u32 = ({first} + i);"));
+        self.line("if (patch_levels[((5u * p) + 4u)] == (1u << k)) {");
+        self.line("    bucket_list[at] = p;");
+        self.line(&format!(
+            "    bucket_list[(at + 1u)] = ({cp_base} + (i * points));"
+        ));
+        for e in 0..4 {
+            self.line(&format!(
+                "    bucket_list[(at + {}u)] = patch_levels[((5u * p) + {e}u)];",
+                e + 2
+            ));
+        }
+        self.line("    at = (at + 6u);");
+        self.line("}");
+        self.indent -= 1;
+        self.line("}");
+        self.end_fn();
+
+        self.line("// GPU-driven buckets 4, one indirect dispatch per slot out_base (class, level = its bucket):");
+        self.line("// the slot's header in bucket_patches (count, first entry, first sample, x workgroups),");
+        self.line("// entries after the header (first = the number of slots), samples from the slot's first sample.");
+        self.line(&format!(
+            "@compute @workgroup_size({})",
+            abi::WORKGROUP_SIZE
+        ));
+        self.line(
+            "fn eval_adaptive_indirect_main(@builtin(global_invocation_id) gid: vec3<u32>) {",
+        );
+        self.indent += 1;
+        self.line(&format!("let h: u32 = (4u * {out_base});"));
+        self.line(&format!(
+            "let k: u32 = (gid.x + ((gid.y * bucket_patches[(h + 3u)]) * {}u));",
+            abi::WORKGROUP_SIZE
+        ));
+        self.line(&format!("let spp: u32 = {grid_len}({level});"));
+        self.early_return("(k >= (bucket_patches[h] * spp))");
+        self.line("let patch_index: u32 = (k / spp);");
+        self.line("let s: u32 = (k % spp);");
+        self.line(&format!("let iu: u32 = {grid_iu}(s, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(s, {level});"));
+        self.line(&format!(
+            "let e: u32 = ((4u * {first}) + (6u * (bucket_patches[(h + 1u)] + patch_index)));"
+        ));
+        self.line("let cp: u32 = bucket_patches[(e + 1u)];");
+        self.line("let face: u32 = patch_faces[bucket_patches[e]];");
+        self.line(&format!(
+            "let result: {sample_ty} = {eval}(face, {class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
+        ));
+        self.line("let o: u32 = ((bucket_patches[(h + 2u)] + k) * 6u);");
+        let comps = [
+            "position.x",
+            "position.y",
+            "position.z",
+            "normal.x",
+            "normal.y",
+            "normal.z",
+        ];
+        for (i, c) in comps.iter().enumerate() {
+            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+        }
+        self.end_fn();
     }
 }

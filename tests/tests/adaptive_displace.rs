@@ -1,0 +1,378 @@
+//! Adaptive tessellation *and* displacement on the instanced path (CPU:
+//! `adaptive::evaluate_cpu_adaptive_displaced`; wgpu: `evaluate_adaptive`
+//! on a mesh uploaded with displacement). Both run the Plan function
+//! `eval_adaptive_displaced`: the snap of `eval_adaptive`, then the
+//! displacement step with ownership at the snapped point, so the owner's
+//! normal and texture coordinate on an edge are taken at the edge's own
+//! level (a function of the edge alone) and a snapped corner at level 1.
+//!
+//! Checked, with random per-edge factors: quads (pccm, gregory) on
+//! catmark_cube_uv (every edge a texture seam) and catmark_toroidal_tet (a
+//! chart per face), triangles (pn, phong) on the same meshes split: 0 open
+//! edges on the CPU and on wgpu, wgpu against the CPU, scale 0 equal to the
+//! undisplaced adaptive tessellation bit for bit (both backends), and the
+//! per-patch ownership negative control opens the weld.
+
+mod common;
+
+use glam::Vec3;
+use std::sync::OnceLock;
+use tessgen_runtime::adaptive::{self, Adaptive, AdaptiveTessellation, Metric, Partitioning};
+use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::gpu::{Gpu, GpuMesh};
+use tessgen_runtime::trimesh::TriMesh;
+use tessgen_runtime::{cpu, weld, Mesh, Topology};
+
+const SEED: u64 = 0x7e55_6e11;
+const MAX_LEVEL: u32 = 16;
+
+fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| Gpu::new().unwrap_or_else(|e| panic!("{e}")))
+}
+
+/// The map of `tests/displace.rs`: jumps between the cells of a 3×2 atlas
+/// and varies inside them, so both sides of every seam read different
+/// heights.
+fn displacement(ownership: Ownership, scale: f32) -> Displacement {
+    Displacement {
+        map: DisplaceMap::from_fn(48, 32, |s, t| {
+            let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
+            0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
+        }),
+        scale,
+        ownership,
+    }
+}
+
+/// Every face its own chart (every edge a seam), as in `tests/displace.rs`.
+fn per_face_charts(mut mesh: Mesh) -> Mesh {
+    let nf = mesh.num_faces();
+    let side = (nf as f32).sqrt().ceil() as usize;
+    mesh.texcoords.clear();
+    mesh.face_texcoords.clear();
+    for f in 0..nf {
+        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
+        let cell = 1.0 / side as f32;
+        let m = cell / 16.0;
+        for q in [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]] {
+            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
+            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
+        }
+    }
+    mesh
+}
+
+fn meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("catmark_cube_uv", common::mesh("catmark_cube_uv")),
+        (
+            "catmark_toroidal_tet (charts)",
+            per_face_charts(common::mesh("catmark_toroidal_tet")),
+        ),
+    ]
+}
+
+/// One mesh prepared for a scheme: its edges' domain (quad topology or the
+/// split triangle mesh), positions and CPU patches.
+struct Case {
+    mesh: Mesh,
+    topo: Option<Topology>,
+    tri: Option<TriMesh>,
+    positions: Vec<Vec3>,
+    patches: cpu::Patches,
+    diag: f32,
+}
+
+impl Case {
+    fn new(scheme: &str, mesh: Mesh) -> Case {
+        let kernels = cpu::scheme(scheme).expect("scheme");
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::from_array(*p))
+            .collect();
+        let diag = common::bbox_diagonal(&mesh);
+        let (topo, tri, patches) = if kernels.sides == 3 {
+            let tri = cpu::tri_mesh(&mesh, true, None).expect("split");
+            let patches = cpu::construct_tri(&tri, kernels).expect("patches");
+            (None, Some(tri), patches)
+        } else {
+            let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
+            let patches = cpu::construct(&topo, &positions, kernels).expect("patches");
+            (Some(topo), None, patches)
+        };
+        Case {
+            mesh,
+            topo,
+            tri,
+            positions,
+            patches,
+            diag,
+        }
+    }
+
+    fn edges(&self) -> adaptive::AdaptiveMesh<'_> {
+        match (&self.topo, &self.tri) {
+            (Some(t), _) => t.into(),
+            (_, Some(t)) => t.into(),
+            _ => unreachable!("a case has a topology or a triangle mesh"),
+        }
+    }
+
+    fn random(&self) -> Adaptive {
+        let (_, edges) = self.edges().edge_ids();
+        Adaptive {
+            metric: Metric::Buffer(adaptive::random_factors(edges, SEED, 1.0, 12.0)),
+            partitioning: Partitioning::Integer,
+            min: 1.0,
+            max: MAX_LEVEL as f32,
+        }
+    }
+
+    fn cpu(&self, a: &Adaptive, d: Option<&Displacement>) -> AdaptiveTessellation {
+        match d {
+            None => adaptive::evaluate_cpu_adaptive(&self.patches, self.edges(), a, MAX_LEVEL),
+            Some(d) => {
+                let data = match (&self.topo, &self.tri) {
+                    (Some(t), _) => cpu::displacement_data(&self.mesh, t, &self.patches, d),
+                    (_, Some(t)) => cpu::displacement_data_tri(&self.mesh, t, &self.patches, d),
+                    _ => unreachable!(),
+                }
+                .expect("displacement data");
+                adaptive::evaluate_cpu_adaptive_displaced(
+                    &self.patches,
+                    self.edges(),
+                    a,
+                    MAX_LEVEL,
+                    &data,
+                )
+            }
+        }
+        .expect("cpu adaptive")
+    }
+
+    fn wgpu(&self, scheme: &str, a: &Adaptive, d: Option<&Displacement>) -> AdaptiveTessellation {
+        let g = gpu();
+        let m = match (&self.topo, &self.tri, d) {
+            (Some(t), _, None) => GpuMesh::new(g, t, &self.positions, scheme),
+            (Some(t), _, Some(d)) => {
+                GpuMesh::new_displaced(g, &self.mesh, t, &self.positions, scheme, d)
+            }
+            (_, Some(t), None) => GpuMesh::new_tri(g, t, scheme),
+            (_, Some(t), Some(d)) => GpuMesh::new_tri_displaced(g, &self.mesh, t, scheme, d),
+            _ => unreachable!(),
+        }
+        .expect("gpu mesh");
+        m.evaluate_adaptive(self.edges(), a, MAX_LEVEL)
+            .expect("evaluate_adaptive")
+    }
+}
+
+fn open_edges(t: &AdaptiveTessellation) -> (usize, usize) {
+    let soup: Vec<Vec3> = t.triangles().into_iter().flatten().collect();
+    let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);
+    (r.open_edges + r.overused_edges, r.triangles)
+}
+
+/// Samples whose position bits differ, and the largest position difference
+/// over the diagonal (after checking that the levels agree).
+fn parity(a: &AdaptiveTessellation, b: &AdaptiveTessellation, diag: f32) -> (usize, f32) {
+    assert_eq!(a.edge_levels, b.edge_levels, "edge levels differ");
+    assert_eq!(a.levels, b.levels, "buckets differ");
+    let bits = |v: &Vec3| v.to_array().map(f32::to_bits);
+    let mut n = 0;
+    let mut err = 0f32;
+    for (p, q) in a.positions.iter().zip(&b.positions) {
+        if bits(p) != bits(q) {
+            n += 1;
+        }
+        err = err.max((*p - *q).length() / diag);
+    }
+    (n, err)
+}
+
+fn bit_equal(a: &AdaptiveTessellation, b: &AdaptiveTessellation) -> bool {
+    let bits = |v: &[Vec3]| -> Vec<[u32; 3]> {
+        v.iter().map(|x| x.to_array().map(f32::to_bits)).collect()
+    };
+    a.levels == b.levels
+        && a.offsets == b.offsets
+        && bits(&a.positions) == bits(&b.positions)
+        && bits(&a.normals) == bits(&b.normals)
+}
+
+/// Owned displacement welds closed on both backends, the wgpu samples
+/// match the CPU's, the per-patch control opens the weld.
+fn check(scheme: &str, exact_parity: bool) {
+    let owned = displacement(Ownership::LowestFace, 0.5);
+    let per_patch = displacement(Ownership::PerPatch, 0.5);
+    for (name, mesh) in meshes() {
+        let c = Case::new(scheme, mesh);
+        let a = c.random();
+        let cpu_t = c.cpu(&a, Some(&owned));
+        let gpu_t = c.wgpu(scheme, &a, Some(&owned));
+        let plain = c.cpu(&a, None);
+        let moved = cpu_t
+            .positions
+            .iter()
+            .zip(&plain.positions)
+            .map(|(p, q)| (*p - *q).length())
+            .fold(0f32, f32::max);
+        let (cpu_open, tris) = open_edges(&cpu_t);
+        let (gpu_open, _) = open_edges(&gpu_t);
+        let (differ, err) = parity(&gpu_t, &cpu_t, c.diag);
+        let (pp_cpu, _) = open_edges(&c.cpu(&a, Some(&per_patch)));
+        let (pp_gpu, _) = open_edges(&c.wgpu(scheme, &a, Some(&per_patch)));
+        let mut buckets = String::new();
+        for (l, fs) in cpu_t.buckets() {
+            buckets.push_str(&format!("{l}: {}, ", fs.len()));
+        }
+        println!(
+            "| {scheme} | {name} | {} | {tris} | {cpu_open} / {gpu_open} | {pp_cpu} / {pp_gpu} | \
+             {differ} ({err:.1e}) | {moved:.3} |",
+            buckets.trim_end_matches(", ")
+        );
+        assert!(
+            moved > 0.01,
+            "{scheme} {name}: displacement did not move the surface"
+        );
+        assert_eq!(cpu_open, 0, "{scheme} {name}: CPU adaptive displaced open");
+        assert_eq!(gpu_open, 0, "{scheme} {name}: wgpu adaptive displaced open");
+        assert!(
+            pp_cpu > 0 && pp_gpu > 0,
+            "{scheme} {name}: control stayed closed"
+        );
+        if exact_parity {
+            assert_eq!(differ, 0, "{scheme} {name}: wgpu != CPU ({err:e})");
+        } else {
+            assert!(err < 1e-6, "{scheme} {name}: wgpu vs CPU {err:e}");
+        }
+    }
+}
+
+#[test]
+fn adaptive_displaced_quads_weld_closed_on_cpu_and_wgpu() {
+    println!("| scheme | mesh | buckets (level: patches) | triangles | open cpu / wgpu | per-patch open cpu / wgpu | wgpu ≠ cpu (max / diag) | largest displacement |");
+    check("pccm", true);
+    // Gregory's interior normal rounds differently on llvmpipe (as in the
+    // uniform displaced path), and a displaced position contains h·n.
+    check("gregory", false);
+}
+
+#[test]
+fn adaptive_displaced_triangles_weld_closed_on_cpu_and_wgpu() {
+    check("pn", true);
+    check("phong", true);
+}
+
+/// Scale 0 (real texture coordinates and owners) is the undisplaced
+/// adaptive tessellation bit for bit, on the CPU and on wgpu — corners
+/// included, which the displaced variant hands on at level 1.
+#[test]
+fn scale_zero_is_undisplaced_adaptive_bit_for_bit() {
+    let zero = displacement(Ownership::LowestFace, 0.0);
+    for scheme in ["pccm", "gregory", "pn", "phong"] {
+        let c = Case::new(scheme, common::mesh("catmark_cube_uv"));
+        let a = c.random();
+        let plain = c.cpu(&a, None);
+        assert!(bit_equal(&plain, &c.cpu(&a, Some(&zero))), "{scheme} cpu");
+        let gpu_plain = c.wgpu(scheme, &a, None);
+        assert!(
+            bit_equal(&gpu_plain, &c.wgpu(scheme, &a, Some(&zero))),
+            "{scheme} wgpu"
+        );
+    }
+}
+
+/// Displacement data of another mesh is a typed error, not a panic.
+#[test]
+fn displacement_data_of_another_mesh_is_an_error() {
+    let c = Case::new("pccm", common::mesh("catmark_cube_uv"));
+    let other = Case::new(
+        "pccm",
+        per_face_charts(common::mesh("catmark_toroidal_tet")),
+    );
+    let d = displacement(Ownership::LowestFace, 0.5);
+    let (Some(t), Some(_)) = (&other.topo, &c.topo) else {
+        unreachable!()
+    };
+    let data = cpu::displacement_data(&other.mesh, t, &other.patches, &d).expect("data");
+    let err = adaptive::evaluate_cpu_adaptive_displaced(
+        &c.patches,
+        c.edges(),
+        &c.random(),
+        MAX_LEVEL,
+        &data,
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("24 faces"), "{err}");
+}
+
+/// The CPU adaptive walk runs in parallel over faces (per-face slices of
+/// the output): one thread and four give the same bits, undisplaced and
+/// displaced.
+#[test]
+fn cpu_adaptive_output_does_not_depend_on_the_thread_count() {
+    let d = displacement(Ownership::LowestFace, 0.5);
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap_or_else(|e| panic!("{e}"))
+    };
+    for scheme in ["gregory", "pn"] {
+        let c = Case::new(
+            scheme,
+            per_face_charts(common::mesh("catmark_toroidal_tet")),
+        );
+        let a = c.random();
+        for disp in [None, Some(&d)] {
+            let one = pool(1).install(|| c.cpu(&a, disp));
+            let four = pool(4).install(|| c.cpu(&a, disp));
+            assert!(bit_equal(&one, &four), "{scheme} {}", disp.is_some());
+        }
+    }
+}
+
+/// GPU-driven buckets (`evaluate_adaptive_gpu_driven`: counts, prefix sums,
+/// lists and indirect dispatch arguments built on the GPU, no readback
+/// before the evaluation) give the host-list path's tessellation bit for
+/// bit — undisplaced and displaced, quads (two classes on toroidal_tet)
+/// and triangles — and weld closed.
+#[test]
+fn gpu_driven_buckets_match_the_host_lists_bit_for_bit() {
+    let d = displacement(Ownership::LowestFace, 0.5);
+    for scheme in ["pccm", "gregory", "pn"] {
+        for (name, mesh) in meshes() {
+            let c = Case::new(scheme, mesh);
+            let a = c.random();
+            for disp in [None, Some(&d)] {
+                let g = gpu();
+                let m = match (&c.topo, &c.tri, disp) {
+                    (Some(t), _, None) => GpuMesh::new(g, t, &c.positions, scheme),
+                    (Some(t), _, Some(d)) => {
+                        GpuMesh::new_displaced(g, &c.mesh, t, &c.positions, scheme, d)
+                    }
+                    (_, Some(t), None) => GpuMesh::new_tri(g, t, scheme),
+                    (_, Some(t), Some(d)) => GpuMesh::new_tri_displaced(g, &c.mesh, t, scheme, d),
+                    _ => unreachable!(),
+                }
+                .expect("gpu mesh");
+                let host = m
+                    .evaluate_adaptive_host_lists(c.edges(), &a, MAX_LEVEL)
+                    .expect("host lists");
+                let driven = m
+                    .evaluate_adaptive_gpu_driven(c.edges(), &a, MAX_LEVEL)
+                    .expect("gpu-driven");
+                assert_eq!(driven.edge_levels, host.edge_levels, "{scheme} {name}");
+                assert!(
+                    bit_equal(&driven, &host),
+                    "{scheme} {name} {}",
+                    disp.is_some()
+                );
+                assert_eq!(open_edges(&driven).0, 0, "{scheme} {name}");
+            }
+        }
+    }
+}
