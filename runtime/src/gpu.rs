@@ -462,6 +462,89 @@ impl<'g> GpuMesh<'g> {
         self.params_buffer(&bytes)
     }
 
+    /// A storage buffer holding `bytes` (at least 16 bytes), with `extra`
+    /// usages on top of STORAGE | COPY_DST.
+    fn storage_init(
+        &self,
+        label: &'static str,
+        bytes: &[u8],
+        extra: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let buf = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: (bytes.len() as u64).max(16),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+            mapped_at_creation: false,
+        });
+        self.gpu.queue.write_buffer(&buf, 0, bytes);
+        buf
+    }
+
+    /// The compute pipeline of one entry point of the scheme's module
+    /// (layout derived from the shader).
+    fn compute_pipeline(&self, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+        self.gpu.scoped(|| {
+            self.gpu
+                .device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: None,
+                    module: &self.module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+        })
+    }
+
+    /// The checks both adaptive paths make before any GPU work — the scheme
+    /// has the adaptive kernels, the mesh is of the scheme's domain
+    /// (`Domain`) and the uploaded one (`MeshMismatch`) — and the edge
+    /// inputs (factors, face edges, params).
+    fn adaptive_inputs(
+        &self,
+        mesh: crate::adaptive::AdaptiveMesh<'_>,
+        a: &crate::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<crate::adaptive::EdgeInputs, GpuError> {
+        if self.scheme.adaptive.is_none() {
+            return Err(cpu::facet_error(self.scheme).into());
+        }
+        crate::adaptive::check_mesh(self.scheme, &mesh, self.patch_faces.len())?;
+        Ok(crate::adaptive::edge_inputs(mesh, a, max_level)?)
+    }
+
+    /// Per-face bucket levels, edge levels and sample offsets from the
+    /// classify output (`patch_levels`: 5 words per class-sorted patch, the
+    /// edge levels then the bucket).
+    fn face_levels(&self, words: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<usize>) {
+        let (faces, sides) = (self.patch_faces.len(), self.scheme.sides as usize);
+        let mut levels = vec![0u32; faces];
+        let mut edge_levels = vec![0u32; sides * faces];
+        for (p, &face) in self.patch_faces.iter().enumerate() {
+            let (w, face) = (&words[5 * p..5 * p + 5], face as usize);
+            levels[face] = w[4];
+            edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
+        }
+        let mut offsets = Vec::with_capacity(faces + 1);
+        let mut total = 0usize;
+        for &l in &levels {
+            offsets.push(total);
+            total += (self.scheme.grid_len)(l) as usize;
+        }
+        offsets.push(total);
+        (levels, edge_levels, offsets)
+    }
+
+    /// Little-endian u32 words of a MAP_READ buffer.
+    fn read_words(&self, staging: &wgpu::Buffer) -> Result<Vec<u32>, GpuError> {
+        Ok(self
+            .read_bytes(staging)?
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect())
+    }
+
     fn params_buffer(&self, bytes: &[u8]) -> wgpu::Buffer {
         let buf = self.gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("params"),
@@ -751,27 +834,10 @@ impl<'g> GpuMesh<'g> {
         a: &crate::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
-        let mesh = mesh.into();
-        if self.scheme.adaptive.is_none() {
-            return Err(cpu::facet_error(self.scheme).into());
-        }
+        let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let faces = self.patch_faces.len();
-        // The scheme's domain (`Domain`), then the face count
-        // (`MeshMismatch`): the mesh must be the uploaded one.
-        crate::adaptive::check_mesh(self.scheme, &mesh, faces)?;
-        let sides = self.scheme.sides as usize;
-        let inp = crate::adaptive::edge_inputs(mesh, a, max_level)?;
         let dev = &self.gpu.device;
-        let storage = |label: &'static str, bytes: &[u8], extra: wgpu::BufferUsages| {
-            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: (bytes.len() as u64).max(16),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
-                mapped_at_creation: false,
-            });
-            self.gpu.queue.write_buffer(&buf, 0, bytes);
-            buf
-        };
+        let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         use crate::upload::{f32_bytes, u32_bytes};
         let patches = self.patch_faces.len() as u64;
         check(&self.limits, "patch_levels", patches * 20)?;
@@ -801,18 +867,7 @@ impl<'g> GpuMesh<'g> {
             (binding::ADAPTIVE, &params_buf),
             (binding::PATCH_LEVELS, &levels_buf),
         ];
-        let pipe = |entry: &str| {
-            self.gpu.scoped(|| {
-                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: None,
-                    module: &self.module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
-        };
+        let pipe = |entry: &str| self.compute_pipeline(entry);
         let classify = pipe("adaptive_classify_main")?;
         let eval = pipe("eval_adaptive_main")?;
 
@@ -864,23 +919,16 @@ impl<'g> GpuMesh<'g> {
             enc.copy_buffer_to_buffer(&levels_buf, 0, &staging, 0, patches * 20);
             self.gpu.queue.submit([enc.finish()]);
         })?;
-        let words: Vec<u32> = self
-            .read_bytes(&staging)?
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect();
+        let words = self.read_words(&staging)?;
 
         // 2. per face levels, and one entry list per (class, bucket).
-        let mut levels = vec![0u32; faces];
-        let mut edge_levels = vec![0u32; sides * faces];
+        let (levels, edge_levels, offsets) = self.face_levels(&words);
+        let total = offsets[faces];
         let mut lists: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
         for c in &self.classes {
             for k in 0..c.count {
                 let p = (c.first + k) as usize;
                 let w = &words[5 * p..5 * p + 5];
-                let face = self.patch_faces[p] as usize;
-                levels[face] = w[4];
-                edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
                 lists.entry((c.class, w[4])).or_default().extend([
                     p as u32,
                     c.cp_base + k * c.points,
@@ -891,13 +939,6 @@ impl<'g> GpuMesh<'g> {
                 ]);
             }
         }
-        let mut offsets = Vec::with_capacity(faces + 1);
-        let mut total = 0usize;
-        for &l in &levels {
-            offsets.push(total);
-            total += (self.scheme.grid_len)(l) as usize;
-        }
-        offsets.push(total);
         let all: Vec<u32> = lists.values().flatten().copied().collect();
         check(&self.limits, "bucket_patches", all.len() as u64 * 4)?;
         let bucket_buf = storage(
@@ -1048,25 +1089,10 @@ impl<'g> GpuMesh<'g> {
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
         use crate::upload::{f32_bytes, u32_bytes};
         const SLOTS: u32 = 16;
-        let mesh = mesh.into();
-        if self.scheme.adaptive.is_none() {
-            return Err(cpu::facet_error(self.scheme).into());
-        }
+        let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let faces = self.patch_faces.len();
-        crate::adaptive::check_mesh(self.scheme, &mesh, faces)?;
-        let sides = self.scheme.sides as usize;
-        let inp = crate::adaptive::edge_inputs(mesh, a, max_level)?;
         let dev = &self.gpu.device;
-        let storage = |label: &'static str, bytes: &[u8], extra: wgpu::BufferUsages| {
-            let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: (bytes.len() as u64).max(16),
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
-                mapped_at_creation: false,
-            });
-            self.gpu.queue.write_buffer(&buf, 0, bytes);
-            buf
-        };
+        let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         let patches = faces as u64;
         let slots = SLOTS * self.classes.len() as u32;
         let max_spp = (self.scheme.grid_len)(max_level) as u64;
@@ -1124,18 +1150,7 @@ impl<'g> GpuMesh<'g> {
             (binding::BUCKET_DISPATCH, &dispatch_buf),
             (binding::BUCKET_PATCHES, &list_buf),
         ];
-        let pipe = |entry: &str| {
-            self.gpu.scoped(|| {
-                dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: None,
-                    module: &self.module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-            })
-        };
+        let pipe = |entry: &str| self.compute_pipeline(entry);
         let staging = |label: &'static str, size: u64| {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -1249,30 +1264,11 @@ impl<'g> GpuMesh<'g> {
             self.gpu.queue.submit([enc.finish()]);
             Ok(())
         })??;
-        let words = |b: &wgpu::Buffer| -> Result<Vec<u32>, GpuError> {
-            Ok(self
-                .read_bytes(b)?
-                .chunks_exact(4)
-                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect())
-        };
-        let lv = words(&levels_read)?;
-        let list = words(&list_read)?;
+        let lv = self.read_words(&levels_read)?;
+        let list = self.read_words(&list_read)?;
         let floats = self.read(&samples_read)?;
-        let mut levels = vec![0u32; faces];
-        let mut edge_levels = vec![0u32; sides * faces];
-        for (p, &face) in self.patch_faces.iter().enumerate() {
-            let (w, face) = (&lv[5 * p..5 * p + 5], face as usize);
-            levels[face] = w[4];
-            edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
-        }
-        let mut offsets = Vec::with_capacity(faces + 1);
-        let mut total = 0usize;
-        for &l in &levels {
-            offsets.push(total);
-            total += (self.scheme.grid_len)(l) as usize;
-        }
-        offsets.push(total);
+        let (levels, edge_levels, offsets) = self.face_levels(&lv);
+        let total = offsets[faces];
         let mut positions = vec![Vec3::ZERO; total];
         let mut normals = vec![Vec3::ZERO; total];
         for b in 0..slots as usize {
