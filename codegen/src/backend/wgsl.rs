@@ -661,6 +661,22 @@ impl<'a> Writer<'a> {
         self.line("}");
     }
 
+    /// `samples[o ..]` = the sample `result`: position xyz, normal xyz (the
+    /// layout every evaluation entry writes and the runtime reads back).
+    fn store_sample(&mut self) {
+        let comps = [
+            "position.x",
+            "position.y",
+            "position.z",
+            "normal.x",
+            "normal.y",
+            "normal.z",
+        ];
+        for (i, c) in comps.iter().enumerate() {
+            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
+        }
+    }
+
     fn end_fn(&mut self) {
         self.indent -= 1;
         self.line("}");
@@ -735,17 +751,7 @@ impl<'a> Writer<'a> {
             "let result: {sample_ty} = {eval}({face_arg}{class}, ({cp_base} + (patch_index * points)), iu, iv, {level});"
         ));
         self.line(&format!("let o: u32 = (({} + k) * 6u);", param("out_base")));
-        let comps = [
-            "position.x",
-            "position.y",
-            "position.z",
-            "normal.x",
-            "normal.y",
-            "normal.z",
-        ];
-        for (i, c) in comps.iter().enumerate() {
-            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
-        }
+        self.store_sample();
         self.end_fn();
 
         self.line("// Output of the instanced evaluation.");
@@ -897,17 +903,7 @@ impl<'a> Writer<'a> {
         self.line(&format!("let iv: u32 = {grid_iv}(s, {level});"));
         entry(self, "patch_index");
         self.line(&format!("let o: u32 = (({} + k) * 6u);", param("out_base")));
-        let comps = [
-            "position.x",
-            "position.y",
-            "position.z",
-            "normal.x",
-            "normal.y",
-            "normal.z",
-        ];
-        for (i, c) in comps.iter().enumerate() {
-            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
-        }
+        self.store_sample();
         self.end_fn();
 
         self.line("// Instanced adaptive draw of one bucket of one class: the level-params.level grid index");
@@ -1079,17 +1075,7 @@ impl<'a> Writer<'a> {
             "let result: {sample_ty} = {eval}(face, {class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
         ));
         self.line("let o: u32 = ((bucket_patches[(h + 2u)] + k) * 6u);");
-        let comps = [
-            "position.x",
-            "position.y",
-            "position.z",
-            "normal.x",
-            "normal.y",
-            "normal.z",
-        ];
-        for (i, c) in comps.iter().enumerate() {
-            self.line(&format!("samples[(o + {i}u)] = result.{c};"));
-        }
+        self.store_sample();
         self.end_fn();
     }
 }
