@@ -505,13 +505,6 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
             if tags.is_some() {
                 return Err("--displace does not take --tags".into());
             }
-            if !matches!(args.backend, Backend::Cpu | Backend::Wgpu) {
-                return Err(
-                    "--adaptive with --displace runs on --backend cpu|wgpu (the instanced \
-                     path's eval_adaptive_displaced)"
-                        .into(),
-                );
-            }
             Some(displacement_arg(path, args)?)
         }
         None => None,
@@ -530,7 +523,7 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
                 displacement.as_ref(),
             )
         }),
-        _ => vulkan_adaptive(mesh, args, tags.as_ref()),
+        _ => vulkan_adaptive(mesh, args, tags.as_ref(), displacement.as_ref()),
     }
     .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
@@ -745,6 +738,7 @@ fn vulkan_adaptive(
     mesh: &tessgen_runtime::Mesh,
     args: &TessellateArgs,
     tags: Option<&TagFile>,
+    displacement: Option<&Displacement>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
     use glam::Vec3;
     use tessgen_runtime::adaptive::{self, Adaptive};
@@ -796,11 +790,18 @@ fn vulkan_adaptive(
         ..Options::new(language)
     };
     let vk = Vulkan::new().map_err(|e| e.to_string())?;
-    let m = match &tri {
-        Some(t) => VkMesh::new_tri(&vk, t, &args.scheme, &options),
-        None => {
+    // With --displace the evaluation stage is built with TESSGEN_DISPLACE.
+    let m = match (&tri, displacement) {
+        (Some(t), None) => VkMesh::new_tri(&vk, t, &args.scheme, &options),
+        (Some(t), Some(d)) => VkMesh::new_tri_displaced(&vk, mesh, t, &args.scheme, d, &options),
+        (None, d) => {
             let topo = topo.ok_or("no quad topology")?;
-            VkMesh::new(&vk, &topo, &positions, &args.scheme, &options)
+            match d {
+                None => VkMesh::new(&vk, &topo, &positions, &args.scheme, &options),
+                Some(d) => {
+                    VkMesh::new_displaced(&vk, mesh, &topo, &positions, &args.scheme, d, &options)
+                }
+            }
         }
     }
     .map_err(|e| e.to_string())?;
@@ -814,6 +815,7 @@ fn vulkan_adaptive(
     _mesh: &tessgen_runtime::Mesh,
     _args: &TessellateArgs,
     _tags: Option<&TagFile>,
+    _displacement: Option<&Displacement>,
 ) -> Result<Vec<[glam::Vec3; 3]>, String> {
     Err("--adaptive needs tessgen built with the `vulkan` feature".into())
 }
@@ -826,7 +828,7 @@ fn vulkan_tessellate(
     tags: Option<&TagFile>,
     displacement: Option<&Displacement>,
 ) -> Result<tessgen_runtime::vulkan::VkOutput, String> {
-    use tessgen_runtime::vulkan::{self, Language, Options, VkOutput};
+    use tessgen_runtime::vulkan::{self, Language, Options};
     let language = if args.backend == Backend::Hlsl {
         Language::Hlsl
     } else {
@@ -834,14 +836,14 @@ fn vulkan_tessellate(
     };
     if let Some(d) = displacement {
         // The evaluation stage built with TESSGEN_DISPLACE.
-        return vulkan::tessellate_displaced(
+        return vulkan::tessellate_displaced_any(
             mesh,
             &args.scheme,
             args.level.unwrap_or(1),
+            args.split_quads,
             d,
             &Options::new(language),
         )
-        .map(VkOutput::Grid)
         .map_err(|e| e.to_string());
     }
     vulkan::tessellate_tagged(
@@ -918,14 +920,6 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         Some(path) => {
             if tags.is_some() {
                 return Err("--displace does not take --tags".into());
-            }
-            let tri = cpu::scheme(scheme).map_err(|e| e.to_string())?.sides == 3;
-            if tri && matches!(args.backend, Backend::Glsl | Backend::Hlsl) {
-                return Err(
-                    "--displace with a triangle scheme runs on --backend cpu|wgpu (the \
-                     triangle tessellation stages do not displace yet)"
-                        .into(),
-                );
             }
             Some(displacement_arg(path, args)?)
         }

@@ -31,9 +31,12 @@
 //!   `(level − iu − iv, iu, iv)`; the owner's barycentrics of a shared point
 //!   are a permutation of ours, so the owner's coordinates are found through
 //!   its edge index and mirrored edge parameter (as for quads), never by
-//!   permuting float weights. Only `eval_displaced` is made for triangles:
-//!   their tessellation stages evaluate the hardware's float domain point
-//!   (`eval_domain`), so `eval_displaced_tess` stays quad-only.
+//!   permuting float weights. Their tessellation stages see the hardware's
+//!   float domain point (`eval_domain`): `eval_domain_displaced` sends a
+//!   boundary point (a coordinate exactly 0) to the integer step above at
+//!   its grid point, and displaces an interior point — which no other patch
+//!   evaluates — with its own normal and the interior texture coordinates
+//!   weighted by the raw barycentrics (`tessgen_height_at_domain`).
 //! * **Height**: texel fetches and bilinear weights in the Plan (no hardware
 //!   filtering), so every backend computes the same formula.
 //!
@@ -355,10 +358,10 @@ pub fn eval_displaced_fn(c: &Callees, sides: u32) -> Function {
 /// the patch's own control points (0 in `tcs_cp` / HLSL `cp`); the owner's
 /// normal comes from `eval_global`, which reads the global control-point
 /// buffer at the owner record's `cp_base`.
-pub fn eval_displaced_tess_fn(c: &Callees) -> Function {
+pub fn eval_displaced_tess_fn(c: &Callees, sides: u32) -> Function {
     displaced_fn(
         c,
-        4,
+        sides,
         "eval_displaced_tess",
         "eval_displaced for the tessellation evaluation stage: the patch's own sample from its \
          patch-local control points (`eval`, cp_base into the patch's array), the owner's normal \
@@ -371,8 +374,9 @@ pub fn eval_displaced_tess_fn(c: &Callees) -> Function {
 /// A copy of local function `root` (and of every local function it calls
 /// that reads the control points) whose control-point fetches read
 /// [`Resource::GlobalControlPoints`]; the copies are appended to `m`, named
-/// `<name>_global`. Returns the index of `root`'s copy.
-pub fn global_variant(m: &mut Module, root: usize) -> usize {
+/// `<name>_global`. Returns `(original, copy)` for every function copied
+/// (callees first; `root`'s copy last).
+pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
     fn reads_cp(m: &Module, i: usize, seen: &mut Vec<usize>) -> bool {
         if seen.contains(&i) {
             return false;
@@ -482,17 +486,24 @@ pub fn global_variant(m: &mut Module, root: usize) -> usize {
         let mut g = m.functions[i].clone();
         g.name = format!("{}_global", g.name);
         g.doc = format!(
-            "{} (Copy reading the global control-point buffer: the owner patch's evaluation in \
-             the displacing tessellation stages.)",
+            "{} (Copy reading the global control-point buffer: how the displacing tessellation \
+             stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads \
+             every patch.)",
             g.doc
         );
         stmts(&mut g.body, &map);
         m.functions.push(g);
     }
+    map
+}
+
+/// The copy of `f` in a [`global_variants`] map (`f` itself if it reads no
+/// control points).
+pub fn global_of(map: &[(usize, usize)], f: usize) -> usize {
     map.iter()
-        .find(|(a, _)| *a == root)
+        .find(|(a, _)| *a == f)
         .map(|&(_, k)| k)
-        .unwrap_or(root)
+        .unwrap_or(f)
 }
 
 fn displaced_fn(c: &Callees, sides: u32, name: &str, doc: &str) -> Function {
@@ -715,4 +726,138 @@ pub fn displacement_step(f: &mut Function, c: &Callees, sides: u32, at: [LocalId
         vec![],
     ));
     f.body.push(Stmt::Return(l(sample)));
+}
+
+/// `tessgen_height_at_domain(face, x, y, z) -> f32`: the height at a
+/// triangle's *interior* float barycentric point (the hardware
+/// tessellator's inner vertices, which are not grid points): corner k's
+/// interior pair (idx_k = 0) weighted by the raw barycentrics. Only
+/// interior points come here, so no other patch computes the same point.
+pub fn height_at_domain_fn(height: usize) -> Function {
+    let mut f = Function::new(
+        "tessgen_height_at_domain",
+        "Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the \
+         tessellator's inner vertices, not grid points): each corner's interior texture \
+         coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never \
+         comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).",
+    );
+    f.precise = true;
+    let face = f.param("face", Ty::U32);
+    let w = [
+        f.param("x", Ty::F32),
+        f.param("y", Ty::F32),
+        f.param("z", Ty::F32),
+    ];
+    f.ret = Some(Ty::F32);
+    let base = let_(&mut f, "base", Ty::U32, mul(l(face), u(texcoord_stride(3))));
+    let mut comps = Vec::new();
+    for (c, name) in ["s", "t"].iter().enumerate() {
+        let term = |k: usize| {
+            mul(
+                l(w[k]),
+                fetch(
+                    Resource::TexCoords,
+                    add(l(base), u(8 * k as u32 + c as u32)),
+                ),
+            )
+        };
+        let sum = add(add(term(0), term(1)), term(2));
+        comps.push(l(let_(&mut f, name, Ty::F32, sum)));
+    }
+    f.body.push(Stmt::Return(call(FnRef::Local(height), comps)));
+    f
+}
+
+/// What `eval_domain_displaced` calls.
+#[derive(Clone, Copy, Debug)]
+pub struct DomainCallees {
+    /// The integer-grid displacing evaluation of the boundary:
+    /// `eval_displaced` (one global control-point array: CPU, compute) or
+    /// `eval_displaced_tess` (tessellation stages).
+    pub boundary: usize,
+    /// `eval_domain`: the undisplaced sample at the raw point.
+    pub eval_domain: usize,
+    /// `tessgen_height_at_domain`.
+    pub height: usize,
+    /// `tessgen_displace`.
+    pub displace: usize,
+}
+
+/// `eval_domain_displaced(face, class, cp_base, x, y, z, level) -> Sample`
+/// (named `name`): `eval_domain` with the displacement step, for the
+/// triangle tessellation stages (and the CPU's parity reference of what
+/// they capture).
+pub fn eval_domain_displaced_fn(c: &DomainCallees, name: &str, doc: &str) -> Function {
+    let mut f = Function::new(name, doc);
+    let face = f.param("face", Ty::U32);
+    let class = f.param("class", Ty::U32);
+    let cp = f.param("cp_base", Ty::U32);
+    let x = f.param("x", Ty::F32);
+    let y = f.param("y", Ty::F32);
+    let z = f.param("z", Ty::F32);
+    let level = f.param("level", Ty::U32);
+    f.ret = Some(Ty::Struct(plan::common::SAMPLE));
+    let grid = |c: LocalId| {
+        Expr::Call(
+            Builtin::U32FromF32,
+            vec![Expr::Call(
+                Builtin::Round,
+                vec![mul(l(c), to_f32(l(level)))],
+            )],
+        )
+    };
+    let zero = |c: LocalId| eq(l(c), Expr::F32(0.0));
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    f.body.push(Stmt::If(
+        bin(BinOp::Or, bin(BinOp::Or, zero(x), zero(y)), zero(z)),
+        vec![
+            Stmt::Let(iu, grid(y)),
+            Stmt::Let(iv, grid(z)),
+            Stmt::Return(call(
+                FnRef::Local(c.boundary),
+                vec![l(face), l(class), l(cp), l(iu), l(iv), l(level)],
+            )),
+        ],
+        vec![],
+    ));
+    let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
+    f.body.push(Stmt::Var(
+        sample,
+        call(
+            FnRef::Local(c.eval_domain),
+            vec![l(class), l(cp), l(x), l(y), l(z), l(level)],
+        ),
+    ));
+    let scale = let_(
+        &mut f,
+        "scale",
+        Ty::F32,
+        fetch(Resource::DisplaceInfo, u(0)),
+    );
+    let h = f.local("h", Ty::F32);
+    f.body.push(Stmt::If(
+        bin(BinOp::Ne, l(scale), Expr::F32(0.0)),
+        vec![
+            Stmt::Let(
+                h,
+                call(FnRef::Local(c.height), vec![l(face), l(x), l(y), l(z)]),
+            ),
+            Stmt::AssignField(
+                sample,
+                0,
+                call(
+                    FnRef::Local(c.displace),
+                    vec![
+                        Expr::Field(Box::new(l(sample)), 0),
+                        Expr::Field(Box::new(l(sample)), 1),
+                        mul(l(scale), l(h)),
+                    ],
+                ),
+            ),
+        ],
+        vec![],
+    ));
+    f.body.push(Stmt::Return(l(sample)));
+    f
 }

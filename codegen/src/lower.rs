@@ -484,12 +484,12 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             },
             sides,
         ));
-        (idx, texcoord, displace)
+        (idx, texcoord, displace, height)
     };
     // Adaptive tessellation on the instanced path (quad and triangle
     // schemes: the same signatures, the domain's snap inside).
     let adaptive = {
-        let (_, texcoord, displace) = eval_displaced;
+        let (_, texcoord, displace, _) = eval_displaced;
         let edge_level = m.functions.len();
         m.functions
             .push(crate::adaptive::patch_edge_level_fn(curve_const, sides));
@@ -513,14 +513,41 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             eval_displaced: eval_ad,
         })
     };
+    // Triangles: the displacement step at the tessellator's float domain
+    // point (integer path on the boundary, raw point inside); the CPU's
+    // copy calls `eval_displaced` (the parity reference of the captures).
+    let domain_displaced = eval_domain.map(|ed| {
+        let (idx, _, displace, height_fn) = eval_displaced;
+        let height = m.functions.len();
+        m.functions
+            .push(crate::displace::height_at_domain_fn(height_fn));
+        let f = m.functions.len();
+        m.functions.push(crate::displace::eval_domain_displaced_fn(
+            &crate::displace::DomainCallees {
+                boundary: idx,
+                eval_domain: ed,
+                height,
+                displace,
+            },
+            "eval_domain_displaced",
+            "eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch \
+             boundary (a coordinate exactly 0) eval_displaced at the integer grid point \
+             (round(y·level), round(z·level)), the owner's normal and texture coordinate like \
+             every other patch of the edge; inside, the raw point displaced along its own normal \
+             by the height at its interior texture coordinate (tessgen_height_at_domain).",
+        ));
+        (f, ed, height, displace)
+    });
     // The tessellation stages' variant: own sample from the patch-local
     // control points, the owner's from the global buffer.
-    // Triangle tessellation stages evaluate the hardware's float domain
-    // point (`eval_domain`) and have no displaced variant (yet).
-    let tess_displaced = (sides == 4).then(|| {
-        let (_, texcoord, displace) = eval_displaced;
+    let tess_displaced = {
+        let (own_displaced, texcoord, displace, _) = eval_displaced;
         let start = m.functions.len();
-        let owner_eval = crate::displace::global_variant(&mut m, eval);
+        // `eval_displaced` on the global buffer, with `eval_global` and the
+        // surface copies under it.
+        let globals = crate::displace::global_variants(&mut m, own_displaced);
+        let owner_eval = crate::displace::global_of(&globals, eval);
+        let compute_eval = crate::displace::global_of(&globals, own_displaced);
         let idx = m.functions.len();
         m.functions.push(crate::displace::eval_displaced_tess_fn(
             &crate::displace::Callees {
@@ -529,12 +556,32 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
                 texcoord,
                 displace,
             },
+            sides,
         ));
-        TessDisplaced {
+        let domain = domain_displaced.map(|(_, ed, height, displace)| {
+            m.functions.push(crate::displace::eval_domain_displaced_fn(
+                &crate::displace::DomainCallees {
+                    boundary: idx,
+                    eval_domain: ed,
+                    height,
+                    displace,
+                },
+                "eval_domain_displaced_tess",
+                "eval_domain_displaced for the tessellation evaluation stage: the boundary through \
+                 eval_displaced_tess (own sample from the patch-local control points, the owner's \
+                 normal from the global control-point buffer), the interior displaced along its \
+                 own normal.",
+            ));
+            m.functions.len() - 1
+        });
+        Some(TessDisplaced {
             eval_displaced: idx,
+            eval_domain: domain,
+            eval_displaced_global: compute_eval,
             functions: start..m.functions.len(),
-        }
-    });
+        })
+    };
+    let eval_domain_displaced = domain_displaced.map(|d| d.0);
     let eval_displaced = Some(eval_displaced.0);
     let mut entries = Entries {
         vertex_stage,
@@ -542,6 +589,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         eval,
         eval_domain,
         eval_displaced,
+        eval_domain_displaced,
         tess_displaced,
         sides,
         grid,
@@ -554,10 +602,12 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             load_cp: Function::new("", ""),
         },
         compute_vertex: Function::new("", ""),
+        compute_eval: Function::new("", ""),
     };
     // The hardware tessellation stages' bodies call the functions above.
     entries.tess = crate::tess::stages(&entries, curve_const);
     entries.compute_vertex = crate::tess::compute_vertex(&entries);
+    entries.compute_eval = crate::tess::compute_eval(&entries);
     (m, entries)
 }
 

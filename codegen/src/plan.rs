@@ -617,11 +617,15 @@ pub struct Entries {
     /// raw point inside (the hardware's inner rings are not the lattice).
     pub eval_domain: Option<usize>,
     /// `eval_displaced(face, class, cp_base, iu, iv, level) -> Sample`:
-    /// `eval`, then the displacement step (quad schemes; `None` for
-    /// triangle schemes, which have no per-patch texture coordinates yet).
+    /// `eval`, then the displacement step (every built-in scheme).
     pub eval_displaced: Option<usize>,
-    /// The displacement step of the tessellation evaluation stages (quad
-    /// schemes; `None` for triangle schemes).
+    /// Triangle schemes: `eval_domain_displaced(face, class, cp_base, x, y,
+    /// z, level) -> Sample`, `eval_domain` with the displacement step
+    /// (`eval_displaced` at the grid point on the boundary), reading every
+    /// patch from one control-point array: the CPU's reference of what the
+    /// displacing triangle evaluation stages compute.
+    pub eval_domain_displaced: Option<usize>,
+    /// The displacement step of the tessellation evaluation stages.
     pub tess_displaced: Option<TessDisplaced>,
     /// Corners per facet: 4 (quad domain) or 3 (triangle domain).
     pub sides: u32,
@@ -644,6 +648,11 @@ pub struct Entries {
     /// the vertex stage of vertex `params.first + k` for invocation `k <
     /// params.count`, skipping unused vertices (valence 0).
     pub compute_vertex: Function,
+    /// The body of the compute entry `eval_main` (GLSL, HLSL): sample `k
+    /// mod grid_len(level)` of patch `params.first + k / grid_len(level)`
+    /// through `eval_displaced_global` into `samples` (see
+    /// `crate::tess::compute_eval`).
+    pub compute_eval: Function,
 }
 
 /// The per-scheme functions of adaptive tessellation on the instanced path.
@@ -673,9 +682,21 @@ pub struct TessDisplaced {
     /// `eval_displaced` with the own sample from `eval` (patch-local) and
     /// the owner's from `eval_global`.
     pub eval_displaced: usize,
-    /// Functions only the tessellation stages use (`eval_global`, its
-    /// surface copies, `eval_displaced_tess`): the targets without
-    /// tessellation stages (Rust, WGSL) do not print them.
+    /// Triangle schemes: `eval_domain_displaced_tess(face, class, cp_base,
+    /// x, y, z, level) -> Sample`, what the displacing evaluation stage
+    /// calls at the tessellator's domain point (`eval_displaced_tess` on
+    /// the boundary).
+    pub eval_domain: Option<usize>,
+    /// `eval_displaced_global(face, class, cp_base, iu, iv, level) ->
+    /// Sample`: `eval_displaced` reading every patch from the global
+    /// control-point buffer ([`Resource::GlobalControlPoints`]), what the
+    /// GLSL/HLSL compute evaluation ([`Entries::compute_eval`]) calls. HLSL
+    /// passes functions that read [`Resource::ControlPoints`] a patch-local
+    /// array, so the compute entry needs the global copy there.
+    pub eval_displaced_global: usize,
+    /// Functions only GLSL/HLSL use (`eval_global`, its surface copies,
+    /// `eval_displaced_global`, `eval_displaced_tess`): Rust and WGSL do
+    /// not print them.
     pub functions: std::ops::Range<usize>,
 }
 

@@ -96,6 +96,114 @@ pub fn compute_vertex(entries: &Entries) -> Function {
     f
 }
 
+/// The body of the compute entry `eval_main` (GLSL, HLSL; see
+/// [`Entries::compute_eval`]): invocation `k` evaluates sample `k mod
+/// grid_len(level)` of patch `params.first + k / grid_len(level)` (class
+/// `params.class`, control points from `params.cp_base`) through
+/// `eval_displaced_global` (displacement off: `eval`'s sample bit for bit)
+/// into `samples[(params.out_base + k)·6 ..]`.
+pub fn compute_eval(entries: &Entries) -> Function {
+    let mut f = Function::new(
+        "compute_eval",
+        "grid_len(level) samples per patch of params.first .. + params.count, sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)), written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6]; through the displacement step, a no-op bit for bit while displace_info[0] == 0.",
+    );
+    let [grid_len, grid_iu, grid_iv] = entries.grid;
+    let k = f.local("k", Ty::U32);
+    let level = f.local("level", Ty::U32);
+    let spp = f.local("spp", Ty::U32);
+    let patch = f.local("patch_index", Ty::U32);
+    let s = f.local("s", Ty::U32);
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    let points = f.local("points", Ty::U32);
+    let face = f.local("face", Ty::U32);
+    let result = f.local("result", Ty::Struct(common::SAMPLE));
+    let at = f.local("at", Ty::U32);
+    // Control points per patch of the draw's class: the last class
+    // unconditional (like `eval`'s dispatch).
+    let mut chain: Vec<Stmt> = Vec::new();
+    for (c, p) in entries.patches.iter().enumerate().rev() {
+        let set = Stmt::Assign(points, u(p.control_points));
+        chain = if chain.is_empty() {
+            vec![set]
+        } else {
+            vec![Stmt::If(
+                bin(BinOp::Eq, param("class"), u(c as u32)),
+                vec![set],
+                chain,
+            )]
+        };
+    }
+    let eval = entries
+        .tess_displaced
+        .as_ref()
+        .map(|t| t.eval_displaced_global)
+        .unwrap_or(entries.eval);
+    let mut body = vec![
+        Stmt::Let(patch, div(l(k), l(spp))),
+        Stmt::Let(s, bin(BinOp::Rem, l(k), l(spp))),
+        Stmt::Let(iu, call(FnRef::Local(grid_iu), vec![l(s), l(level)])),
+        Stmt::Let(iv, call(FnRef::Local(grid_iv), vec![l(s), l(level)])),
+        Stmt::Var(points, u(0)),
+    ];
+    body.extend(chain);
+    body.push(Stmt::Let(
+        face,
+        fetch(Resource::PatchFaces, add(param("first"), l(patch))),
+    ));
+    body.push(Stmt::Let(
+        result,
+        call(
+            FnRef::Local(eval),
+            vec![
+                l(face),
+                param("class"),
+                add(param("cp_base"), mul(l(patch), l(points))),
+                l(iu),
+                l(iv),
+                l(level),
+            ],
+        ),
+    ));
+    body.push(Stmt::Let(at, mul(add(param("out_base"), l(k)), u(6))));
+    body.extend(sample_stores(at, result));
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::Let(level, param("level")),
+        Stmt::Let(spp, call(FnRef::Local(grid_len), vec![l(level)])),
+        Stmt::If(
+            bin(BinOp::Lt, l(k), mul(param("count"), l(spp))),
+            body,
+            vec![],
+        ),
+    ];
+    f
+}
+
+/// The 6 floats of `result` (position xyz, normal xyz) into `samples[at ..
+/// at + 6]`: the compute evaluation's and the capture's sample layout.
+fn sample_stores(at: LocalId, result: LocalId) -> Vec<Stmt> {
+    [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2)]
+        .into_iter()
+        .enumerate()
+        .map(|(i, (field, c))| {
+            let index = if i == 0 {
+                l(at)
+            } else {
+                add(l(at), u(i as u32))
+            };
+            Stmt::Store(
+                Resource::Samples,
+                index,
+                Expr::Call(
+                    Builtin::Component(c),
+                    vec![Expr::Field(Box::new(l(result)), field)],
+                ),
+            )
+        })
+        .collect()
+}
+
 /// The `vec4` slot and component of float `k` of the packed control points.
 fn slot(k: Expr) -> (Expr, Expr) {
     (div(k.clone(), u(4)), bin(BinOp::Rem, k, u(4)))
@@ -270,13 +378,47 @@ fn evaluation(entries: &Entries) -> Function {
              tessellator mirrors the edge's points (1 − t is exact in fixed point), hands the\n\
              shared edge evaluator exactly the swapped integer pair.",
         ));
-        f.body.push(Stmt::Let(
+        let eval = Stmt::Let(
             result,
             call(
                 FnRef::Local(d),
                 vec![param("class"), u(0), tc(0), tc(1), tc(2), l(level)],
             ),
-        ));
+        );
+        match entries.tess_displaced.as_ref().and_then(|t| t.eval_domain) {
+            Some(dd) => {
+                let face = f.local("face", Ty::U32);
+                f.body.push(Stmt::IfDef(
+                    Define::Displace,
+                    vec![
+                        comment(
+                            "Displaced: on the boundary the integer step with the owner's normal (from the\n\
+                             global control-point buffer, filled by patch_main before the draw) and texture\n\
+                             coordinate; inside, the raw point along its own normal (watertight.md Rules 4\n\
+                             and 5).",
+                        ),
+                        Stmt::Let(face, fetch(Resource::PatchFaces, patch_index())),
+                        Stmt::Let(
+                            result,
+                            call(
+                                FnRef::Local(dd),
+                                vec![
+                                    l(face),
+                                    param("class"),
+                                    u(0),
+                                    tc(0),
+                                    tc(1),
+                                    tc(2),
+                                    l(level),
+                                ],
+                            ),
+                        ),
+                    ],
+                    vec![eval],
+                ));
+            }
+            None => f.body.push(eval),
+        }
         f.body.extend(outputs(result));
         f.body.push(Stmt::IfDef(
             Define::Capture,
@@ -388,24 +530,7 @@ fn evaluation(entries: &Entries) -> Function {
             ),
         ),
     ];
-    for (i, (field, c)) in [(0, 0), (0, 1), (0, 2), (1, 0), (1, 1), (1, 2)]
-        .into_iter()
-        .enumerate()
-    {
-        let index = if i == 0 {
-            l(at)
-        } else {
-            add(l(at), u(i as u32))
-        };
-        grid_capture.push(Stmt::Store(
-            Resource::Samples,
-            index,
-            Expr::Call(
-                Builtin::Component(c),
-                vec![Expr::Field(Box::new(l(result)), field)],
-            ),
-        ));
-    }
+    grid_capture.extend(sample_stores(at, result));
     let capture = if entries.sides == 4 {
         // Adaptive patterns are not a grid: like the triangle capture,
         // export the domain point and the patch.

@@ -97,8 +97,8 @@ layout(location = 3) flat out uint te_patch;
 #endif
 
 #ifdef TESSGEN_DISPLACE
-// Displacement (quads): the global control-point buffer, filled by the compute
-// patch stage (patch_main) before the draw, for the owner's evaluation, and the
+// Displacement: the global control-point buffer, filled by the compute patch
+// stage (patch_main) before the draw, for the owner's evaluation, and the
 // displacement data (watertight.md Rules 4 and 5).
 // binding 8: patch control points, 3 f32 per point (written by the patch stage)
 layout(std430, set = 0, binding = 8) readonly buffer ControlPoints { float control_points[]; };
@@ -339,7 +339,7 @@ precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
     return (p + (n * d));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -354,7 +354,7 @@ Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
 }
 
-// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -395,7 +395,7 @@ Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) 
     return Sample(position, tessgen_normalize(cross(tangent_u.point, tangent_v.point)));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     if (class_ == 0u) {

@@ -117,8 +117,93 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
-Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
+// Samples of one quad patch at `level`: (level+1)².
+uint grid_len(uint level) {
+    return ((level + 1u) * (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iu(uint s, uint level) {
+    return (s % (level + 1u));
+}
+
+// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
+uint grid_iv(uint s, uint level) {
+    return (s / (level + 1u));
+}
+
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5);
+    if (x < 0.0) {
+        x = 0.0;
+    }
+    if (x > (width - 1.0)) {
+        x = (width - 1.0);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if (x1 >= xn) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5);
+    if (y < 0.0) {
+        y = 0.0;
+    }
+    if (y > (height - 1.0)) {
+        y = (height - 1.0);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if (y1 >= yn) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0 - fx);
+    float gy = (1.0 - fy);
+    float a = ((texelFetch(displace_map, ivec2(int(x0), int(y0)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y0)), 0).x * fx));
+    float b = ((texelFetch(displace_map, ivec2(int(x0), int(y1)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y1)), 0).x * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise float lu = (float((level - iu)) / float(level));
+    precise float ru = (float(iu) / float(level));
+    precise float lv = (float((level - iv)) / float(level));
+    precise float rv = (float(iv) / float(level));
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint((iu == level));
+    precise uint e2 = uint((iv == level));
+    precise uint e3 = uint((iu == 0u));
+    precise float w0 = (lu * lv);
+    precise float w1 = (ru * lv);
+    precise float w2 = (ru * rv);
+    precise float w3 = (lu * rv);
+    precise uint base = (face * 32u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e3))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise uint p3 = (base + ((12u + (e3 + (2u * e2))) * 2u));
+    precise float s = ((((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)])) + (w3 * texcoords[(p3 + 0u)]));
+    precise float t = ((((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)])) + (w3 * texcoords[(p3 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
+    return (p + (n * d));
+}
+
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
@@ -132,8 +217,8 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
 }
 
-// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
-Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
+// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
     float lv = (float((level - iv)) / float(level));
@@ -226,13 +311,13 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     return Sample(along_v.point, tessgen_normalize(cross(du, dv)));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
-Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     if (class_ == 0u) {
-        sample_ = ordinary_surface(cp_base, iu, iv, level);
+        sample_ = ordinary_surface_global(cp_base, iu, iv, level);
     } else {
-        sample_ = extraordinary_surface(cp_base, iu, iv, level);
+        sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
     }
 #ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
@@ -263,94 +348,9 @@ Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     return sample_;
 }
 
-// Samples of one quad patch at `level`: (level+1)².
-uint grid_len(uint level) {
-    return ((level + 1u) * (level + 1u));
-}
-
-// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
-uint grid_iu(uint s, uint level) {
-    return (s % (level + 1u));
-}
-
-// Integer domain coordinate of sample `s` = iv·(level+1) + iu.
-uint grid_iv(uint s, uint level) {
-    return (s / (level + 1u));
-}
-
-// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
-float tessgen_height(float s, float t) {
-    float width = displace_info[1u];
-    float height = displace_info[2u];
-    float x = ((s * width) - 0.5);
-    if (x < 0.0) {
-        x = 0.0;
-    }
-    if (x > (width - 1.0)) {
-        x = (width - 1.0);
-    }
-    float xf = floor(x);
-    uint x0 = uint(xf);
-    uint xn = uint(width);
-    uint x1 = (x0 + 1u);
-    if (x1 >= xn) {
-        x1 = x0;
-    }
-    float fx = (x - xf);
-    float y = ((t * height) - 0.5);
-    if (y < 0.0) {
-        y = 0.0;
-    }
-    if (y > (height - 1.0)) {
-        y = (height - 1.0);
-    }
-    float yf = floor(y);
-    uint y0 = uint(yf);
-    uint yn = uint(height);
-    uint y1 = (y0 + 1u);
-    if (y1 >= yn) {
-        y1 = y0;
-    }
-    float fy = (y - yf);
-    float gx = (1.0 - fx);
-    float gy = (1.0 - fy);
-    float a = ((texelFetch(displace_map, ivec2(int(x0), int(y0)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y0)), 0).x * fx));
-    float b = ((texelFetch(displace_map, ivec2(int(x0), int(y1)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y1)), 0).x * fx));
-    return ((a * gy) + (b * fy));
-}
-
-// Displacement texture coordinate at (iu, iv)/level of face `face` (watertight.md Rule 5): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), weighted bilinearly with weights formed from integers. On an edge the sum collapses exactly to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
-precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
-    precise float lu = (float((level - iu)) / float(level));
-    precise float ru = (float(iu) / float(level));
-    precise float lv = (float((level - iv)) / float(level));
-    precise float rv = (float(iv) / float(level));
-    precise uint e0 = uint((iv == 0u));
-    precise uint e1 = uint((iu == level));
-    precise uint e2 = uint((iv == level));
-    precise uint e3 = uint((iu == 0u));
-    precise float w0 = (lu * lv);
-    precise float w1 = (ru * lv);
-    precise float w2 = (ru * rv);
-    precise float w3 = (lu * rv);
-    precise uint base = (face * 32u);
-    precise uint p0 = (base + ((0u + (e0 + (2u * e3))) * 2u));
-    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
-    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
-    precise uint p3 = (base + ((12u + (e3 + (2u * e2))) * 2u));
-    precise float s = ((((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)])) + (w3 * texcoords[(p3 + 0u)]));
-    precise float t = ((((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)])) + (w3 * texcoords[(p3 + 1u)]));
-    return tessgen_height(s, t);
-}
-
-// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
-precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
-    return (p + (n * d));
-}
-
-// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
-Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
     float scale = displace_info[0u];
     if (scale != 0.0) {
         vec3 n = sample_.normal;
@@ -405,7 +405,7 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
                     }
                 }
             }
-            Sample owner_sample = eval(owner_class, owner_cp, ou, ov, level);
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
             n = owner_sample.normal;
         }
         float h = tessgen_height_at(face, iu, iv, level);
@@ -416,27 +416,27 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint spp = grid_len(params.level);
-    if (k >= (params.count * spp)) {
-        return;
+    uint level = params.level;
+    uint spp = grid_len(level);
+    if (k < (params.count * spp)) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        if (params.class_ == 0u) {
+            points = 16u;
+        } else {
+            points = 20u;
+        }
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, params.level);
-    uint iv = grid_iv(s, params.level);
-    uint points = 0u;
-    if (params.class_ == 0u) {
-        points = 16u;
-    } else {
-        points = 20u;
-    }
-    uint face = patch_faces[(params.first + patch_index)];
-    Sample result = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }

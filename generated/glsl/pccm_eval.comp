@@ -117,144 +117,6 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
-Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float lu = (float((level - iu)) / float(level));
-    float ru = (float(iu) / float(level));
-    float lv = (float((level - iv)) / float(level));
-    float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
-    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
-    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
-}
-
-// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points.
-Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float nf = float(level);
-    uint sum_uv = (iu + iv);
-    uint piece = 0u;
-    float la = 0.0;
-    float lb = 0.0;
-    float lc = 0.0;
-    if (iv <= iu) {
-        if (sum_uv <= level) {
-            piece = 0u;
-            la = (float((level - sum_uv)) / nf);
-            lb = (float((iu - iv)) / nf);
-            lc = (float((2u * iv)) / nf);
-        } else {
-            piece = 1u;
-            la = (float((iu - iv)) / nf);
-            lb = (float((sum_uv - level)) / nf);
-            lc = (float((2u * (level - iu))) / nf);
-        }
-    } else {
-        if (sum_uv >= level) {
-            piece = 2u;
-            la = (float((sum_uv - level)) / nf);
-            lb = (float((iv - iu)) / nf);
-            lc = (float((2u * (level - iv))) / nf);
-        } else {
-            piece = 3u;
-            la = (float((iv - iu)) / nf);
-            lb = (float((level - sum_uv)) / nf);
-            lc = (float((2u * iu)) / nf);
-        }
-    }
-    uint ca = (cp_base + (piece * 6u));
-    uint cb = (cp_base + (((piece + 1u) % 4u) * 6u));
-    uint cprev = (cp_base + (((piece + 3u) % 4u) * 6u));
-    vec3 va = load_control_points((ca + 0u));
-    vec3 t0a = load_control_points((ca + 1u));
-    vec3 t1a = load_control_points((ca + 2u));
-    vec3 b211a = load_control_points((ca + 3u));
-    vec3 b121a = load_control_points((ca + 4u));
-    vec3 b112a = load_control_points((ca + 5u));
-    vec3 vb = load_control_points((cb + 0u));
-    vec3 t0b = load_control_points((cb + 1u));
-    vec3 t1b = load_control_points((cb + 2u));
-    vec3 b211b = load_control_points((cb + 3u));
-    vec3 b112b = load_control_points((cb + 5u));
-    vec3 b121p = load_control_points((cprev + 4u));
-    vec3 b112p = load_control_points((cprev + 5u));
-    vec3 n004 = ((((load_control_points((cp_base + 5u)) + load_control_points((cp_base + 11u))) + load_control_points((cp_base + 17u))) + load_control_points((cp_base + 23u))) / 4.0);
-    vec3 n013 = ((b112a + b112b) / 2.0);
-    vec3 n022 = ((b121a + b211b) / 2.0);
-    vec3 n031 = ((((vb * 2.0) + (t1b * 3.0)) + (t0b * 3.0)) / 8.0);
-    vec3 n040 = vb;
-    vec3 n103 = ((b112a + b112p) / 2.0);
-    vec3 n112 = b112a;
-    vec3 n121 = b121a;
-    vec3 n130 = ((vb + (t1b * 3.0)) / 4.0);
-    vec3 n202 = ((b211a + b121p) / 2.0);
-    vec3 n211 = b211a;
-    vec3 n220 = ((t0a + t1b) / 2.0);
-    vec3 n301 = ((((va * 2.0) + (t0a * 3.0)) + (t1a * 3.0)) / 8.0);
-    vec3 n310 = ((va + (t0a * 3.0)) / 4.0);
-    vec3 n400 = va;
-    vec3 s3_300 = (((n400 * la) + (n310 * lb)) + (n301 * lc));
-    vec3 s3_210 = (((n310 * la) + (n220 * lb)) + (n211 * lc));
-    vec3 s3_201 = (((n301 * la) + (n211 * lb)) + (n202 * lc));
-    vec3 s3_120 = (((n220 * la) + (n130 * lb)) + (n121 * lc));
-    vec3 s3_111 = (((n211 * la) + (n121 * lb)) + (n112 * lc));
-    vec3 s3_102 = (((n202 * la) + (n112 * lb)) + (n103 * lc));
-    vec3 s3_030 = (((n130 * la) + (n040 * lb)) + (n031 * lc));
-    vec3 s3_021 = (((n121 * la) + (n031 * lb)) + (n022 * lc));
-    vec3 s3_012 = (((n112 * la) + (n022 * lb)) + (n013 * lc));
-    vec3 s3_003 = (((n103 * la) + (n013 * lb)) + (n004 * lc));
-    vec3 s2_200 = (((s3_300 * la) + (s3_210 * lb)) + (s3_201 * lc));
-    vec3 s2_110 = (((s3_210 * la) + (s3_120 * lb)) + (s3_111 * lc));
-    vec3 s2_101 = (((s3_201 * la) + (s3_111 * lb)) + (s3_102 * lc));
-    vec3 s2_020 = (((s3_120 * la) + (s3_030 * lb)) + (s3_021 * lc));
-    vec3 s2_011 = (((s3_111 * la) + (s3_021 * lb)) + (s3_012 * lc));
-    vec3 s2_002 = (((s3_102 * la) + (s3_012 * lb)) + (s3_003 * lc));
-    vec3 s1_100 = (((s2_200 * la) + (s2_110 * lb)) + (s2_101 * lc));
-    vec3 s1_010 = (((s2_110 * la) + (s2_020 * lb)) + (s2_011 * lc));
-    vec3 s1_001 = (((s2_101 * la) + (s2_011 * lb)) + (s2_002 * lc));
-    return Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_normalize(cross((s1_010 - s1_100), (s1_001 - s1_100))));
-}
-
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
-Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
-    if (class_ == 0u) {
-        sample_ = ordinary_surface(cp_base, iu, iv, level);
-    } else {
-        sample_ = extraordinary_surface(cp_base, iu, iv, level);
-    }
-#ifndef TESSGEN_NO_BOUNDARY_PATH
-    if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
-        uint edge = 3u;
-        uint t = (level - iv);
-        if (iv == 0u) {
-            edge = 0u;
-            t = iu;
-        } else {
-            if (iu == level) {
-                edge = 1u;
-                t = iv;
-            } else {
-                if (iv == level) {
-                    edge = 2u;
-                    t = (level - iu);
-                }
-            }
-        }
-        uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
-        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
-    }
-#endif
-    return sample_;
-}
-
 // Samples of one quad patch at `level`: (level+1)².
 uint grid_len(uint level) {
     return ((level + 1u) * (level + 1u));
@@ -340,9 +202,147 @@ precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
     return (p + (n * d));
 }
 
-// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
-Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+}
+
+// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    uint sum_uv = (iu + iv);
+    uint piece = 0u;
+    float la = 0.0;
+    float lb = 0.0;
+    float lc = 0.0;
+    if (iv <= iu) {
+        if (sum_uv <= level) {
+            piece = 0u;
+            la = (float((level - sum_uv)) / nf);
+            lb = (float((iu - iv)) / nf);
+            lc = (float((2u * iv)) / nf);
+        } else {
+            piece = 1u;
+            la = (float((iu - iv)) / nf);
+            lb = (float((sum_uv - level)) / nf);
+            lc = (float((2u * (level - iu))) / nf);
+        }
+    } else {
+        if (sum_uv >= level) {
+            piece = 2u;
+            la = (float((sum_uv - level)) / nf);
+            lb = (float((iv - iu)) / nf);
+            lc = (float((2u * (level - iv))) / nf);
+        } else {
+            piece = 3u;
+            la = (float((iv - iu)) / nf);
+            lb = (float((level - sum_uv)) / nf);
+            lc = (float((2u * iu)) / nf);
+        }
+    }
+    uint ca = (cp_base + (piece * 6u));
+    uint cb = (cp_base + (((piece + 1u) % 4u) * 6u));
+    uint cprev = (cp_base + (((piece + 3u) % 4u) * 6u));
+    vec3 va = load_control_points((ca + 0u));
+    vec3 t0a = load_control_points((ca + 1u));
+    vec3 t1a = load_control_points((ca + 2u));
+    vec3 b211a = load_control_points((ca + 3u));
+    vec3 b121a = load_control_points((ca + 4u));
+    vec3 b112a = load_control_points((ca + 5u));
+    vec3 vb = load_control_points((cb + 0u));
+    vec3 t0b = load_control_points((cb + 1u));
+    vec3 t1b = load_control_points((cb + 2u));
+    vec3 b211b = load_control_points((cb + 3u));
+    vec3 b112b = load_control_points((cb + 5u));
+    vec3 b121p = load_control_points((cprev + 4u));
+    vec3 b112p = load_control_points((cprev + 5u));
+    vec3 n004 = ((((load_control_points((cp_base + 5u)) + load_control_points((cp_base + 11u))) + load_control_points((cp_base + 17u))) + load_control_points((cp_base + 23u))) / 4.0);
+    vec3 n013 = ((b112a + b112b) / 2.0);
+    vec3 n022 = ((b121a + b211b) / 2.0);
+    vec3 n031 = ((((vb * 2.0) + (t1b * 3.0)) + (t0b * 3.0)) / 8.0);
+    vec3 n040 = vb;
+    vec3 n103 = ((b112a + b112p) / 2.0);
+    vec3 n112 = b112a;
+    vec3 n121 = b121a;
+    vec3 n130 = ((vb + (t1b * 3.0)) / 4.0);
+    vec3 n202 = ((b211a + b121p) / 2.0);
+    vec3 n211 = b211a;
+    vec3 n220 = ((t0a + t1b) / 2.0);
+    vec3 n301 = ((((va * 2.0) + (t0a * 3.0)) + (t1a * 3.0)) / 8.0);
+    vec3 n310 = ((va + (t0a * 3.0)) / 4.0);
+    vec3 n400 = va;
+    vec3 s3_300 = (((n400 * la) + (n310 * lb)) + (n301 * lc));
+    vec3 s3_210 = (((n310 * la) + (n220 * lb)) + (n211 * lc));
+    vec3 s3_201 = (((n301 * la) + (n211 * lb)) + (n202 * lc));
+    vec3 s3_120 = (((n220 * la) + (n130 * lb)) + (n121 * lc));
+    vec3 s3_111 = (((n211 * la) + (n121 * lb)) + (n112 * lc));
+    vec3 s3_102 = (((n202 * la) + (n112 * lb)) + (n103 * lc));
+    vec3 s3_030 = (((n130 * la) + (n040 * lb)) + (n031 * lc));
+    vec3 s3_021 = (((n121 * la) + (n031 * lb)) + (n022 * lc));
+    vec3 s3_012 = (((n112 * la) + (n022 * lb)) + (n013 * lc));
+    vec3 s3_003 = (((n103 * la) + (n013 * lb)) + (n004 * lc));
+    vec3 s2_200 = (((s3_300 * la) + (s3_210 * lb)) + (s3_201 * lc));
+    vec3 s2_110 = (((s3_210 * la) + (s3_120 * lb)) + (s3_111 * lc));
+    vec3 s2_101 = (((s3_201 * la) + (s3_111 * lb)) + (s3_102 * lc));
+    vec3 s2_020 = (((s3_120 * la) + (s3_030 * lb)) + (s3_021 * lc));
+    vec3 s2_011 = (((s3_111 * la) + (s3_021 * lb)) + (s3_012 * lc));
+    vec3 s2_002 = (((s3_102 * la) + (s3_012 * lb)) + (s3_003 * lc));
+    vec3 s1_100 = (((s2_200 * la) + (s2_110 * lb)) + (s2_101 * lc));
+    vec3 s1_010 = (((s2_110 * la) + (s2_020 * lb)) + (s2_011 * lc));
+    vec3 s1_001 = (((s2_101 * la) + (s2_011 * lb)) + (s2_002 * lc));
+    return Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_normalize(cross((s1_010 - s1_100), (s1_001 - s1_100))));
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    if (class_ == 0u) {
+        sample_ = ordinary_surface_global(cp_base, iu, iv, level);
+    } else {
+        sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
+    }
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
+        uint edge = 3u;
+        uint t = (level - iv);
+        if (iv == 0u) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if (iu == level) {
+                edge = 1u;
+                t = iv;
+            } else {
+                if (iv == level) {
+                    edge = 2u;
+                    t = (level - iu);
+                }
+            }
+        }
+        uint curve = ((class_ * 16u) + (edge * 4u));
+        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
     float scale = displace_info[0u];
     if (scale != 0.0) {
         vec3 n = sample_.normal;
@@ -397,7 +397,7 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
                     }
                 }
             }
-            Sample owner_sample = eval(owner_class, owner_cp, ou, ov, level);
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
             n = owner_sample.normal;
         }
         float h = tessgen_height_at(face, iu, iv, level);
@@ -408,27 +408,27 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint spp = grid_len(params.level);
-    if (k >= (params.count * spp)) {
-        return;
+    uint level = params.level;
+    uint spp = grid_len(level);
+    if (k < (params.count * spp)) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        if (params.class_ == 0u) {
+            points = 16u;
+        } else {
+            points = 24u;
+        }
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, params.level);
-    uint iv = grid_iv(s, params.level);
-    uint points = 0u;
-    if (params.class_ == 0u) {
-        points = 16u;
-    } else {
-        points = 24u;
-    }
-    uint face = patch_faces[(params.first + patch_index)];
-    Sample result = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }

@@ -117,54 +117,6 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
-Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float lu = (float((level - iu)) / float(level));
-    float ru = (float(iu) / float(level));
-    float lv = (float((level - iv)) / float(level));
-    float rv = (float(iv) / float(level));
-    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
-    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
-    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
-    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
-    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
-    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
-}
-
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
-Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
-    sample_ = ordinary_surface(cp_base, iu, iv, level);
-#ifndef TESSGEN_NO_BOUNDARY_PATH
-    if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
-        uint edge = 3u;
-        uint t = (level - iv);
-        if (iv == 0u) {
-            edge = 0u;
-            t = iu;
-        } else {
-            if (iu == level) {
-                edge = 1u;
-                t = iv;
-            } else {
-                if (iv == level) {
-                    edge = 2u;
-                    t = (level - iu);
-                }
-            }
-        }
-        uint curve = ((class_ * 16u) + (edge * 4u));
-        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
-        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
-    }
-#endif
-    return sample_;
-}
-
 // Samples of one quad patch at `level`: (level+1)².
 uint grid_len(uint level) {
     return ((level + 1u) * (level + 1u));
@@ -250,9 +202,57 @@ precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
     return (p + (n * d));
 }
 
-// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
-Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float lu = (float((level - iu)) / float(level));
+    float ru = (float(iu) / float(level));
+    float lv = (float((level - iv)) / float(level));
+    float rv = (float(iv) / float(level));
+    Curve row0 = tessgen_cubic(load_control_points((cp_base + 0u)), load_control_points((cp_base + 4u)), load_control_points((cp_base + 8u)), load_control_points((cp_base + 12u)), lu, ru);
+    Curve row1 = tessgen_cubic(load_control_points((cp_base + 1u)), load_control_points((cp_base + 5u)), load_control_points((cp_base + 9u)), load_control_points((cp_base + 13u)), lu, ru);
+    Curve row2 = tessgen_cubic(load_control_points((cp_base + 2u)), load_control_points((cp_base + 6u)), load_control_points((cp_base + 10u)), load_control_points((cp_base + 14u)), lu, ru);
+    Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
+    Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
+    Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
+    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    sample_ = ordinary_surface_global(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
+        uint edge = 3u;
+        uint t = (level - iv);
+        if (iv == 0u) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if (iu == level) {
+                edge = 1u;
+                t = iv;
+            } else {
+                if (iv == level) {
+                    edge = 2u;
+                    t = (level - iu);
+                }
+            }
+        }
+        uint curve = ((class_ * 16u) + (edge * 4u));
+        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
     float scale = displace_info[0u];
     if (scale != 0.0) {
         vec3 n = sample_.normal;
@@ -307,7 +307,7 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
                     }
                 }
             }
-            Sample owner_sample = eval(owner_class, owner_cp, ou, ov, level);
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
             n = owner_sample.normal;
         }
         float h = tessgen_height_at(face, iu, iv, level);
@@ -318,22 +318,23 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint spp = grid_len(params.level);
-    if (k >= (params.count * spp)) {
-        return;
+    uint level = params.level;
+    uint spp = grid_len(level);
+    if (k < (params.count * spp)) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        points = 16u;
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, params.level);
-    uint iv = grid_iv(s, params.level);
-    uint points = 16u;
-    uint face = patch_faces[(params.first + patch_index)];
-    Sample result = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }

@@ -85,6 +85,34 @@ layout(location = 2) out vec3 te_domain;
 layout(location = 3) flat out uint te_patch;
 #endif
 
+#ifdef TESSGEN_DISPLACE
+// Displacement: the global control-point buffer, filled by the compute patch
+// stage (patch_main) before the draw, for the owner's evaluation, and the
+// displacement data (watertight.md Rules 4 and 5).
+// binding 8: patch control points, 3 f32 per point (written by the patch stage)
+layout(std430, set = 0, binding = 8) readonly buffer ControlPoints { float control_points[]; };
+
+// binding 11: face index of each patch, patches sorted by class
+layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
+
+// binding 21: displacement texture coordinates, 16 (s, t) pairs per quad patch (12 per triangle): pair 4k + j of face f at 32f + 2(4k + j) (triangles 24f + 2(4k + j)) (j: 0 interior, 1 edge k's owner at v_k, 2 edge k-1's owner at v_k, 3 vertex v_k's owner) — watertight.md Rule 5
+layout(std430, set = 0, binding = 21) readonly buffer Texcoords { float texcoords[]; };
+
+// binding 22: ownership records, 8 per quad at 32f + 4·slot (slots 0-3 edge k, 4-7 corner k; triangles 6 at 24f + 4·slot, slots 0-2 edge k, 3-5 corner k): owner's class, owner's first control point, owner's local edge/corner, 1 when the owner runs the edge the other way — watertight.md Rule 4
+layout(std430, set = 0, binding = 22) readonly buffer Owners { uint owners[]; };
+
+// binding 23: displacement parameters, 4 f32: scale (0 = off: eval_displaced returns eval's sample bit for bit), map width, map height, unused
+layout(std430, set = 0, binding = 23) readonly buffer DisplaceInfo { float displace_info[]; };
+
+// binding 24: scalar displacement map, R32Float, read with exact texel fetches and bilinear weights formed in the shader
+layout(set = 0, binding = 24) uniform sampler2D displace_map;
+
+vec3 load_control_points(uint i) {
+    return vec3(control_points[(3u * i)], control_points[((3u * i) + 1u)], control_points[((3u * i) + 2u)]);
+}
+
+#endif
+
 // Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
 vec3 tessgen_normalize(vec3 x) {
     float len2 = dot(x, x);
@@ -190,6 +218,213 @@ Sample eval_domain(uint class_, uint cp_base, float x, float y, float z, uint le
     return sample_;
 }
 
+#ifdef TESSGEN_DISPLACE
+// Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
+float tessgen_height(float s, float t) {
+    float width = displace_info[1u];
+    float height = displace_info[2u];
+    float x = ((s * width) - 0.5);
+    if (x < 0.0) {
+        x = 0.0;
+    }
+    if (x > (width - 1.0)) {
+        x = (width - 1.0);
+    }
+    float xf = floor(x);
+    uint x0 = uint(xf);
+    uint xn = uint(width);
+    uint x1 = (x0 + 1u);
+    if (x1 >= xn) {
+        x1 = x0;
+    }
+    float fx = (x - xf);
+    float y = ((t * height) - 0.5);
+    if (y < 0.0) {
+        y = 0.0;
+    }
+    if (y > (height - 1.0)) {
+        y = (height - 1.0);
+    }
+    float yf = floor(y);
+    uint y0 = uint(yf);
+    uint yn = uint(height);
+    uint y1 = (y0 + 1u);
+    if (y1 >= yn) {
+        y1 = y0;
+    }
+    float fy = (y - yf);
+    float gx = (1.0 - fx);
+    float gy = (1.0 - fy);
+    float a = ((texelFetch(displace_map, ivec2(int(x0), int(y0)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y0)), 0).x * fx));
+    float b = ((texelFetch(displace_map, ivec2(int(x0), int(y1)), 0).x * gx) + (texelFetch(displace_map, ivec2(int(x1), int(y1)), 0).x * fx));
+    return ((a * gy) + (b * fy));
+}
+
+// Displacement texture coordinate at barycentric (level − iu − iv, iu, iv)/level of triangle `face` (watertight.md Rule 5, 12 per triangle): corner k reads pair idx_k = e_k + 2·e_(k−1) of its 4 (interior, edge k's owner, edge k−1's owner, vertex owner), with edge predicates e0 (iv = 0), e1 (iu + iv = level), e2 (iu = 0), weighted by the barycentric weights, each formed from integers. On edge k corner k+2's weight is an exact 0, so the sum collapses to the edge owner's two coordinates, at a corner to the vertex owner's one. Returns the displacement height there (tessgen_height).
+precise float tessgen_height_at(uint face, uint iu, uint iv, uint level) {
+    precise uint e0 = uint((iv == 0u));
+    precise uint e1 = uint(((iu + iv) == level));
+    precise uint e2 = uint((iu == 0u));
+    precise float w0 = (float(((level - iu) - iv)) / float(level));
+    precise float w1 = (float(iu) / float(level));
+    precise float w2 = (float(iv) / float(level));
+    precise uint base = (face * 24u);
+    precise uint p0 = (base + ((0u + (e0 + (2u * e2))) * 2u));
+    precise uint p1 = (base + ((4u + (e1 + (2u * e0))) * 2u));
+    precise uint p2 = (base + ((8u + (e2 + (2u * e1))) * 2u));
+    precise float s = (((w0 * texcoords[(p0 + 0u)]) + (w1 * texcoords[(p1 + 0u)])) + (w2 * texcoords[(p2 + 0u)]));
+    precise float t = (((w0 * texcoords[(p0 + 1u)]) + (w1 * texcoords[(p1 + 1u)])) + (w2 * texcoords[(p2 + 1u)]));
+    return tessgen_height(s, t);
+}
+
+// The displaced point p + n·d, in one `precise` function so no backend contracts it differently for the patches of one edge.
+precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
+    return (p + (n * d));
+}
+
+// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+precise float tessgen_height_at_domain(uint face, float x, float y, float z) {
+    precise uint base = (face * 24u);
+    precise float s = (((x * texcoords[(base + 0u)]) + (y * texcoords[(base + 8u)])) + (z * texcoords[(base + 16u)]));
+    precise float t = (((x * texcoords[(base + 1u)]) + (y * texcoords[(base + 9u)])) + (z * texcoords[(base + 17u)]));
+    return tessgen_height(s, t);
+}
+
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_at_global(uint cp_base, float w0, float w1, float w2) {
+    vec3 b0 = load_control_points((cp_base + 0u));
+    vec3 bn0 = load_control_points((cp_base + 1u));
+    vec3 bp0 = load_control_points((cp_base + 2u));
+    vec3 b1 = load_control_points((cp_base + 5u));
+    vec3 bn1 = load_control_points((cp_base + 6u));
+    vec3 bp1 = load_control_points((cp_base + 7u));
+    vec3 b2 = load_control_points((cp_base + 10u));
+    vec3 bn2 = load_control_points((cp_base + 11u));
+    vec3 bp2 = load_control_points((cp_base + 12u));
+    vec3 center = load_control_points((cp_base + 15u));
+    vec3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+    vec3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+    vec3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+    vec3 s2_020 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+    vec3 s2_011 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+    vec3 s2_002 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+    vec3 s1_100 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+    vec3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+    vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+    vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+    return Sample(s0_000, tessgen_normalize(((((((load_control_points((cp_base + 3u)) * (w0 * w0)) + (load_control_points((cp_base + 4u)) * (w0 * w1))) + (load_control_points((cp_base + 8u)) * (w1 * w1))) + (load_control_points((cp_base + 9u)) * (w1 * w2))) + (load_control_points((cp_base + 13u)) * (w2 * w2))) + (load_control_points((cp_base + 14u)) * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at_global(cp_base, w0, w1, w2);
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    sample_ = triangle_surface_global(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
+        uint edge = 2u;
+        uint t = (level - iv);
+        if (iv == 0u) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if ((iu + iv) == level) {
+                edge = 1u;
+                t = iv;
+            }
+        }
+        uint curve = ((class_ * 12u) + (edge * 4u));
+        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// eval_displaced for the tessellation evaluation stage: the patch's own sample from its patch-local control points (`eval`, cp_base into the patch's array), the owner's normal on the boundary from `eval_global` on the global control-point buffer (filled by the compute patch stage), the same call and arguments as in every other patch of the edge or corner (watertight.md Rule 4).
+Sample eval_displaced_tess(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if (scale != 0.0) {
+        vec3 n = sample_.normal;
+        if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
+            uint slot = 2u;
+            uint t = (level - iv);
+            if (iv == 0u) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu + iv) == level) {
+                    slot = 1u;
+                    t = iv;
+                }
+            }
+            if (t == 0u) {
+                slot = (slot + 3u);
+            } else {
+                if (t == level) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            uint rec = ((face * 24u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if (owners[(rec + 3u)] == 1u) {
+                ot = (level - t);
+            }
+            if (slot >= 3u) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if (owner_k == 1u) {
+                ou = (level - ot);
+                ov = ot;
+            } else {
+                if (owner_k == 2u) {
+                    ou = 0u;
+                    ov = (level - ot);
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
+}
+
+// eval_domain_displaced for the tessellation evaluation stage: the boundary through eval_displaced_tess (own sample from the patch-local control points, the owner's normal from the global control-point buffer), the interior displaced along its own normal.
+Sample eval_domain_displaced_tess(uint face, uint class_, uint cp_base, float x, float y, float z, uint level) {
+    if (((x == 0.0) || (y == 0.0)) || (z == 0.0)) {
+        uint iu = uint(round((y * float(level))));
+        uint iv = uint(round((z * float(level))));
+        return eval_displaced_tess(face, class_, cp_base, iu, iv, level);
+    }
+    Sample sample_ = eval_domain(class_, cp_base, x, y, z, level);
+    float scale = displace_info[0u];
+    if (scale != 0.0) {
+        float h = tessgen_height_at_domain(face, x, y, z);
+        sample_.position = tessgen_displace(sample_.position, sample_.normal, (scale * h));
+    }
+    return sample_;
+}
+
+#endif
 void main() {
     // Triangles: eval_domain takes the raw barycentric domain point (x, y, z) of corners
     // (0, 1, 2). On the outer ring (a coordinate exactly 0; an integer level puts vertex i
@@ -206,7 +441,16 @@ void main() {
 #else
     uint level = params.level;
 #endif
+#ifdef TESSGEN_DISPLACE
+    // Displaced: on the boundary the integer step with the owner's normal (from the
+    // global control-point buffer, filled by patch_main before the draw) and texture
+    // coordinate; inside, the raw point along its own normal (watertight.md Rules 4
+    // and 5).
+    uint face = patch_faces[(params.first + uint(gl_PrimitiveID))];
+    Sample result = eval_domain_displaced_tess(face, params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
+#else
     Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
+#endif
     te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
     te_normal = result.normal;

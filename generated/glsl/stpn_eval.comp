@@ -107,68 +107,6 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2.
-Sample triangle_surface_at(uint cp_base, float w0, float w1, float w2) {
-    vec3 b0 = load_control_points((cp_base + 0u));
-    vec3 bn0 = load_control_points((cp_base + 1u));
-    vec3 bp0 = load_control_points((cp_base + 2u));
-    vec3 b1 = load_control_points((cp_base + 5u));
-    vec3 bn1 = load_control_points((cp_base + 6u));
-    vec3 bp1 = load_control_points((cp_base + 7u));
-    vec3 b2 = load_control_points((cp_base + 10u));
-    vec3 bn2 = load_control_points((cp_base + 11u));
-    vec3 bp2 = load_control_points((cp_base + 12u));
-    vec3 center = load_control_points((cp_base + 15u));
-    vec3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
-    vec3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
-    vec3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
-    vec3 s2_020 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
-    vec3 s2_011 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
-    vec3 s2_002 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
-    vec3 s1_100 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
-    vec3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
-    vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
-    vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
-    return Sample(s0_000, tessgen_normalize(((((((load_control_points((cp_base + 3u)) * (w0 * w0)) + (load_control_points((cp_base + 4u)) * (w0 * w1))) + (load_control_points((cp_base + 8u)) * (w1 * w1))) + (load_control_points((cp_base + 9u)) * (w1 * w2))) + (load_control_points((cp_base + 13u)) * (w2 * w2))) + (load_control_points((cp_base + 14u)) * (w2 * w0)))));
-}
-
-// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface.
-Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
-    float nf = float(level);
-    float w0 = (float(((level - iu) - iv)) / nf);
-    float w1 = (float(iu) / nf);
-    float w2 = (float(iv) / nf);
-    return triangle_surface_at(cp_base, w0, w1, w2);
-}
-
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
-Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
-    sample_ = triangle_surface(cp_base, iu, iv, level);
-#ifndef TESSGEN_NO_BOUNDARY_PATH
-    if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
-        uint edge = 2u;
-        uint t = (level - iv);
-        if (iv == 0u) {
-            edge = 0u;
-            t = iu;
-        } else {
-            if ((iu + iv) == level) {
-                edge = 1u;
-                t = iv;
-            }
-        }
-        uint curve = ((class_ * 12u) + (edge * 4u));
-        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
-        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
-        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
-        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
-        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
-    }
-#endif
-    return sample_;
-}
-
 // Samples of one triangle patch at `level`: (level+1)(level+2)/2.
 uint grid_len(uint level) {
     return (((level + 1u) * (level + 2u)) / 2u);
@@ -263,9 +201,71 @@ precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
     return (p + (n * d));
 }
 
-// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
-Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
-    Sample sample_ = eval(class_, cp_base, iu, iv, level);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_at_global(uint cp_base, float w0, float w1, float w2) {
+    vec3 b0 = load_control_points((cp_base + 0u));
+    vec3 bn0 = load_control_points((cp_base + 1u));
+    vec3 bp0 = load_control_points((cp_base + 2u));
+    vec3 b1 = load_control_points((cp_base + 5u));
+    vec3 bn1 = load_control_points((cp_base + 6u));
+    vec3 bp1 = load_control_points((cp_base + 7u));
+    vec3 b2 = load_control_points((cp_base + 10u));
+    vec3 bn2 = load_control_points((cp_base + 11u));
+    vec3 bp2 = load_control_points((cp_base + 12u));
+    vec3 center = load_control_points((cp_base + 15u));
+    vec3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+    vec3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+    vec3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+    vec3 s2_020 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+    vec3 s2_011 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+    vec3 s2_002 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+    vec3 s1_100 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+    vec3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+    vec3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+    vec3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+    return Sample(s0_000, tessgen_normalize(((((((load_control_points((cp_base + 3u)) * (w0 * w0)) + (load_control_points((cp_base + 4u)) * (w0 * w1))) + (load_control_points((cp_base + 8u)) * (w1 * w1))) + (load_control_points((cp_base + 9u)) * (w1 * w2))) + (load_control_points((cp_base + 13u)) * (w2 * w2))) + (load_control_points((cp_base + 14u)) * (w2 * w0)))));
+}
+
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at_global(cp_base, w0, w1, w2);
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+    sample_ = triangle_surface_global(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if (((iv == 0u) || (iu == 0u)) || ((iu + iv) == level)) {
+        uint edge = 2u;
+        uint t = (level - iv);
+        if (iv == 0u) {
+            edge = 0u;
+            t = iu;
+        } else {
+            if ((iu + iv) == level) {
+                edge = 1u;
+                t = iv;
+            }
+        }
+        uint curve = ((class_ * 12u) + (edge * 4u));
+        vec3 b0 = load_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        vec3 b1 = load_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        vec3 b2 = load_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        vec3 b3 = load_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
+    }
+#endif
+    return sample_;
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
     float scale = displace_info[0u];
     if (scale != 0.0) {
         vec3 n = sample_.normal;
@@ -310,7 +310,7 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
                     ov = (level - ot);
                 }
             }
-            Sample owner_sample = eval(owner_class, owner_cp, ou, ov, level);
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
             n = owner_sample.normal;
         }
         float h = tessgen_height_at(face, iu, iv, level);
@@ -321,22 +321,23 @@ Sample eval_displaced(uint face, uint class_, uint cp_base, uint iu, uint iv, ui
 
 void main() {
     uint k = gl_GlobalInvocationID.x;
-    uint spp = grid_len(params.level);
-    if (k >= (params.count * spp)) {
-        return;
+    uint level = params.level;
+    uint spp = grid_len(level);
+    if (k < (params.count * spp)) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        points = 16u;
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, params.level);
-    uint iv = grid_iv(s, params.level);
-    uint points = 16u;
-    uint face = patch_faces[(params.first + patch_index)];
-    Sample result = eval_displaced(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, params.level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[(o + 0u)] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }

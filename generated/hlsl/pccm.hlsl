@@ -760,148 +760,7 @@ precise float3 tessgen_displace(float3 p, float3 n, float d) {
     return (p + (n * d));
 }
 
-// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
-uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
-    uint k1 = ((k + 1u) % 4u);
-    uint curve = ((class_ * 16u) + (k * 4u));
-    float3 a = cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-    float3 b = cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
-    uint va = corner_vertex[((face * 4u) + k)];
-    uint vb = corner_vertex[((face * 4u) + k1)];
-    uint edge = face_edges[((face * 4u) + k)];
-    float factor = tessgen_edge_factor_runtime(a, b, va, vb, edge);
-    return tessgen_edge_level(factor, max_level);
-}
-
-// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
-Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
-    uint su = iu;
-    uint sv = iv;
-    uint sl = level;
-    if ((iv == 0u)) {
-        su = (iu / (level / l0));
-        sv = 0u;
-        sl = l0;
-    } else {
-        if ((iu == level)) {
-            su = l1;
-            sv = (iv / (level / l1));
-            sl = l1;
-        } else {
-            if ((iv == level)) {
-                su = (iu / (level / l2));
-                sv = l2;
-                sl = l2;
-            } else {
-                if ((iu == 0u)) {
-                    su = 0u;
-                    sv = (iv / (level / l3));
-                    sl = l3;
-                }
-            }
-        }
-    }
-    return eval(cp, class_, cp_base, su, sv, sl);
-}
-
-// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
-Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
-    uint su = iu;
-    uint sv = iv;
-    uint sl = level;
-    if ((iv == 0u)) {
-        su = (iu / (level / l0));
-        sv = 0u;
-        sl = l0;
-    } else {
-        if ((iu == level)) {
-            su = l1;
-            sv = (iv / (level / l1));
-            sl = l1;
-        } else {
-            if ((iv == level)) {
-                su = (iu / (level / l2));
-                sv = l2;
-                sl = l2;
-            } else {
-                if ((iu == 0u)) {
-                    su = 0u;
-                    sv = (iv / (level / l3));
-                    sl = l3;
-                }
-            }
-        }
-    }
-    if ((((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl)))) {
-        su = (su / sl);
-        sv = (sv / sl);
-        sl = 1u;
-    }
-    Sample sample_ = eval(cp, class_, cp_base, su, sv, sl);
-    float scale = displace_info[0u];
-    if ((scale != 0.0f)) {
-        float3 n = sample_.normal;
-        if ((((su == 0u) || (su == sl)) || ((sv == 0u) || (sv == sl)))) {
-            uint slot = 3u;
-            uint t = (sl - sv);
-            if ((sv == 0u)) {
-                slot = 0u;
-                t = su;
-            } else {
-                if ((su == sl)) {
-                    slot = 1u;
-                    t = sv;
-                } else {
-                    if ((sv == sl)) {
-                        slot = 2u;
-                        t = (sl - su);
-                    }
-                }
-            }
-            if ((t == 0u)) {
-                slot = (slot + 4u);
-            } else {
-                if ((t == sl)) {
-                    slot = (((slot + 1u) % 4u) + 4u);
-                }
-            }
-            uint rec = ((face * 32u) + (slot * 4u));
-            uint owner_class = owners[rec];
-            uint owner_cp = owners[(rec + 1u)];
-            uint owner_k = owners[(rec + 2u)];
-            uint ot = t;
-            if ((owners[(rec + 3u)] == 1u)) {
-                ot = (sl - t);
-            }
-            if ((slot >= 4u)) {
-                ot = 0u;
-            }
-            uint ou = ot;
-            uint ov = 0u;
-            if ((owner_k == 1u)) {
-                ou = sl;
-                ov = ot;
-            } else {
-                if ((owner_k == 2u)) {
-                    ou = (sl - ot);
-                    ov = sl;
-                } else {
-                    if ((owner_k == 3u)) {
-                        ou = 0u;
-                        ov = (sl - ot);
-                    }
-                }
-            }
-            Sample owner_sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
-            n = owner_sample.normal;
-        }
-        float h = tessgen_height_at(face, su, sv, sl);
-        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
-    }
-    return sample_;
-}
-
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -916,7 +775,7 @@ Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     return make_Sample(along_v.point_, tessgen_normalize(cross(along_u.point_, along_v.tangent)));
 }
 
-// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float nf = float(level);
     uint sum_uv = (iu + iv);
@@ -1002,7 +861,7 @@ Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) 
     return make_Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_normalize(cross((s1_010 - s1_100), (s1_001 - s1_100))));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: the owner patch's evaluation in the displacing tessellation stages.)
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
     if ((class_ == 0u)) {
@@ -1036,6 +895,72 @@ Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
         sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
 #endif
+    return sample_;
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
+            uint slot = 3u;
+            uint t = (level - iv);
+            if ((iv == 0u)) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if ((iu == level)) {
+                    slot = 1u;
+                    t = iv;
+                } else {
+                    if ((iv == level)) {
+                        slot = 2u;
+                        t = (level - iu);
+                    }
+                }
+            }
+            if ((t == 0u)) {
+                slot = (slot + 4u);
+            } else {
+                if ((t == level)) {
+                    slot = (((slot + 1u) % 4u) + 4u);
+                }
+            }
+            uint rec = ((face * 32u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (level - t);
+            }
+            if ((slot >= 4u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = level;
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = (level - ot);
+                    ov = level;
+                } else {
+                    if ((owner_k == 3u)) {
+                        ou = 0u;
+                        ov = (level - ot);
+                    }
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
     return sample_;
 }
 
@@ -1147,38 +1072,35 @@ void patch_main(uint3 global_id : SV_DispatchThreadID) {
 }
 
 // Evaluation: grid_len(level) samples per patch of params.first .. + params.count,
-// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)),
-// written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].
+// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)), through the
+// displacement step (eval_displaced_global: every patch from the global
+// control-point buffer), written as 6 floats at samples[(params.out_base + k)·6].
 [numthreads(64, 1, 1)]
 void eval_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
     uint level = params.level;
     uint spp = grid_len(level);
-    if (k >= (params.count * spp)) {
-        return;
-    }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, level);
-    uint iv = grid_iv(s, level);
-    uint points = CONTROL_POINTS[params.class_];
-    uint cp_base = (params.cp_base + (patch_index * points));
-    float3 cp[KMAX];
-    for (uint i = 0u; i < KMAX; i += 1u) {
-        if (i < points) {
-            cp[i] = fetch_control_points((cp_base + i));
+    if ((k < (params.count * spp))) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        if ((params.class_ == 0u)) {
+            points = 16u;
         } else {
-            cp[i] = float3(0.0f, 0.0f, 0.0f);
+            points = 24u;
         }
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    Sample result = eval(cp, params.class_, 0u, iu, iv, level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[o] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }
 
 // ---- tessellation pipeline: vs_main -> hs_main -> ds_main ----

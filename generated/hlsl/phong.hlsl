@@ -522,11 +522,6 @@ uint grid_iv(uint s, uint level) {
     return row;
 }
 
-// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
-uint grid_index(uint iu, uint iv, uint level) {
-    return (((iv * (((2u * level) + 3u) - iv)) / 2u) + iu);
-}
-
 // Displacement height at texture coordinate (s, t): texel centres at (i + 0.5)/width, clamped to the map, bilinear weights formed here from exact texel fetches (never hardware filtering, whose sub-texel precision differs between devices).
 float tessgen_height(float s, float t) {
     float width = displace_info[1u];
@@ -590,102 +585,98 @@ precise float3 tessgen_displace(float3 p, float3 n, float d) {
     return (p + (n * d));
 }
 
-// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
-uint patch_edge_level(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint k, uint max_level) {
-    if ((k >= 3u)) {
-        return 1u;
-    }
-    uint k1 = ((k + 1u) % 3u);
-    uint curve = ((class_ * 12u) + (k * 4u));
-    float3 a = cp[(cp_base + EDGE_CURVE[(curve + 0u)])];
-    float3 b = cp[(cp_base + EDGE_CURVE[(curve + 3u)])];
-    uint va = corner_vertex[((face * 3u) + k)];
-    uint vb = corner_vertex[((face * 3u) + k1)];
-    uint edge = face_edges[((face * 3u) + k)];
-    float factor = tessgen_edge_factor_runtime(a, b, va, vb, edge);
-    return tessgen_edge_level(factor, max_level);
+// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+precise float tessgen_height_at_domain(uint face, float x, float y, float z) {
+    precise uint base = (face * 24u);
+    precise float s = (((x * texcoords[(base + 0u)]) + (y * texcoords[(base + 8u)])) + (z * texcoords[(base + 16u)]));
+    precise float t = (((x * texcoords[(base + 1u)]) + (y * texcoords[(base + 9u)])) + (z * texcoords[(base + 17u)]));
+    return tessgen_height(s, t);
 }
 
-// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate).
-Sample eval_adaptive(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
-    uint su = iu;
-    uint sv = iv;
-    uint sl = level;
-    uint t = 0u;
-    if ((iv == 0u)) {
-        t = (iu / (level / l0));
-        su = t;
-        sv = 0u;
-        sl = l0;
-    } else {
-        if (((iu + iv) == level)) {
-            t = (iv / (level / l1));
-            su = (l1 - t);
-            sv = t;
-            sl = l1;
-        } else {
-            if ((iu == 0u)) {
-                t = ((level - iv) / (level / l2));
-                su = 0u;
-                sv = (l2 - t);
-                sl = l2;
-            }
-        }
-    }
-    return eval(cp, class_, cp_base, su, sv, sl);
+// Cubic Bézier triangle at barycentric weights (w0, w1, w2) of corners 0, 1, 2: three de Casteljau steps over the 10-point net; normal = normalize(Σ n_i w_i² + Σ nm_i w_i w_{i+1}), the factor-free quadratic normal field of pn.md §2. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_at_global(uint cp_base, float w0, float w1, float w2) {
+    float3 b0 = fetch_control_points((cp_base + 0u));
+    float3 bn0 = fetch_control_points((cp_base + 1u));
+    float3 bp0 = fetch_control_points((cp_base + 2u));
+    float3 b1 = fetch_control_points((cp_base + 5u));
+    float3 bn1 = fetch_control_points((cp_base + 6u));
+    float3 bp1 = fetch_control_points((cp_base + 7u));
+    float3 b2 = fetch_control_points((cp_base + 10u));
+    float3 bn2 = fetch_control_points((cp_base + 11u));
+    float3 bp2 = fetch_control_points((cp_base + 12u));
+    float3 center = fetch_control_points((cp_base + 15u));
+    float3 s2_200 = (((b0 * w0) + (bn0 * w1)) + (bp0 * w2));
+    float3 s2_110 = (((bn0 * w0) + (bp1 * w1)) + (center * w2));
+    float3 s2_101 = (((bp0 * w0) + (center * w1)) + (bn2 * w2));
+    float3 s2_020 = (((bp1 * w0) + (b1 * w1)) + (bn1 * w2));
+    float3 s2_011 = (((center * w0) + (bn1 * w1)) + (bp2 * w2));
+    float3 s2_002 = (((bn2 * w0) + (bp2 * w1)) + (b2 * w2));
+    float3 s1_100 = (((s2_200 * w0) + (s2_110 * w1)) + (s2_101 * w2));
+    float3 s1_010 = (((s2_110 * w0) + (s2_020 * w1)) + (s2_011 * w2));
+    float3 s1_001 = (((s2_101 * w0) + (s2_011 * w1)) + (s2_002 * w2));
+    float3 s0_000 = (((s1_100 * w0) + (s1_010 * w1)) + (s1_001 * w2));
+    return make_Sample(s0_000, tessgen_normalize(((((((fetch_control_points((cp_base + 3u)) * (w0 * w0)) + (fetch_control_points((cp_base + 4u)) * (w0 * w1))) + (fetch_control_points((cp_base + 8u)) * (w1 * w1))) + (fetch_control_points((cp_base + 9u)) * (w1 * w2))) + (fetch_control_points((cp_base + 13u)) * (w2 * w2))) + (fetch_control_points((cp_base + 14u)) * (w2 * w0)))));
 }
 
-// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
-Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level, uint l0, uint l1, uint l2, uint l3) {
-    uint su = iu;
-    uint sv = iv;
-    uint sl = level;
-    uint t = 0u;
-    if ((iv == 0u)) {
-        t = (iu / (level / l0));
-        su = t;
-        sv = 0u;
-        sl = l0;
-    } else {
-        if (((iu + iv) == level)) {
-            t = (iv / (level / l1));
-            su = (l1 - t);
-            sv = t;
-            sl = l1;
+// Cubic Bézier triangle at barycentric (level − iu − iv, iu, iv)/level of corners 0, 1, 2 (weights formed from integers), evaluated by the float-weight surface. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample triangle_surface_global(uint cp_base, uint iu, uint iv, uint level) {
+    float nf = float(level);
+    float w0 = (float(((level - iu) - iv)) / nf);
+    float w1 = (float(iu) / nf);
+    float w2 = (float(iv) / nf);
+    return triangle_surface_at_global(cp_base, w0, w1, w2);
+}
+
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+    sample_ = triangle_surface_global(cp_base, iu, iv, level);
+#ifndef TESSGEN_NO_BOUNDARY_PATH
+    if ((((iv == 0u) || (iu == 0u)) || ((iu + iv) == level))) {
+        uint edge = 2u;
+        uint t = (level - iv);
+        if ((iv == 0u)) {
+            edge = 0u;
+            t = iu;
         } else {
-            if ((iu == 0u)) {
-                t = ((level - iv) / (level / l2));
-                su = 0u;
-                sv = (l2 - t);
-                sl = l2;
+            if (((iu + iv) == level)) {
+                edge = 1u;
+                t = iv;
             }
         }
+        uint curve = ((class_ * 12u) + (edge * 4u));
+        float3 b0 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 0u)]));
+        float3 b1 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 1u)]));
+        float3 b2 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 2u)]));
+        float3 b3 = fetch_control_points((cp_base + EDGE_CURVE[(curve + 3u)]));
+        sample_.position = tessgen_edge(b0, b1, b2, b3, t, level);
     }
-    if ((((su == 0u) || (su == sl)) && ((sv == 0u) || (sv == sl)))) {
-        su = (su / sl);
-        sv = (sv / sl);
-        sl = 1u;
-    }
-    Sample sample_ = eval(cp, class_, cp_base, su, sv, sl);
+#endif
+    return sample_;
+}
+
+// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+Sample eval_displaced_global(uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval_global(class_, cp_base, iu, iv, level);
     float scale = displace_info[0u];
     if ((scale != 0.0f)) {
         float3 n = sample_.normal;
-        if ((((sv == 0u) || (su == 0u)) || ((su + sv) == sl))) {
+        if ((((iv == 0u) || (iu == 0u)) || ((iu + iv) == level))) {
             uint slot = 2u;
-            uint t_18 = (sl - sv);
-            if ((sv == 0u)) {
+            uint t = (level - iv);
+            if ((iv == 0u)) {
                 slot = 0u;
-                t_18 = su;
+                t = iu;
             } else {
-                if (((su + sv) == sl)) {
+                if (((iu + iv) == level)) {
                     slot = 1u;
-                    t_18 = sv;
+                    t = iv;
                 }
             }
-            if ((t_18 == 0u)) {
+            if ((t == 0u)) {
                 slot = (slot + 3u);
             } else {
-                if ((t_18 == sl)) {
+                if ((t == level)) {
                     slot = (((slot + 1u) % 3u) + 3u);
                 }
             }
@@ -693,9 +684,9 @@ Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint 
             uint owner_class = owners[rec];
             uint owner_cp = owners[(rec + 1u)];
             uint owner_k = owners[(rec + 2u)];
-            uint ot = t_18;
+            uint ot = t;
             if ((owners[(rec + 3u)] == 1u)) {
-                ot = (sl - t_18);
+                ot = (level - t);
             }
             if ((slot >= 3u)) {
                 ot = 0u;
@@ -703,19 +694,91 @@ Sample eval_adaptive_displaced(in float3 cp[KMAX], uint face, uint class_, uint 
             uint ou = ot;
             uint ov = 0u;
             if ((owner_k == 1u)) {
-                ou = (sl - ot);
+                ou = (level - ot);
                 ov = ot;
             } else {
                 if ((owner_k == 2u)) {
                     ou = 0u;
-                    ov = (sl - ot);
+                    ov = (level - ot);
                 }
             }
-            Sample owner_sample = eval(cp, owner_class, owner_cp, ou, ov, sl);
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
             n = owner_sample.normal;
         }
-        float h = tessgen_height_at(face, su, sv, sl);
+        float h = tessgen_height_at(face, iu, iv, level);
         sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
+}
+
+// eval_displaced for the tessellation evaluation stage: the patch's own sample from its patch-local control points (`eval`, cp_base into the patch's array), the owner's normal on the boundary from `eval_global` on the global control-point buffer (filled by the compute patch stage), the same call and arguments as in every other patch of the edge or corner (watertight.md Rule 4).
+Sample eval_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_base, uint iu, uint iv, uint level) {
+    Sample sample_ = eval(cp, class_, cp_base, iu, iv, level);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float3 n = sample_.normal;
+        if ((((iv == 0u) || (iu == 0u)) || ((iu + iv) == level))) {
+            uint slot = 2u;
+            uint t = (level - iv);
+            if ((iv == 0u)) {
+                slot = 0u;
+                t = iu;
+            } else {
+                if (((iu + iv) == level)) {
+                    slot = 1u;
+                    t = iv;
+                }
+            }
+            if ((t == 0u)) {
+                slot = (slot + 3u);
+            } else {
+                if ((t == level)) {
+                    slot = (((slot + 1u) % 3u) + 3u);
+                }
+            }
+            uint rec = ((face * 24u) + (slot * 4u));
+            uint owner_class = owners[rec];
+            uint owner_cp = owners[(rec + 1u)];
+            uint owner_k = owners[(rec + 2u)];
+            uint ot = t;
+            if ((owners[(rec + 3u)] == 1u)) {
+                ot = (level - t);
+            }
+            if ((slot >= 3u)) {
+                ot = 0u;
+            }
+            uint ou = ot;
+            uint ov = 0u;
+            if ((owner_k == 1u)) {
+                ou = (level - ot);
+                ov = ot;
+            } else {
+                if ((owner_k == 2u)) {
+                    ou = 0u;
+                    ov = (level - ot);
+                }
+            }
+            Sample owner_sample = eval_global(owner_class, owner_cp, ou, ov, level);
+            n = owner_sample.normal;
+        }
+        float h = tessgen_height_at(face, iu, iv, level);
+        sample_.position = tessgen_displace(sample_.position, n, (scale * h));
+    }
+    return sample_;
+}
+
+// eval_domain_displaced for the tessellation evaluation stage: the boundary through eval_displaced_tess (own sample from the patch-local control points, the owner's normal from the global control-point buffer), the interior displaced along its own normal.
+Sample eval_domain_displaced_tess(in float3 cp[KMAX], uint face, uint class_, uint cp_base, float x, float y, float z, uint level) {
+    if ((((x == 0.0f) || (y == 0.0f)) || (z == 0.0f))) {
+        uint iu = uint(round((y * float(level))));
+        uint iv = uint(round((z * float(level))));
+        return eval_displaced_tess(cp, face, class_, cp_base, iu, iv, level);
+    }
+    Sample sample_ = eval_domain(cp, class_, cp_base, x, y, z, level);
+    float scale = displace_info[0u];
+    if ((scale != 0.0f)) {
+        float h = tessgen_height_at_domain(face, x, y, z);
+        sample_.position = tessgen_displace(sample_.position, sample_.normal, (scale * h));
     }
     return sample_;
 }
@@ -758,38 +821,31 @@ void patch_main(uint3 global_id : SV_DispatchThreadID) {
 }
 
 // Evaluation: grid_len(level) samples per patch of params.first .. + params.count,
-// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)),
-// written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].
+// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)), through the
+// displacement step (eval_displaced_global: every patch from the global
+// control-point buffer), written as 6 floats at samples[(params.out_base + k)·6].
 [numthreads(64, 1, 1)]
 void eval_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
     uint level = params.level;
     uint spp = grid_len(level);
-    if (k >= (params.count * spp)) {
-        return;
+    if ((k < (params.count * spp))) {
+        uint patch_index = (k / spp);
+        uint s = (k % spp);
+        uint iu = grid_iu(s, level);
+        uint iv = grid_iv(s, level);
+        uint points = 0u;
+        points = 16u;
+        uint face = patch_faces[(params.first + patch_index)];
+        Sample result = eval_displaced_global(face, params.class_, (params.cp_base + (patch_index * points)), iu, iv, level);
+        uint at = ((params.out_base + k) * 6u);
+        samples[at] = result.position.x;
+        samples[(at + 1u)] = result.position.y;
+        samples[(at + 2u)] = result.position.z;
+        samples[(at + 3u)] = result.normal.x;
+        samples[(at + 4u)] = result.normal.y;
+        samples[(at + 5u)] = result.normal.z;
     }
-    uint patch_index = (k / spp);
-    uint s = (k % spp);
-    uint iu = grid_iu(s, level);
-    uint iv = grid_iv(s, level);
-    uint points = CONTROL_POINTS[params.class_];
-    uint cp_base = (params.cp_base + (patch_index * points));
-    float3 cp[KMAX];
-    for (uint i = 0u; i < KMAX; i += 1u) {
-        if (i < points) {
-            cp[i] = fetch_control_points((cp_base + i));
-        } else {
-            cp[i] = float3(0.0f, 0.0f, 0.0f);
-        }
-    }
-    Sample result = eval(cp, params.class_, 0u, iu, iv, level);
-    uint o = ((params.out_base + k) * 6u);
-    samples[o] = result.position.x;
-    samples[(o + 1u)] = result.position.y;
-    samples[(o + 2u)] = result.position.z;
-    samples[(o + 3u)] = result.normal.x;
-    samples[(o + 4u)] = result.normal.y;
-    samples[(o + 5u)] = result.normal.z;
 }
 
 // ---- tessellation pipeline: vs_main -> hs_main -> ds_main ----
@@ -932,7 +988,16 @@ DsOut ds_main(HsConstants c, float3 uv : SV_DomainLocation, const OutputPatch<Hs
 #else
     uint level = params.level;
 #endif
+#ifdef TESSGEN_DISPLACE
+    // Displaced: on the boundary the integer step with the owner's normal (from the
+    // global control-point buffer, filled by patch_main before the draw) and texture
+    // coordinate; inside, the raw point along its own normal (watertight.md Rules 4
+    // and 5).
+    uint face = patch_faces[(params.first + c.patch_id)];
+    Sample result = eval_domain_displaced_tess(cp, face, params.class_, 0u, uv.x, uv.y, uv.z, level);
+#else
     Sample result = eval_domain(cp, params.class_, 0u, uv.x, uv.y, uv.z, level);
+#endif
     o.position = mul(params.view_proj, float4(result.position, 1.0f));
     o.world = result.position;
     o.normal = result.normal;

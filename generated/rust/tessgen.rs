@@ -113,6 +113,10 @@ pub mod common {
         /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
         /// displacement step (every built-in scheme: quads and triangles).
         pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
+        /// Triangle schemes: `(inputs, cp, face, class, cp_base, x, y, z,
+        /// level)`, `eval_domain` plus the displacement step (what the
+        /// displacing GLSL/HLSL evaluation stages run), for parity checks.
+        pub eval_domain_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, f32, f32, f32, u32) -> Sample>,
         /// Adaptive tessellation on the instanced path (quad and triangle
         /// schemes).
         pub adaptive: Option<AdaptiveKernels>,
@@ -708,6 +712,7 @@ pub mod regular {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: None,
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
@@ -1353,6 +1358,7 @@ pub mod pccm {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: None,
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
@@ -1950,6 +1956,7 @@ pub mod acc {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: None,
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
@@ -2572,6 +2579,7 @@ pub mod gregory {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: None,
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
@@ -3194,6 +3202,7 @@ pub mod gregory_osd {
         eval: eval,
         eval_domain: None,
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: None,
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 4,
         grid_len: grid_len,
@@ -3641,6 +3650,30 @@ pub mod pn {
         return sample;
     }
     
+    /// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+    pub fn tessgen_height_at_domain(inputs: &Inputs, face: u32, x: f32, y: f32, z: f32) -> f32 {
+        let base: u32 = (face * 24u32);
+        let s: f32 = (((x * inputs.texcoords[((base + 0u32)) as usize]) + (y * inputs.texcoords[((base + 8u32)) as usize])) + (z * inputs.texcoords[((base + 16u32)) as usize]));
+        let t: f32 = (((x * inputs.texcoords[((base + 1u32)) as usize]) + (y * inputs.texcoords[((base + 9u32)) as usize])) + (z * inputs.texcoords[((base + 17u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch boundary (a coordinate exactly 0) eval_displaced at the integer grid point (round(y·level), round(z·level)), the owner's normal and texture coordinate like every other patch of the edge; inside, the raw point displaced along its own normal by the height at its interior texture coordinate (tessgen_height_at_domain).
+    pub fn eval_domain_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval_displaced(inputs, cp, face, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = eval_domain(cp, class, cp_base, x, y, z, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let h: f32 = tessgen_height_at_domain(inputs, face, x, y, z);
+            sample.position = tessgen_displace(sample.position, sample.normal, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "pn",
@@ -3653,6 +3686,7 @@ pub mod pn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: Some(eval_domain_displaced),
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,
@@ -4143,6 +4177,30 @@ pub mod stpn {
         return sample;
     }
     
+    /// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+    pub fn tessgen_height_at_domain(inputs: &Inputs, face: u32, x: f32, y: f32, z: f32) -> f32 {
+        let base: u32 = (face * 24u32);
+        let s: f32 = (((x * inputs.texcoords[((base + 0u32)) as usize]) + (y * inputs.texcoords[((base + 8u32)) as usize])) + (z * inputs.texcoords[((base + 16u32)) as usize]));
+        let t: f32 = (((x * inputs.texcoords[((base + 1u32)) as usize]) + (y * inputs.texcoords[((base + 9u32)) as usize])) + (z * inputs.texcoords[((base + 17u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch boundary (a coordinate exactly 0) eval_displaced at the integer grid point (round(y·level), round(z·level)), the owner's normal and texture coordinate like every other patch of the edge; inside, the raw point displaced along its own normal by the height at its interior texture coordinate (tessgen_height_at_domain).
+    pub fn eval_domain_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval_displaced(inputs, cp, face, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = eval_domain(cp, class, cp_base, x, y, z, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let h: f32 = tessgen_height_at_domain(inputs, face, x, y, z);
+            sample.position = tessgen_displace(sample.position, sample.normal, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "stpn",
@@ -4155,6 +4213,7 @@ pub mod stpn {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: Some(eval_domain_displaced),
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,
@@ -4596,6 +4655,30 @@ pub mod phong {
         return sample;
     }
     
+    /// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+    pub fn tessgen_height_at_domain(inputs: &Inputs, face: u32, x: f32, y: f32, z: f32) -> f32 {
+        let base: u32 = (face * 24u32);
+        let s: f32 = (((x * inputs.texcoords[((base + 0u32)) as usize]) + (y * inputs.texcoords[((base + 8u32)) as usize])) + (z * inputs.texcoords[((base + 16u32)) as usize]));
+        let t: f32 = (((x * inputs.texcoords[((base + 1u32)) as usize]) + (y * inputs.texcoords[((base + 9u32)) as usize])) + (z * inputs.texcoords[((base + 17u32)) as usize]));
+        return tessgen_height(inputs, s, t);
+    }
+    
+    /// eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch boundary (a coordinate exactly 0) eval_displaced at the integer grid point (round(y·level), round(z·level)), the owner's normal and texture coordinate like every other patch of the edge; inside, the raw point displaced along its own normal by the height at its interior texture coordinate (tessgen_height_at_domain).
+    pub fn eval_domain_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+        if (((x == 0.0f32) || (y == 0.0f32)) || (z == 0.0f32)) {
+            let iu: u32 = ((y * (level as f32)).round_ties_even() as u32);
+            let iv: u32 = ((z * (level as f32)).round_ties_even() as u32);
+            return eval_displaced(inputs, cp, face, class, cp_base, iu, iv, level);
+        }
+        let mut sample: Sample = eval_domain(cp, class, cp_base, x, y, z, level);
+        let scale: f32 = inputs.displace_info[(0u32) as usize];
+        if (scale != 0.0f32) {
+            let h: f32 = tessgen_height_at_domain(inputs, face, x, y, z);
+            sample.position = tessgen_displace(sample.position, sample.normal, (scale * h));
+        }
+        return sample;
+    }
+    
     /// Entry points of this scheme.
     pub const KERNELS: SchemeKernels = SchemeKernels {
         name: "phong",
@@ -4608,6 +4691,7 @@ pub mod phong {
         eval: eval,
         eval_domain: Some(eval_domain),
         eval_displaced: Some(eval_displaced),
+        eval_domain_displaced: Some(eval_domain_displaced),
         adaptive: Some(AdaptiveKernels { edge_level: patch_edge_level, eval: eval_adaptive, eval_displaced: eval_adaptive_displaced }),
         sides: 3,
         grid_len: grid_len,

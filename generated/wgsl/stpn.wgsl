@@ -797,6 +797,31 @@ fn eval_adaptive_displaced(face: u32, class_: u32, cp_base: u32, iu: u32, iv: u3
     return sample;
 }
 
+// Displacement height at an interior barycentric point (x, y, z) of triangle `face` (the tessellator's inner vertices, not grid points): each corner's interior texture coordinate (pair 4k of its 4), weighted by the raw barycentrics. The boundary never comes here (eval_domain_displaced takes the integer path there, watertight.md Rule 5).
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_height_at_domain(face: u32, x: f32, y: f32, z: f32) -> f32 {
+    let base: u32 = (face * 24u);
+    let s: f32 = (((x * texcoords[(base + 0u)]) + (y * texcoords[(base + 8u)])) + (z * texcoords[(base + 16u)]));
+    let t: f32 = (((x * texcoords[(base + 1u)]) + (y * texcoords[(base + 9u)])) + (z * texcoords[(base + 17u)]));
+    return tessgen_height(s, t);
+}
+
+// eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch boundary (a coordinate exactly 0) eval_displaced at the integer grid point (round(y·level), round(z·level)), the owner's normal and texture coordinate like every other patch of the edge; inside, the raw point displaced along its own normal by the height at its interior texture coordinate (tessgen_height_at_domain).
+fn eval_domain_displaced(face: u32, class_: u32, cp_base: u32, x: f32, y: f32, z: f32, level: u32) -> Sample {
+    if (((x == 0.0f) || (y == 0.0f)) || (z == 0.0f)) {
+        let iu: u32 = u32(round((y * f32(level))));
+        let iv: u32 = u32(round((z * f32(level))));
+        return eval_displaced(face, class_, cp_base, iu, iv, level);
+    }
+    var sample: Sample = eval_domain(class_, cp_base, x, y, z, level);
+    let scale: f32 = displace_info[0u];
+    if (scale != 0.0f) {
+        let h: f32 = tessgen_height_at_domain(face, x, y, z);
+        sample.position = tessgen_displace(sample.position, sample.normal, (scale * h));
+    }
+    return sample;
+}
+
 // ---- Entry points ----
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).

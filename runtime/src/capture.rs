@@ -171,27 +171,58 @@ impl TriangleCapture {
     pub fn max_deviation(&self, patches: &crate::cpu::Patches) -> Result<f32, usize> {
         let k = patches.scheme;
         let level = self.level;
+        self.max_deviation_from(|face, d| {
+            if k.sides == 3 {
+                return crate::cpu::eval_domain(patches, face, d, level);
+            }
+            let class = *patches.face_class.get(face)?;
+            let (a, b) = (
+                *patches.cp_offsets.get(face)? as usize,
+                *patches.cp_offsets.get(face + 1)? as usize,
+            );
+            let [iu, iv] = quad_grid_point(d, level);
+            Some((k.eval)(
+                patches.control_points.get(a..b)?,
+                class,
+                0,
+                iu,
+                iv,
+                level,
+            ))
+        })
+    }
+
+    /// [`Self::max_deviation`] of a displacing build
+    /// (`TESSGEN_DISPLACE`): the CPU runs the same displacement step at
+    /// the same point (triangles: `eval_domain_displaced(x, y, z, level)`;
+    /// quads: `eval_displaced(round(u·level), round(v·level), level)`),
+    /// with `data` built for `patches`' layout
+    /// ([`crate::cpu::displacement_data`], [`crate::cpu::displacement_data_tri`]).
+    pub fn max_deviation_displaced(
+        &self,
+        patches: &crate::cpu::Patches,
+        data: &crate::displace::DisplaceData,
+    ) -> Result<f32, usize> {
+        let k = patches.scheme;
+        let level = self.level;
+        self.max_deviation_from(|face, d| {
+            if k.sides == 3 {
+                return crate::cpu::eval_domain_displaced(patches, data, face, d, level);
+            }
+            let [iu, iv] = quad_grid_point(d, level);
+            crate::cpu::eval_displaced_at(patches, data, face, iu, iv, level)
+        })
+    }
+
+    /// The largest `|captured − cpu(face, domain)|` over all vertices.
+    fn max_deviation_from(
+        &self,
+        cpu: impl Fn(usize, [f32; 3]) -> Option<crate::kernels::common::Sample>,
+    ) -> Result<f32, usize> {
         let mut worst = 0.0f32;
         for (face, p) in self.patches.iter().enumerate() {
             for (d, pos) in p.domain.iter().zip(&p.positions) {
-                let s = if k.sides == 3 {
-                    crate::cpu::eval_domain(patches, face, *d, level).ok_or(face)?
-                } else {
-                    let class = *patches.face_class.get(face).ok_or(face)?;
-                    let (a, b) = (
-                        *patches.cp_offsets.get(face).ok_or(face)? as usize,
-                        *patches.cp_offsets.get(face + 1).ok_or(face)? as usize,
-                    );
-                    let to_int = |x: f32| (x * level as f32).round() as u32;
-                    (k.eval)(
-                        &patches.control_points[a..b],
-                        class,
-                        0,
-                        to_int(d[0]),
-                        to_int(d[1]),
-                        level,
-                    )
-                };
+                let s = cpu(face, *d).ok_or(face)?;
                 let dev = (s.position - *pos).length();
                 if dev.is_nan() {
                     // A NaN on either side is no agreement.
@@ -261,6 +292,13 @@ impl TriangleCapture {
         }
         s
     }
+}
+
+/// A quad domain point `(u, v, ·)` on the integer grid of `level`, as the
+/// evaluation stage rounds it.
+fn quad_grid_point(d: [f32; 3], level: u32) -> [u32; 2] {
+    let to_int = |x: f32| (x * level as f32).round() as u32;
+    [to_int(d[0]), to_int(d[1])]
 }
 
 #[cfg(test)]

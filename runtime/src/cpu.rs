@@ -279,6 +279,82 @@ pub fn eval_domain(patches: &Patches, face: usize, domain: [f32; 3], level: u32)
     Some(f(cp, class, 0, domain[0], domain[1], domain[2], level))
 }
 
+/// [`eval_domain`] with the displacement step, through the generated
+/// `eval_domain_displaced` (what the displacing GLSL/HLSL evaluation stages
+/// of triangle schemes run): on the patch boundary `eval_displaced` at the
+/// integer grid point (the owner's normal and texture coordinate), inside
+/// the raw point along its own normal. `data` must be built for this
+/// [`Patches`]' layout ([`displacement_data_tri`]). `None` for quad
+/// schemes or a face out of range.
+pub fn eval_domain_displaced(
+    patches: &Patches,
+    data: &DisplaceData,
+    face: usize,
+    domain: [f32; 3],
+    level: u32,
+) -> Option<Sample> {
+    let f = patches.scheme.eval_domain_displaced?;
+    let (class, cp_base) = face_patch(patches, face)?;
+    let inputs = displace_inputs(data);
+    Some(f(
+        &inputs,
+        &patches.control_points,
+        face as u32,
+        class,
+        cp_base,
+        domain[0],
+        domain[1],
+        domain[2],
+        level,
+    ))
+}
+
+/// Face `face`'s displaced sample at integer grid point `(iu, iv)` of
+/// `level`, through the generated `eval_displaced` (the owner's normal and
+/// texture coordinate on the boundary). `None` for a face out of range.
+pub fn eval_displaced_at(
+    patches: &Patches,
+    data: &DisplaceData,
+    face: usize,
+    iu: u32,
+    iv: u32,
+    level: u32,
+) -> Option<Sample> {
+    let f = patches.scheme.eval_displaced?;
+    let (class, cp_base) = face_patch(patches, face)?;
+    let inputs = displace_inputs(data);
+    Some(f(
+        &inputs,
+        &patches.control_points,
+        face as u32,
+        class,
+        cp_base,
+        iu,
+        iv,
+        level,
+    ))
+}
+
+/// Face `face`'s class and first control point in `patches`' global array.
+fn face_patch(patches: &Patches, face: usize) -> Option<(u32, u32)> {
+    Some((
+        *patches.face_class.get(face)?,
+        *patches.cp_offsets.get(face)?,
+    ))
+}
+
+/// The generated kernels' view of the displacement arrays.
+fn displace_inputs(data: &DisplaceData) -> Inputs<'_> {
+    Inputs {
+        texcoords: &data.texcoords,
+        owners: &data.owners,
+        displace_info: &data.info,
+        displace_map: &data.map.texels,
+        displace_width: data.map.width,
+        ..Default::default()
+    }
+}
+
 /// Evaluate every patch on a `level × level` grid.
 pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
     let kernels = patches.scheme;
@@ -344,14 +420,7 @@ pub fn evaluate_displaced(
     let Some(eval) = kernels.eval_displaced else {
         return Err(facet_error(kernels));
     };
-    let inputs = Inputs {
-        texcoords: &data.texcoords,
-        owners: &data.owners,
-        displace_info: &data.info,
-        displace_map: &data.map.texels,
-        displace_width: data.map.width,
-        ..Default::default()
-    };
+    let inputs = displace_inputs(data);
     evaluate_grid(patches, level, |f, class, iu, iv| {
         let cp_base = patches.cp_offsets[f];
         eval(

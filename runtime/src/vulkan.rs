@@ -839,9 +839,13 @@ pub struct VkMesh<'v> {
     framebuffer: vk::Framebuffer,
     modules: Vec<vk::ShaderModule>,
     vertex_pipeline: vk::Pipeline,
-    /// The compute patch stage (displacing builds only): fills the global
-    /// control-point buffer the evaluation stage reads owners from.
+    /// The compute patch stage (displacing builds, and
+    /// [`VkMesh::evaluate_compute`]): fills the global control-point buffer
+    /// the evaluation stage reads owners from.
     patch_pipeline: vk::Pipeline,
+    /// The compute evaluation `eval_main` ([`VkMesh::evaluate_compute`];
+    /// built on first use).
+    eval_pipeline: vk::Pipeline,
     draw_pipeline: vk::Pipeline,
     /// The displacement map to upload (taken from the [`Upload`]).
     displace_map: crate::displace::DisplaceMap,
@@ -879,11 +883,31 @@ impl<'v> VkMesh<'v> {
         let (class, cp_base) = upload.face_layout();
         let data = crate::displace::build(mesh, topo, &class, &cp_base, d)
             .map_err(cpu::TessError::from)?;
-        let mut options = options.clone();
-        if !options.defines.iter().any(|x| x == DISPLACE) {
-            options.defines.push(DISPLACE.into());
-        }
-        Self::build(vk, upload.with_displacement(&data), &options)
+        Self::build(vk, upload.with_displacement(&data), &displacing(options))
+    }
+
+    /// A triangle mesh for a triangle scheme with displacement: 12 texture
+    /// coordinates per triangle from `source` (the mesh `tri` was made
+    /// from, [`crate::displace::build_tri`]), owners in this upload's
+    /// layout, shaders built with [`DISPLACE`]. The harness runs the
+    /// compute patch stage into the global control-point buffer before the
+    /// draws; the evaluation stage's `eval_domain_displaced_tess` displaces
+    /// boundary points with the owner's normal and texture coordinate and
+    /// interior points with their own. Capture with
+    /// [`Self::evaluate_triangles`] (or [`Self::evaluate_adaptive`]).
+    pub fn new_tri_displaced(
+        vk: &'v Vulkan,
+        source: &crate::Mesh,
+        tri: &crate::trimesh::TriMesh,
+        scheme: &str,
+        d: &crate::displace::Displacement,
+        options: &Options,
+    ) -> Result<Self, VkError> {
+        let upload = Self::tri_upload(vk, tri, scheme, options)?;
+        let (class, cp_base) = upload.face_layout();
+        let data = crate::displace::build_tri(source, tri, &class, &cp_base, d)
+            .map_err(cpu::TessError::from)?;
+        Self::build(vk, upload.with_displacement(&data), &displacing(options))
     }
 
     /// Whether the shaders are built with [`DISPLACE`].
@@ -914,12 +938,23 @@ impl<'v> VkMesh<'v> {
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
+        let upload = Self::tri_upload(vk, mesh, scheme, options)?;
+        Self::build(vk, upload, options)
+    }
+
+    /// The upload of a triangle mesh, with the adaptive buffers if asked for.
+    fn tri_upload(
+        vk: &'v Vulkan,
+        mesh: &crate::trimesh::TriMesh,
+        scheme: &str,
+        options: &Options,
+    ) -> Result<Upload, VkError> {
         let mut upload = Upload::tri(mesh, scheme)?;
         if let Some(a) = &options.adaptive {
             let (ids, edges) = mesh.edge_ids();
             upload.buffers.extend(adaptive_buffers(vk, a, ids, edges)?);
         }
-        Self::build(vk, upload, options)
+        Ok(upload)
     }
 
     fn empty(vk: &'v Vulkan, upload: &Upload, options: &Options) -> Self {
@@ -945,6 +980,7 @@ impl<'v> VkMesh<'v> {
             modules: Vec::new(),
             vertex_pipeline: vk::Pipeline::null(),
             patch_pipeline: vk::Pipeline::null(),
+            eval_pipeline: vk::Pipeline::null(),
             draw_pipeline: vk::Pipeline::null(),
             displace_map: upload.displace_map.clone(),
         }
@@ -1310,6 +1346,7 @@ impl<'v> VkMesh<'v> {
                 match stage {
                     "comp" => format!("glsl/{s}_vertex_stage.comp"),
                     "patch" => format!("glsl/{s}_patch.comp"),
+                    "eval" => format!("glsl/{s}_eval.comp"),
                     other => format!("glsl/{s}.{other}"),
                 },
                 None,
@@ -1321,6 +1358,7 @@ impl<'v> VkMesh<'v> {
                     "tesc" => "hs_main",
                     "tese" => "ds_main",
                     "patch" => "patch_main",
+                    "eval" => "eval_main",
                     _ => "vertex_stage_main",
                 }),
             ),
@@ -1346,8 +1384,13 @@ impl<'v> VkMesh<'v> {
         } else {
             self.shader(stage)?
         };
-        // The compute patch stage is a compute shader like the vertex stage.
-        let glslang_stage = if stage == "patch" { "comp" } else { stage };
+        // The compute patch and evaluation stages are compute shaders like
+        // the vertex stage.
+        let glslang_stage = if matches!(stage, "patch" | "eval") {
+            "comp"
+        } else {
+            stage
+        };
         let words = compile(
             source,
             &file,
@@ -1368,43 +1411,37 @@ impl<'v> VkMesh<'v> {
             Some("hs_main") => c"hs_main",
             Some("ds_main") => c"ds_main",
             Some("patch_main") => c"patch_main",
+            Some("eval_main") => c"eval_main",
             Some(_) => c"vertex_stage_main",
         };
         Ok((m, name))
     }
 
+    /// A compute pipeline of the emitted `stage` ("comp": the vertex stage,
+    /// "patch", "eval").
+    fn compute_pipeline(&mut self, stage: &'static str) -> Result<vk::Pipeline, VkError> {
+        let (m, name) = self.module(stage)?;
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(m)
+            .name(name);
+        let ci = vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(self.layout);
+        Ok(unsafe {
+            self.vk
+                .device
+                .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
+        }
+        .map_err(|(_, e)| call("vkCreateComputePipelines")(e))?[0])
+    }
+
     fn pipelines(&mut self) -> Result<(), VkError> {
         if self.num_vertices > 0 {
-            let (m, name) = self.module("comp")?;
-            let stage = vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::COMPUTE)
-                .module(m)
-                .name(name);
-            let ci = vk::ComputePipelineCreateInfo::default()
-                .stage(stage)
-                .layout(self.layout);
-            self.vertex_pipeline = unsafe {
-                self.vk
-                    .device
-                    .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
-            }
-            .map_err(|(_, e)| call("vkCreateComputePipelines")(e))?[0];
+            self.vertex_pipeline = self.compute_pipeline("comp")?;
         }
         if self.displaced() {
-            let (m, name) = self.module("patch")?;
-            let stage = vk::PipelineShaderStageCreateInfo::default()
-                .stage(vk::ShaderStageFlags::COMPUTE)
-                .module(m)
-                .name(name);
-            let ci = vk::ComputePipelineCreateInfo::default()
-                .stage(stage)
-                .layout(self.layout);
-            self.patch_pipeline = unsafe {
-                self.vk
-                    .device
-                    .create_compute_pipelines(vk::PipelineCache::null(), &[ci], None)
-            }
-            .map_err(|(_, e)| call("vkCreateComputePipelines")(e))?[0];
+            self.patch_pipeline = self.compute_pipeline("patch")?;
         }
         let (vert, vn) = self.module("vert")?;
         let (tesc, cn) = self.module("tesc")?;
@@ -1511,6 +1548,12 @@ impl<'v> VkMesh<'v> {
         if !self.displaced() {
             return Ok(());
         }
+        self.patch_stage()
+    }
+
+    /// The compute patch stage, class by class, into the global
+    /// control-point buffer (binding 8).
+    fn patch_stage(&self) -> Result<(), VkError> {
         let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
         for c in &self.classes {
             let mut done = 0;
@@ -1581,28 +1624,67 @@ impl<'v> VkMesh<'v> {
             });
         }
         self.check_level(level)?;
-        let spp = (self.scheme.grid_len)(level) as u64;
-        let per_patch = spp * 24;
-        // Patches per readback chunk: within one storage binding and 256 MiB.
-        let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20);
-        if per_patch > cap {
-            return Err(VkError::Limit {
-                scheme: self.scheme.name.into(),
-                what: "bytes of samples of one patch (maxStorageBufferRange)",
-                needed: per_patch,
-                max: cap,
-            });
+        self.with_samples(level, |p0, n| self.draw_chunk(level, p0, n, u64::MAX))
+    }
+
+    /// Evaluate every patch at `level` with the emitted *compute* entries
+    /// instead of the tessellation pipeline (GLSL `<scheme>_patch.comp` and
+    /// `<scheme>_eval.comp`, HLSL `patch_main` and `eval_main`): the vertex
+    /// stage, the patch stage into the global control-point buffer, then
+    /// `eval_main` over each class range of the patches into the samples,
+    /// read back in face order — [`cpu::evaluate`]'s layout, quad and
+    /// triangle schemes alike. A displacing mesh ([`Self::new_displaced`],
+    /// [`Self::new_tri_displaced`]) displaces (`eval_displaced_global`).
+    /// Builds the two compute pipelines on first use.
+    pub fn evaluate_compute(&mut self, level: u32) -> Result<Tessellation, VkError> {
+        if level == 0 || level > cpu::MAX_LEVEL {
+            return Err(cpu::TessError::Level(level).into());
         }
-        let total = self.patch_faces.len() as u64;
-        let chunk = (cap / per_patch).min(total.max(1));
-        let samples = self.vk.buffer(
-            "samples",
-            chunk * per_patch,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-        )?;
-        let result = self.evaluate_into(level, spp, chunk, &samples);
-        samples.destroy(&self.vk.device);
-        result
+        if self.patch_pipeline == vk::Pipeline::null() {
+            self.patch_pipeline = self.compute_pipeline("patch")?;
+        }
+        if self.eval_pipeline == vk::Pipeline::null() {
+            self.eval_pipeline = self.compute_pipeline("eval")?;
+        }
+        self.vertex_stage()?;
+        self.patch_stage()?;
+        let spp = (self.scheme.grid_len)(level) as u64;
+        // Invocations of one dispatch: 64 per workgroup (a level-64 quad
+        // patch has 4,225 samples, far below).
+        let per_dispatch = 64 * self.vk.limits.max_compute_work_group_count_x.max(1) as u64;
+        self.with_samples(level, |p0, n| {
+            for c in &self.classes {
+                let mut lo = (c.first as u64).max(p0);
+                let hi = ((c.first + c.count) as u64).min(p0 + n);
+                while lo < hi {
+                    let count = (hi - lo).min((per_dispatch / spp).max(1));
+                    self.set_params([
+                        lo as u32,
+                        count as u32,
+                        c.class,
+                        c.cp_base + (lo as u32 - c.first) * c.points,
+                        level,
+                        (lo - p0) as u32,
+                    ]);
+                    let (pipe, layout, set) = (self.eval_pipeline, self.layout, self.set);
+                    let groups = (count * spp).div_ceil(64) as u32;
+                    self.vk.submit(|d, cb| unsafe {
+                        d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
+                        d.cmd_bind_descriptor_sets(
+                            cb,
+                            vk::PipelineBindPoint::COMPUTE,
+                            layout,
+                            0,
+                            &[set],
+                            &[],
+                        );
+                        d.cmd_dispatch(cb, groups, 1, 1);
+                    })?;
+                    lo += count;
+                }
+            }
+            Ok(())
+        })
     }
 
     fn check_level(&self, level: u32) -> Result<(), VkError> {
@@ -1787,12 +1869,48 @@ impl<'v> VkMesh<'v> {
         result
     }
 
-    fn evaluate_into(
+    /// A samples buffer of as many patches' grids at `level` as fit one
+    /// storage binding (and 256 MiB), bound at [`binding::SAMPLES`]; then
+    /// [`Self::read_samples`] with it.
+    fn with_samples(
+        &self,
+        level: u32,
+        run: impl Fn(u64, u64) -> Result<(), VkError>,
+    ) -> Result<Tessellation, VkError> {
+        let spp = (self.scheme.grid_len)(level) as u64;
+        let per_patch = spp * 24;
+        // Patches per readback chunk: within one storage binding and 256 MiB.
+        let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20);
+        if per_patch > cap {
+            return Err(VkError::Limit {
+                scheme: self.scheme.name.into(),
+                what: "bytes of samples of one patch (maxStorageBufferRange)",
+                needed: per_patch,
+                max: cap,
+            });
+        }
+        let total = self.patch_faces.len() as u64;
+        let chunk = (cap / per_patch).min(total.max(1));
+        let samples = self.vk.buffer(
+            "samples",
+            chunk * per_patch,
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+        )?;
+        let result = self.read_samples(level, spp, chunk, &samples, run);
+        samples.destroy(&self.vk.device);
+        result
+    }
+
+    /// Bind `samples`, let `run(p0, n)` write patches `p0 .. p0 + n` at
+    /// `(patch − p0)·spp` samples of 6 floats, chunk by chunk, and gather
+    /// them in face order.
+    fn read_samples(
         &self,
         level: u32,
         spp: u64,
         chunk: u64,
         samples: &Buf,
+        run: impl Fn(u64, u64) -> Result<(), VkError>,
     ) -> Result<Tessellation, VkError> {
         self.write_buffer(binding::SAMPLES, samples);
         let faces = self.patch_faces.len();
@@ -1806,7 +1924,7 @@ impl<'v> VkMesh<'v> {
             let n = chunk.min(faces as u64 - p0);
             // Unwritten samples stay NaN, so a missed write fails parity.
             samples.write(&nan);
-            self.draw_chunk(level, p0, n, u64::MAX)?;
+            run(p0, n)?;
             let floats = samples.read_f32((n * spp * 6) as usize);
             for (i, s) in floats.chunks_exact(6).enumerate() {
                 let patch = p0 + i as u64 / spp;
@@ -1848,6 +1966,7 @@ impl Drop for VkMesh<'_> {
         self.map_img.destroy(d);
         unsafe {
             d.destroy_pipeline(self.patch_pipeline, None);
+            d.destroy_pipeline(self.eval_pipeline, None);
         }
         for (_, b) in &self.buffers {
             b.destroy(d);
@@ -1943,9 +2062,60 @@ pub fn tessellate_tagged(
     m.evaluate_triangles(level).map(VkOutput::Triangles)
 }
 
+/// `options` with [`DISPLACE`] among its defines.
+fn displacing(options: &Options) -> Options {
+    let mut options = options.clone();
+    if !options.defines.iter().any(|x| x == DISPLACE) {
+        options.defines.push(DISPLACE.into());
+    }
+    options
+}
+
+/// [`tessellate_displaced`] for any built-in scheme: quad schemes as
+/// there, triangle schemes on [`cpu::tri_mesh`]`(mesh, split_quads, None)`
+/// ([`VkMesh::new_tri_displaced`], captured triangles). With
+/// [`Options::adaptive`] the draw is adaptive (captured triangles for both
+/// domains; `level` is then ignored).
+pub fn tessellate_displaced_any(
+    mesh: &crate::Mesh,
+    scheme: &str,
+    level: u32,
+    split_quads: bool,
+    d: &crate::displace::Displacement,
+    options: &Options,
+) -> Result<VkOutput, VkError> {
+    let kernels = cpu::scheme(scheme)?;
+    if options.adaptive.is_none() && (level == 0 || level > cpu::MAX_LEVEL) {
+        return Err(cpu::TessError::Level(level).into());
+    }
+    let vk = Vulkan::new()?;
+    let m = if kernels.sides == 4 {
+        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::from_array(*p))
+            .collect();
+        let m = VkMesh::new_displaced(&vk, mesh, &topo, &positions, kernels.name, d, options)?;
+        if options.adaptive.is_none() {
+            return m.evaluate(level).map(VkOutput::Grid);
+        }
+        m
+    } else {
+        let tri = cpu::tri_mesh(mesh, split_quads, None)?;
+        VkMesh::new_tri_displaced(&vk, mesh, &tri, kernels.name, d, options)?
+    };
+    if options.adaptive.is_some() {
+        m.evaluate_adaptive().map(VkOutput::Triangles)
+    } else {
+        m.evaluate_triangles(level).map(VkOutput::Triangles)
+    }
+}
+
 /// Like [`cpu::tessellate_displaced`] through the Vulkan tessellation
-/// pipeline (quad schemes): the emitted evaluation stage built with
-/// [`DISPLACE`] displaces every sample (see [`VkMesh::new_displaced`]).
+/// pipeline (quad schemes; any scheme through [`tessellate_displaced_any`]):
+/// the emitted evaluation stage built with [`DISPLACE`] displaces every
+/// sample (see [`VkMesh::new_displaced`]).
 pub fn tessellate_displaced(
     mesh: &crate::Mesh,
     scheme: &str,

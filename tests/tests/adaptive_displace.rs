@@ -15,10 +15,12 @@
 
 mod common;
 
+use common::{displacement, per_face_charts, seam_meshes as meshes};
+
 use glam::Vec3;
 use std::sync::OnceLock;
 use tessgen_runtime::adaptive::{self, Adaptive, AdaptiveTessellation, Metric, Partitioning};
-use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::displace::{Displacement, Ownership};
 use tessgen_runtime::gpu::{Gpu, GpuMesh};
 use tessgen_runtime::trimesh::TriMesh;
 use tessgen_runtime::{cpu, weld, Mesh, Topology};
@@ -29,48 +31,6 @@ const MAX_LEVEL: u32 = 16;
 fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
     GPU.get_or_init(|| Gpu::new().unwrap_or_else(|e| panic!("{e}")))
-}
-
-/// The map of `tests/displace.rs`: jumps between the cells of a 3×2 atlas
-/// and varies inside them, so both sides of every seam read different
-/// heights.
-fn displacement(ownership: Ownership, scale: f32) -> Displacement {
-    Displacement {
-        map: DisplaceMap::from_fn(48, 32, |s, t| {
-            let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
-            0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
-        }),
-        scale,
-        ownership,
-    }
-}
-
-/// Every face its own chart (every edge a seam), as in `tests/displace.rs`.
-fn per_face_charts(mut mesh: Mesh) -> Mesh {
-    let nf = mesh.num_faces();
-    let side = (nf as f32).sqrt().ceil() as usize;
-    mesh.texcoords.clear();
-    mesh.face_texcoords.clear();
-    for f in 0..nf {
-        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
-        let cell = 1.0 / side as f32;
-        let m = cell / 16.0;
-        for q in [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]] {
-            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
-            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
-        }
-    }
-    mesh
-}
-
-fn meshes() -> Vec<(&'static str, Mesh)> {
-    vec![
-        ("catmark_cube_uv", common::mesh("catmark_cube_uv")),
-        (
-            "catmark_toroidal_tet (charts)",
-            per_face_charts(common::mesh("catmark_toroidal_tet")),
-        ),
-    ]
 }
 
 /// One mesh prepared for a scheme: its edges' domain (quad topology or the

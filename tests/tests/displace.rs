@@ -6,50 +6,15 @@
 
 mod common;
 
+use common::{displacement, per_face_charts};
+
 use glam::Vec3;
-use tessgen_runtime::displace::{DisplaceData, DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::displace::{DisplaceData, Displacement, Ownership};
 use tessgen_runtime::{cpu, weld, Mesh, Topology};
 
 /// Quad schemes that apply to the cube (regular needs valence 4).
 const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
 const LEVELS: &[u32] = &[1, 2, 3, 7, 16];
-
-/// A map that jumps between the cells of the 3×2 atlas and varies inside
-/// them, so the two sides of every seam read different heights.
-fn map() -> DisplaceMap {
-    DisplaceMap::from_fn(48, 32, |s, t| {
-        let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
-        0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
-    })
-}
-
-fn displacement(ownership: Ownership) -> Displacement {
-    Displacement {
-        map: map(),
-        scale: 0.5,
-        ownership,
-    }
-}
-
-/// Give every face of `mesh` its own chart: face f is cell f of a square
-/// atlas (every edge a seam), corners in face order.
-fn per_face_charts(mut mesh: Mesh) -> Mesh {
-    let nf = mesh.num_faces();
-    let side = (nf as f32).sqrt().ceil() as usize;
-    mesh.texcoords.clear();
-    mesh.face_texcoords.clear();
-    for f in 0..nf {
-        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
-        let cell = 1.0 / side as f32;
-        let m = cell / 16.0;
-        let quad = [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]];
-        for q in quad {
-            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
-            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
-        }
-    }
-    mesh
-}
 
 fn cpu_displaced(mesh: &Mesh, scheme: &str, level: u32, d: &Displacement) -> cpu::Tessellation {
     cpu::tessellate_displaced(mesh, scheme, level, d).expect("displaced tessellation")
@@ -74,8 +39,9 @@ fn obj_texture_coordinates_are_read_per_corner() {
     assert_eq!(mesh.corner_texcoord(c), Some(mesh.texcoords[4]));
     // Without vt, displacement is a typed error naming the face and corner.
     let plain = common::mesh("catmark_cube");
-    let err = cpu::tessellate_displaced(&plain, "pccm", 2, &displacement(Ownership::LowestFace))
-        .unwrap_err();
+    let err =
+        cpu::tessellate_displaced(&plain, "pccm", 2, &displacement(Ownership::LowestFace, 0.5))
+            .unwrap_err();
     assert!(err.to_string().contains("face 0 corner 0"), "{err}");
 }
 
@@ -97,7 +63,7 @@ fn displacement_off_is_plain_evaluation_bit_for_bit() {
             // Scale 0 with real data is off too.
             let d = Displacement {
                 scale: 0.0,
-                ..displacement(Ownership::LowestFace)
+                ..displacement(Ownership::LowestFace, 0.5)
             };
             let data = cpu::displacement_data(&mesh, &topo, &patches, &d).unwrap();
             let zero = cpu::evaluate_displaced(&patches, level, &data).unwrap();
@@ -115,7 +81,7 @@ fn displaced_cube_with_uv_seams_welds_closed_on_the_cpu() {
             per_face_charts(common::mesh("catmark_toroidal_tet")),
         ),
     ];
-    let d = displacement(Ownership::LowestFace);
+    let d = displacement(Ownership::LowestFace, 0.5);
     for (name, mesh) in &meshes {
         for scheme in SCHEMES {
             for &level in LEVELS {
@@ -138,7 +104,7 @@ fn displaced_cube_with_uv_seams_welds_closed_on_the_cpu() {
 #[test]
 fn without_ownership_the_displaced_surface_cracks() {
     let mesh = common::mesh("catmark_cube_uv");
-    let d = displacement(Ownership::PerPatch);
+    let d = displacement(Ownership::PerPatch, 0.5);
     for scheme in SCHEMES {
         for level in [2, 7] {
             let report = weld::weld(&cpu_displaced(&mesh, scheme, level, &d));
@@ -177,7 +143,7 @@ mod wgpu_path {
                 for (ownership, closed) in
                     [(Ownership::LowestFace, true), (Ownership::PerPatch, false)]
                 {
-                    let d = displacement(ownership);
+                    let d = displacement(ownership, 0.5);
                     let gm = GpuMesh::new_displaced(&gpu, mesh, &topo, &positions, scheme, &d)
                         .expect("gpu mesh");
                     for level in [1, 3, 8] {
@@ -217,7 +183,8 @@ fn normal_and_texcoord_ownership_are_each_needed() {
         .collect();
     for scheme in SCHEMES {
         let patches = cpu::construct(&topo, &positions, cpu::scheme(scheme).unwrap()).unwrap();
-        let data = |o| cpu::displacement_data(&mesh, &topo, &patches, &displacement(o)).unwrap();
+        let data =
+            |o| cpu::displacement_data(&mesh, &topo, &patches, &displacement(o, 0.5)).unwrap();
         let (owned, own) = (data(Ownership::LowestFace), data(Ownership::PerPatch));
         let own_normals = DisplaceData {
             owners: own.owners.clone(),

@@ -7,59 +7,13 @@
 
 mod common;
 
-use tessgen_runtime::displace::{DisplaceData, DisplaceMap, Displacement, Ownership};
+use common::{displacement, seam_meshes as meshes};
+
+use tessgen_runtime::displace::{DisplaceData, Displacement, Ownership};
 use tessgen_runtime::{cpu, weld, Mesh};
 
 const SCHEMES: &[&str] = &["pn", "stpn", "phong"];
 const LEVELS: &[u32] = &[1, 3, 8];
-
-/// The quad tests' map: jumps between the cells of the 3×2 atlas and varies
-/// inside them, so the two sides of every seam read different heights.
-fn map() -> DisplaceMap {
-    DisplaceMap::from_fn(48, 32, |s, t| {
-        let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
-        0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
-    })
-}
-
-fn displacement(ownership: Ownership) -> Displacement {
-    Displacement {
-        map: map(),
-        scale: 0.5,
-        ownership,
-    }
-}
-
-/// Every face of `mesh` its own chart (cell f of a square atlas), so every
-/// edge — and after splitting, every quad's diagonal's two ends — sits on a
-/// seam except the diagonals themselves.
-fn per_face_charts(mut mesh: Mesh) -> Mesh {
-    let nf = mesh.num_faces();
-    let side = (nf as f32).sqrt().ceil() as usize;
-    mesh.texcoords.clear();
-    mesh.face_texcoords.clear();
-    for f in 0..nf {
-        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
-        let cell = 1.0 / side as f32;
-        let m = cell / 16.0;
-        let quad = [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]];
-        for q in quad.iter().take(mesh.face(f).len()) {
-            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
-            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
-        }
-    }
-    mesh
-}
-
-fn meshes() -> [(&'static str, Mesh); 2] {
-    [
-        ("catmark_cube_uv", common::mesh("catmark_cube_uv")),
-        (
-            "catmark_toroidal_tet (charts)",
-            per_face_charts(common::mesh("catmark_toroidal_tet")),
-        ),
-    ]
-}
 
 fn cpu_displaced(mesh: &Mesh, scheme: &str, level: u32, d: &Displacement) -> cpu::Tessellation {
     cpu::tessellate_displaced_any(mesh, scheme, level, true, d).expect("displaced tessellation")
@@ -76,7 +30,7 @@ fn max_offset(a: &cpu::Tessellation, b: &cpu::Tessellation) -> f32 {
 
 #[test]
 fn displaced_triangle_schemes_weld_closed_on_the_cpu() {
-    let d = displacement(Ownership::LowestFace);
+    let d = displacement(Ownership::LowestFace, 0.5);
     for (name, mesh) in &meshes() {
         for scheme in SCHEMES {
             for &level in LEVELS {
@@ -109,7 +63,7 @@ fn triangle_displacement_off_is_plain_evaluation_bit_for_bit() {
             assert_eq!(plain, off, "{scheme} L{level}");
             let d = Displacement {
                 scale: 0.0,
-                ..displacement(Ownership::LowestFace)
+                ..displacement(Ownership::LowestFace, 0.5)
             };
             let data = cpu::displacement_data_tri(&mesh, &tri, &patches, &d).unwrap();
             assert_eq!(data.texcoords.len(), 24 * tri.triangles.len());
@@ -122,7 +76,7 @@ fn triangle_displacement_off_is_plain_evaluation_bit_for_bit() {
 
 #[test]
 fn without_ownership_displaced_triangles_crack() {
-    let d = displacement(Ownership::PerPatch);
+    let d = displacement(Ownership::PerPatch, 0.5);
     for (name, mesh) in &meshes() {
         for scheme in SCHEMES {
             for level in [3, 8] {
@@ -147,9 +101,13 @@ fn triangle_texture_coordinates_come_from_the_source_faces() {
     let mesh = common::mesh("catmark_cube_uv");
     let tri = cpu::tri_mesh(&mesh, true, None).unwrap();
     let patches = cpu::construct_tri(&tri, cpu::scheme("pn").unwrap()).unwrap();
-    let data =
-        cpu::displacement_data_tri(&mesh, &tri, &patches, &displacement(Ownership::PerPatch))
-            .unwrap();
+    let data = cpu::displacement_data_tri(
+        &mesh,
+        &tri,
+        &patches,
+        &displacement(Ownership::PerPatch, 0.5),
+    )
+    .unwrap();
     // Triangle 1 = [v0, v2, v3] of face 0: its interior coordinates are
     // face 0's corners 0, 2, 3; per-patch ownership repeats them per corner.
     let c = mesh.face_offsets[0] as usize;
@@ -165,9 +123,14 @@ fn triangle_texture_coordinates_come_from_the_source_faces() {
         }
     }
     let plain = common::mesh("catmark_cube");
-    let err =
-        cpu::tessellate_displaced_any(&plain, "pn", 2, true, &displacement(Ownership::LowestFace))
-            .unwrap_err();
+    let err = cpu::tessellate_displaced_any(
+        &plain,
+        "pn",
+        2,
+        true,
+        &displacement(Ownership::LowestFace, 0.5),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("face 0 corner 0"), "{err}");
 }
 
@@ -185,7 +148,7 @@ mod wgpu_path {
                 for (ownership, closed) in
                     [(Ownership::LowestFace, true), (Ownership::PerPatch, false)]
                 {
-                    let d = displacement(ownership);
+                    let d = displacement(ownership, 0.5);
                     let gm =
                         GpuMesh::new_tri_displaced(&gpu, mesh, &tri, scheme, &d).expect("gpu mesh");
                     for &level in LEVELS {
@@ -227,7 +190,8 @@ fn triangle_ownership_halves() {
     let tri = cpu::tri_mesh(&mesh, true, None).unwrap();
     for scheme in SCHEMES {
         let patches = cpu::construct_tri(&tri, cpu::scheme(scheme).unwrap()).unwrap();
-        let data = |o| cpu::displacement_data_tri(&mesh, &tri, &patches, &displacement(o)).unwrap();
+        let data =
+            |o| cpu::displacement_data_tri(&mesh, &tri, &patches, &displacement(o, 0.5)).unwrap();
         let (owned, own) = (data(Ownership::LowestFace), data(Ownership::PerPatch));
         let own_normals = DisplaceData {
             owners: own.owners.clone(),

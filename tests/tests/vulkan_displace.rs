@@ -18,49 +18,15 @@
 
 mod common;
 
+use common::{displacement, seam_meshes};
+
 use glam::Vec3;
-use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::displace::{Displacement, Ownership};
 use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
 use tessgen_runtime::{cpu, weld, Mesh, Tessellation, Topology};
 
 const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
 const LEVELS: &[u32] = &[1, 3, 8];
-
-/// The map of tests/tests/displace.rs: it jumps between the cells of the
-/// 3×2 atlas, so the two sides of every seam read different heights.
-fn map() -> DisplaceMap {
-    DisplaceMap::from_fn(48, 32, |s, t| {
-        let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
-        0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
-    })
-}
-
-fn displacement(ownership: Ownership, scale: f32) -> Displacement {
-    Displacement {
-        map: map(),
-        scale,
-        ownership,
-    }
-}
-
-/// Every face its own chart (as in tests/tests/displace.rs).
-fn per_face_charts(mut mesh: Mesh) -> Mesh {
-    let nf = mesh.num_faces();
-    let side = (nf as f32).sqrt().ceil() as usize;
-    mesh.texcoords.clear();
-    mesh.face_texcoords.clear();
-    for f in 0..nf {
-        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
-        let cell = 1.0 / side as f32;
-        let m = cell / 16.0;
-        let quad = [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]];
-        for q in quad {
-            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
-            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
-        }
-    }
-    mesh
-}
 
 fn device() -> Vulkan {
     Vulkan::new().unwrap_or_else(|e| panic!("{e}"))
@@ -117,15 +83,8 @@ fn max_diff(a: &Tessellation, b: &Tessellation) -> f32 {
 #[test]
 fn displaced_tessellation_stages_weld_closed_and_match_the_cpu() {
     let vk = device();
-    let meshes = [
-        ("catmark_cube_uv", common::mesh("catmark_cube_uv")),
-        (
-            "catmark_toroidal_tet (charts)",
-            per_face_charts(common::mesh("catmark_toroidal_tet")),
-        ),
-    ];
     let d = displacement(Ownership::LowestFace, 0.5);
-    for (name, mesh) in &meshes {
+    for (name, mesh) in &seam_meshes() {
         let diag = common::bbox_diagonal(mesh);
         for scheme in SCHEMES {
             for language in Language::ALL {
@@ -254,6 +213,199 @@ fn adaptive_displaced_tessellation_welds_closed() {
             Ownership::PerPatch,
         );
         println!("adaptive negative control {scheme} glsl: {open} open edges");
+        assert!(open > 0, "{scheme}: per-patch ownership stayed closed");
+    }
+}
+
+const TRI_SCHEMES: &[&str] = &["pn", "stpn", "phong"];
+
+/// A triangle scheme's displacing harness on the triangle split of `mesh`,
+/// with the CPU's patches and displacement data of the same split (the
+/// parity reference).
+fn tri_displaced<'v>(
+    vk: &'v Vulkan,
+    mesh: &Mesh,
+    scheme: &str,
+    d: &Displacement,
+    options: &Options,
+) -> (
+    VkMesh<'v>,
+    cpu::Patches,
+    tessgen_runtime::displace::DisplaceData,
+) {
+    let tri = cpu::tri_mesh(mesh, true, None).expect("triangle split");
+    let kernels = cpu::scheme(scheme).expect("scheme");
+    let patches = cpu::construct_tri(&tri, kernels).expect("patches");
+    let data = cpu::displacement_data_tri(mesh, &tri, &patches, d).expect("displacement data");
+    let m = VkMesh::new_tri_displaced(vk, mesh, &tri, scheme, d, options)
+        .unwrap_or_else(|e| panic!("{scheme}: {e}"));
+    (m, patches, data)
+}
+
+/// Triangle schemes (`pn`, `stpn`, `phong`) in the displacing evaluation
+/// stage (`eval_domain_displaced_tess`): the tessellator's boundary
+/// vertices take the integer step with the owner's normal (from the global
+/// control-point buffer) and texture coordinate, its inner vertices their
+/// own. On the triangle split of both seam meshes, GLSL and HLSL, levels
+/// 1, 3, 8: the captured triangles weld closed, every captured vertex is
+/// within 1e-5 × diag of the CPU's `eval_domain_displaced` at the same
+/// domain point (the maximum is printed), and the surface moved.
+#[test]
+fn displaced_triangle_tessellation_stages_weld_closed_and_match_the_cpu() {
+    let vk = device();
+    let d = displacement(Ownership::LowestFace, 0.5);
+    for (name, mesh) in &seam_meshes() {
+        let diag = common::bbox_diagonal(mesh);
+        for scheme in TRI_SCHEMES {
+            for language in Language::ALL {
+                let (m, patches, data) =
+                    tri_displaced(&vk, mesh, scheme, &d, &Options::new(language));
+                for &level in LEVELS {
+                    let c = m.evaluate_triangles(level).expect("capture");
+                    let report = c.weld();
+                    let err = c
+                        .max_deviation_displaced(&patches, &data)
+                        .unwrap_or_else(|f| panic!("face {f}"))
+                        / diag;
+                    let moved = c
+                        .max_deviation(&patches)
+                        .unwrap_or_else(|f| panic!("face {f}"));
+                    println!(
+                        "| {scheme} | {} | {name} split | {level} | {} | {err:.1e} |",
+                        language.name(),
+                        report.open_edges
+                    );
+                    assert!(
+                        report.is_closed_manifold(),
+                        "{name} {scheme} {} L{level}: {report:?}",
+                        language.name()
+                    );
+                    assert!(
+                        err <= 1e-5,
+                        "{name} {scheme} {} L{level}: parity {err}",
+                        language.name()
+                    );
+                    assert!(
+                        moved > 0.01 * diag,
+                        "{name} {scheme} L{level}: not displaced"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Scale 0: the displacing triangle evaluation stage captures exactly the
+/// plain stage's vertices, bit for bit.
+#[test]
+fn scale_zero_triangle_stage_is_the_plain_stage_bit_for_bit() {
+    let vk = device();
+    let mesh = common::mesh("catmark_cube_uv");
+    let tri = cpu::tri_mesh(&mesh, true, None).expect("triangle split");
+    let d = displacement(Ownership::LowestFace, 0.0);
+    for scheme in TRI_SCHEMES {
+        for language in Language::ALL {
+            let plain = VkMesh::new_tri(&vk, &tri, scheme, &Options::new(language)).expect("plain");
+            let (zero, _, _) = tri_displaced(&vk, &mesh, scheme, &d, &Options::new(language));
+            for level in [1, 5] {
+                let a = plain.evaluate_triangles(level).unwrap();
+                let b = zero.evaluate_triangles(level).unwrap();
+                assert_eq!(a, b, "{scheme} {} L{level}", language.name());
+            }
+        }
+    }
+}
+
+/// Negative control: per-patch ownership in the triangle stages opens the
+/// weld (every edge of the split cube but the diagonals is a seam).
+#[test]
+fn without_ownership_the_displaced_triangle_stages_crack() {
+    let vk = device();
+    let mesh = common::mesh("catmark_cube_uv");
+    let d = displacement(Ownership::PerPatch, 0.5);
+    for scheme in TRI_SCHEMES {
+        for language in Language::ALL {
+            let (m, _, _) = tri_displaced(&vk, &mesh, scheme, &d, &Options::new(language));
+            for level in [1, 3, 8] {
+                let report = m.evaluate_triangles(level).unwrap().weld();
+                println!(
+                    "negative control {scheme} {} L{level}: {} open edges",
+                    language.name(),
+                    report.open_edges
+                );
+                assert!(
+                    report.open_edges > 0,
+                    "{scheme} {} L{level}: {report:?}",
+                    language.name()
+                );
+            }
+        }
+    }
+}
+
+/// Adaptive triangle stages with displacement: random per-edge factors,
+/// integer and fractional-odd partitioning, the split cube (a seam on every
+/// edge but the diagonals) welds closed and every captured vertex matches
+/// the CPU's `eval_domain_displaced` at the fixed-point domain point;
+/// per-patch ownership opens.
+#[test]
+fn adaptive_displaced_triangle_stages_weld_closed() {
+    use tessgen_runtime::adaptive::{self, Adaptive, Metric, Partitioning};
+    let vk = device();
+    let mesh = common::mesh("catmark_cube_uv");
+    let diag = common::bbox_diagonal(&mesh);
+    let tri = cpu::tri_mesh(&mesh, true, None).expect("triangle split");
+    let (_, edges) = tri.edge_ids();
+    let options = |language, partitioning| Options {
+        adaptive: Some(Adaptive {
+            metric: Metric::Buffer(adaptive::random_factors(edges, 0x7e55_6e12, 1.0, 12.0)),
+            partitioning,
+            min: 1.0,
+            max: 64.0,
+        }),
+        ..Options::new(language)
+    };
+    for scheme in ["pn", "phong"] {
+        for language in Language::ALL {
+            for p in [Partitioning::Integer, Partitioning::FractionalOdd] {
+                let d = displacement(Ownership::LowestFace, 0.5);
+                let (m, patches, data) =
+                    tri_displaced(&vk, &mesh, scheme, &d, &options(language, p));
+                let c = m.evaluate_adaptive().expect("adaptive capture");
+                let r = c.weld();
+                let err = c
+                    .max_deviation_displaced(&patches, &data)
+                    .unwrap_or_else(|f| panic!("face {f}"))
+                    / diag;
+                println!(
+                    "| {scheme} | {} | catmark_cube_uv split | adaptive {p:?} | {} triangles | {} | {err:.1e} |",
+                    language.name(),
+                    c.triangle_count(),
+                    r.open_edges
+                );
+                assert_eq!(
+                    (r.open_edges, r.overused_edges),
+                    (0, 0),
+                    "{scheme} {} {p:?}",
+                    language.name()
+                );
+                assert!(
+                    err <= 1e-5,
+                    "{scheme} {} {p:?}: parity {err}",
+                    language.name()
+                );
+            }
+        }
+        let d = displacement(Ownership::PerPatch, 0.5);
+        let (m, _, _) = tri_displaced(
+            &vk,
+            &mesh,
+            scheme,
+            &d,
+            &options(Language::Glsl, Partitioning::Integer),
+        );
+        let open = m.evaluate_adaptive().unwrap().weld().open_edges;
+        println!("adaptive triangle negative control {scheme} glsl: {open} open edges");
         assert!(open > 0, "{scheme}: per-patch ownership stayed closed");
     }
 }

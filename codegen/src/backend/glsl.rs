@@ -287,16 +287,6 @@ fn param(field: &str) -> String {
     format!("params.{}", ident(field))
 }
 
-/// The six floats of a captured sample, in `samples` order.
-const SAMPLE_FIELDS: [&str; 6] = [
-    "position.x",
-    "position.y",
-    "position.z",
-    "normal.x",
-    "normal.y",
-    "normal.z",
-];
-
 pub struct Writer<'a> {
     plan: &'a Plan,
     module: &'a Module,
@@ -409,6 +399,13 @@ impl<'a> Writer<'a> {
                 r
             }
             Stage::Tese => match (self.entries.eval_domain, &self.entries.tess_displaced) {
+                (
+                    Some(_),
+                    Some(TessDisplaced {
+                        eval_domain: Some(dd),
+                        ..
+                    }),
+                ) if self.displace => vec![FnRef::Local(*dd)],
                 (Some(d), _) => vec![FnRef::Local(d)],
                 (None, Some(t)) if self.displace => vec![
                     FnRef::Local(t.eval_displaced),
@@ -421,11 +418,7 @@ impl<'a> Writer<'a> {
                     FnRef::Local(self.entries.grid_index),
                 ],
             },
-            Stage::CompEval => std::iter::once(self.entries.eval)
-                .chain(self.entries.eval_displaced)
-                .chain(self.entries.grid)
-                .map(FnRef::Local)
-                .collect(),
+            Stage::CompEval => called(&self.entries.compute_eval),
             Stage::CompVertex => vec![FnRef::Local(self.entries.vertex_stage)],
         }
     }
@@ -516,9 +509,9 @@ impl<'a> Writer<'a> {
                 }
             }
             Stage::CompEval => {
-                add(by_name("samples"), true);
-                if self.entries.eval_displaced.is_some() {
-                    add(by_name("patch_faces"), false);
+                // The entry body's own: samples (written), patch_faces.
+                for (r, w) in self.entries.compute_eval.resources() {
+                    add(abi::binding_of(r).binding, w);
                 }
             }
             Stage::Tese => {
@@ -724,11 +717,9 @@ impl<'a> Writer<'a> {
             self.out
                 .push_str(&format!("#ifdef {}\n", Define::Displace.name()));
             self.line(
-                "// Displacement (quads): the global control-point buffer, filled by the compute",
+                "// Displacement: the global control-point buffer, filled by the compute patch",
             );
-            self.line(
-                "// patch stage (patch_main) before the draw, for the owner's evaluation, and the",
-            );
+            self.line("// stage (patch_main) before the draw, for the owner's evaluation, and the");
             self.line("// displacement data (watertight.md Rules 4 and 5).");
             for b in abi::BINDINGS {
                 if let Some((_, written)) = extra.get(&b.binding) {
@@ -858,8 +849,6 @@ impl<'a> Writer<'a> {
     fn main(&mut self) {
         let first = param("first");
         let count = param("count");
-        let level = param("level");
-        let class = param("class");
         let cp_base = param("cp_base");
         self.line("void main() {");
         self.indent += 1;
@@ -899,44 +888,9 @@ impl<'a> Writer<'a> {
                 });
             }
             Stage::CompEval => {
-                let [grid_len, grid_iu, grid_iv] =
-                    self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
-                self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("uint spp = {grid_len}({level});"));
-                self.line(&format!("if (k >= ({count} * spp)) {{"));
-                self.line("    return;");
-                self.line("}");
-                self.line("uint patch_index = (k / spp);");
-                self.line("uint s = (k % spp);");
-                self.line(&format!("uint iu = {grid_iu}(s, {level});"));
-                self.line(&format!("uint iv = {grid_iv}(s, {level});"));
-                // Control points per patch of the draw's class.
-                match self.entries.patches.as_slice() {
-                    [only] => self.line(&format!("uint points = {}u;", only.control_points)),
-                    _ => {
-                        self.line("uint points = 0u;");
-                        self.class_chain(&|_, p| format!("points = {}u;", p.control_points));
-                    }
-                }
-                // Quad schemes evaluate through the displacement step (a
-                // no-op, bit for bit, while displace_info[0] == 0).
-                let (eval, face_arg) = match self.entries.eval_displaced {
-                    Some(d) => {
-                        self.line(&format!(
-                            "uint face = patch_faces[({first} + patch_index)];"
-                        ));
-                        (self.fn_name(FnRef::Local(d)), "face, ")
-                    }
-                    None => (self.fn_name(FnRef::Local(self.entries.eval)), ""),
-                };
-                self.line(&format!(
-                    "{} result = {eval}({face_arg}{class}, ({cp_base} + (patch_index * points)), iu, iv, {level});",
-                    self.ty(&Ty::Struct(common::SAMPLE)),
-                ));
-                self.line(&format!("uint o = (({} + k) * 6u);", param("out_base")));
-                for (i, c) in SAMPLE_FIELDS.iter().enumerate() {
-                    self.line(&format!("samples[(o + {i}u)] = result.{c};"));
-                }
+                let body = &self.entries.compute_eval;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
         }
         self.indent -= 1;

@@ -39,7 +39,7 @@
 
 use super::abi::{self, Kind};
 use super::binop;
-use super::{header_lines, resources_of};
+use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::plan::*;
 use std::collections::HashSet;
@@ -501,14 +501,20 @@ impl<'a> Writer<'a> {
             self.line("    return s;");
             self.line("}");
         }
-        // `eval_displaced` evaluates owner patches at their cp_base in one
-        // control-point array, but HLSL's evaluation reads a patch-local
-        // array (`cp`), so it is not printed; the domain shader displaces
-        // through `eval_displaced_tess`, whose owner evaluation
-        // (`eval_global`) reads the global buffer (TESSGEN_DISPLACE).
-        let skip = match self.entries.eval_displaced {
-            Some(d) if std::ptr::eq(m, self.module) => d..d + 1,
-            _ => 0..0,
+        // Only what an entry point here calls: `eval_displaced` (and the
+        // functions built on it) evaluate owner patches at their cp_base in
+        // one control-point array, but HLSL's evaluation reads a
+        // patch-local array (`cp`); the domain shader displaces through
+        // `eval_displaced_tess`, whose owner evaluation (`eval_global`)
+        // reads the global buffer (TESSGEN_DISPLACE). The instanced path's
+        // adaptive functions have no HLSL entry either.
+        let skip: Vec<usize> = if std::ptr::eq(m, self.module) {
+            let used = self.used_functions();
+            (0..m.functions.len())
+                .filter(|i| !used.contains(i))
+                .collect()
+        } else {
+            Vec::new()
         };
         for (i, f) in m.functions.iter().enumerate() {
             if skip.contains(&i) {
@@ -517,6 +523,43 @@ impl<'a> Writer<'a> {
             self.line("");
             self.function(m, f);
         }
+    }
+
+    /// The scheme-module functions the entry points of this file reach:
+    /// the Plan's stage bodies ([`TessStages`], the compute vertex stage),
+    /// the patch functions and `eval`/grid functions the compute entries
+    /// call, and everything those call.
+    fn used_functions(&self) -> Vec<usize> {
+        let e = self.entries;
+        // The patch functions: `patch_main` calls them (printer text).
+        let mut todo: Vec<usize> = e.patches.iter().map(|p| p.function).collect();
+        for body in [
+            &e.tess.control,
+            &e.tess.evaluation,
+            &e.compute_vertex,
+            &e.compute_eval,
+        ] {
+            todo.extend(called(body).into_iter().filter_map(|r| match r {
+                FnRef::Local(i) => Some(i),
+                FnRef::Common(_) => None,
+            }));
+        }
+        let mut used = Vec::new();
+        while let Some(i) = todo.pop() {
+            if used.contains(&i) {
+                continue;
+            }
+            used.push(i);
+            todo.extend(
+                called(&self.module.functions[i])
+                    .into_iter()
+                    .filter_map(|r| match r {
+                        FnRef::Local(j) => Some(j),
+                        FnRef::Common(_) => None,
+                    }),
+            );
+        }
+        used
     }
 
     /// HLSL names of a function's locals: escaped, never shadowing a global,
@@ -847,22 +890,9 @@ impl<'a> Writer<'a> {
         format!("{}({cp}, {face}, 0u)", ident(&f.name))
     }
 
-    fn sample_fields(&self) -> (String, String) {
-        let s = &self.plan.common.structs[common::SAMPLE];
-        (ident(&s.fields[0].0), ident(&s.fields[1].0))
-    }
-
     fn compute_entries(&mut self) {
         let wg = abi::WORKGROUP_SIZE;
         let class = ident("class");
-        let eval = &self.module.functions[self.entries.eval];
-        let eval_name = ident(&eval.name);
-        let eval_ret = eval
-            .ret
-            .as_ref()
-            .map(|t| self.ty(t))
-            .unwrap_or_else(|| "void".into());
-        let (position, normal) = self.sample_fields();
         self.line("// ---- compute entry points ----");
         self.line("");
         self.line("// Vertex stage of vertices params.first .. params.first + params.count");
@@ -910,60 +940,18 @@ impl<'a> Writer<'a> {
         self.line(
             "// Evaluation: grid_len(level) samples per patch of params.first .. + params.count,",
         );
-        self.line("// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)),");
-        self.line("// written as 6 floats (position xyz, normal xyz) at samples[(params.out_base + k)·6].");
+        self.line("// sample s of a patch at (iu, iv) = (grid_iu(s), grid_iv(s)), through the");
+        self.line("// displacement step (eval_displaced_global: every patch from the global");
+        self.line(
+            "// control-point buffer), written as 6 floats at samples[(params.out_base + k)·6].",
+        );
         self.line(&format!("[numthreads({wg}, 1, 1)]"));
         self.line(&format!(
             "void {}(uint3 global_id : SV_DispatchThreadID) {{",
             abi::entry::EVAL
         ));
         self.indent += 1;
-        self.line("uint k = global_id.x;");
-        let [grid_len, grid_iu, grid_iv] = self
-            .entries
-            .grid
-            .map(|g| ident(&self.module.functions[g].name));
-        self.line("uint level = params.level;");
-        self.line(&format!("uint spp = {grid_len}(level);"));
-        self.line("if (k >= (params.count * spp)) {");
-        self.line("    return;");
-        self.line("}");
-        self.line("uint patch_index = (k / spp);");
-        self.line("uint s = (k % spp);");
-        self.line(&format!("uint iu = {grid_iu}(s, level);"));
-        self.line(&format!("uint iv = {grid_iv}(s, level);"));
-        self.line(&format!("uint points = CONTROL_POINTS[params.{class}];"));
-        self.line("uint cp_base = (params.cp_base + (patch_index * points));");
-        self.line("float3 cp[KMAX];");
-        self.line("for (uint i = 0u; i < KMAX; i += 1u) {");
-        self.line("    if (i < points) {");
-        self.line("        cp[i] = fetch_control_points((cp_base + i));");
-        self.line("    } else {");
-        self.line("        cp[i] = float3(0.0f, 0.0f, 0.0f);");
-        self.line("    }");
-        self.line("}");
-        self.line(&format!(
-            "{eval_ret} result = {eval_name}(cp, params.{class}, 0u, iu, iv, level);"
-        ));
-        self.line("uint o = ((params.out_base + k) * 6u);");
-        for (i, f) in [
-            format!("{position}.x"),
-            format!("{position}.y"),
-            format!("{position}.z"),
-            format!("{normal}.x"),
-            format!("{normal}.y"),
-            format!("{normal}.z"),
-        ]
-        .iter()
-        .enumerate()
-        {
-            let at = if i == 0 {
-                "o".to_string()
-            } else {
-                format!("(o + {i}u)")
-            };
-            self.line(&format!("samples[{at}] = result.{f};"));
-        }
+        self.tess_body(&entries.compute_eval, "patch_id");
         self.indent -= 1;
         self.line("}");
     }

@@ -254,6 +254,10 @@ pub struct SchemeKernels {
     /// `(inputs, cp, face, class, cp_base, iu, iv, level)`: `eval` plus the
     /// displacement step (every built-in scheme: quads and triangles).
     pub eval_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, u32, u32, u32) -> Sample>,
+    /// Triangle schemes: `(inputs, cp, face, class, cp_base, x, y, z,
+    /// level)`, `eval_domain` plus the displacement step (what the
+    /// displacing GLSL/HLSL evaluation stages run), for parity checks.
+    pub eval_domain_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, f32, f32, f32, u32) -> Sample>,
     /// Adaptive tessellation on the instanced path (quad and triangle
     /// schemes).
     pub adaptive: Option<AdaptiveKernels>,
@@ -321,6 +325,13 @@ pub struct SchemeKernels {
                 m.functions[d].name
             )),
             None => self.line("    eval_displaced: None,"),
+        }
+        match e.eval_domain_displaced {
+            Some(d) => self.line(&format!(
+                "    eval_domain_displaced: Some({}),",
+                m.functions[d].name
+            )),
+            None => self.line("    eval_domain_displaced: None,"),
         }
         match e.adaptive {
             Some(a) => self.line(&format!(

@@ -79,3 +79,58 @@ pub fn bbox_diagonal(mesh: &Mesh) -> f32 {
     }
     (hi - lo).length()
 }
+
+/// The displacement tests' map: it jumps between the cells of a 3×2 atlas
+/// and varies inside them, so the two sides of every texture seam read
+/// different heights (a crack shows unless ownership holds).
+pub fn seam_map() -> tessgen_runtime::displace::DisplaceMap {
+    tessgen_runtime::displace::DisplaceMap::from_fn(48, 32, |s, t| {
+        let cell = (s * 3.0).floor() + 3.0 * (t * 2.0).floor();
+        0.05 * cell + 0.1 * (9.0 * s).sin() * (7.0 * t).cos()
+    })
+}
+
+/// A displacement by [`seam_map`].
+pub fn displacement(
+    ownership: tessgen_runtime::displace::Ownership,
+    scale: f32,
+) -> tessgen_runtime::displace::Displacement {
+    tessgen_runtime::displace::Displacement {
+        map: seam_map(),
+        scale,
+        ownership,
+    }
+}
+
+/// Every face of `mesh` its own chart (cell f of a square atlas), so every
+/// edge is a texture seam (after a triangle split, every edge but the
+/// quads' diagonals).
+pub fn per_face_charts(mut mesh: Mesh) -> Mesh {
+    let nf = mesh.num_faces();
+    let side = (nf as f32).sqrt().ceil() as usize;
+    mesh.texcoords.clear();
+    mesh.face_texcoords.clear();
+    for f in 0..nf {
+        let (cx, cy) = ((f % side) as f32, (f / side) as f32);
+        let cell = 1.0 / side as f32;
+        let m = cell / 16.0;
+        let quad = [[m, m], [cell - m, m], [cell - m, cell - m], [m, cell - m]];
+        for q in quad.iter().take(mesh.face(f).len()) {
+            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
+            mesh.texcoords.push([cx * cell + q[0], cy * cell + q[1]]);
+        }
+    }
+    mesh
+}
+
+/// The seam meshes of the displacement tests: `catmark_cube_uv` (a seam on
+/// every edge) and `catmark_toroidal_tet` with a chart per face.
+pub fn seam_meshes() -> Vec<(&'static str, Mesh)> {
+    vec![
+        ("catmark_cube_uv", mesh("catmark_cube_uv")),
+        (
+            "catmark_toroidal_tet (charts)",
+            per_face_charts(mesh("catmark_toroidal_tet")),
+        ),
+    ]
+}
