@@ -83,12 +83,47 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
         background: [1.0, 1.0, 1.0, 1.0],
         wireframe: args.wireframe,
     };
-    let img = mesh.render(&opts).map_err(|e| e.to_string())?;
+    let img = match &args.adaptive {
+        None => mesh.render(&opts),
+        Some(arg) => {
+            use tessgen_runtime::adaptive::{self, Adaptive, Metric, Partitioning};
+            let max_level = crate::power_of_two_level(args.max_factor);
+            let (_, edges) = adaptive::edge_ids(&topo);
+            let metric = match arg.clone() {
+                crate::AdaptiveArg::Random { seed, lo, hi } => {
+                    Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
+                }
+                crate::AdaptiveArg::Distance(k) => Metric::Distance {
+                    eye: opts.camera.eye,
+                    scale: k,
+                },
+                crate::AdaptiveArg::Screen(px) => Metric::Screen {
+                    view_proj: opts.camera.view_proj(w as f32 / h as f32),
+                    viewport: [w as f32, h as f32],
+                    pixels_per_segment: px,
+                },
+            };
+            let a = Adaptive {
+                metric,
+                partitioning: Partitioning::Integer,
+                min: 1.0,
+                max: max_level as f32,
+            };
+            mesh.render_adaptive(&opts, &topo, &a, max_level)
+        }
+    }
+    .map_err(|e| e.to_string())?;
     img.save_png(&args.out).map_err(|e| e.to_string())?;
     eprintln!(
-        "tessgen: rendered {} patches at level {} on {} → {} ({w}x{h})",
+        "tessgen: rendered {} patches {} on {} → {} ({w}x{h})",
         topo.corners.len(),
-        args.level,
+        match args.adaptive {
+            None => format!("at level {}", args.level),
+            Some(_) => format!(
+                "adaptively (levels up to {}, GPU-driven indirect draws)",
+                crate::power_of_two_level(args.max_factor)
+            ),
+        },
         gpu.info.name,
         args.out.display()
     );

@@ -63,7 +63,7 @@ struct CompareArgs {
 
 /// Render a mesh's smooth surface offscreen to a PNG with the generated WGSL (ordinary patches orange, extraordinary blue).
 #[derive(Args, Debug)]
-struct RenderArgs {
+pub(crate) struct RenderArgs {
     /// Input OBJ mesh (closed, all quads).
     mesh: PathBuf,
     /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
@@ -89,6 +89,12 @@ struct RenderArgs {
         allow_hyphen_values = true
     )]
     camera: String,
+    /// Adaptive tessellation instead of --level, drawn GPU-driven (indirect draws of the level buckets the GPU builds): `random:SEED[:LO:HI]`, `distance:K` (from this render's eye) or `screen:PX` (projected length in this image over PX pixels per segment).
+    #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
+    adaptive: Option<AdaptiveArg>,
+    /// Largest adaptive factor, rounded down to a power of two (at most 64).
+    #[arg(long, value_name = "F", default_value_t = 64.0, requires = "adaptive")]
+    max_factor: f32,
 }
 
 /// Time construction and evaluation per level (median of several runs, warm-up excluded), like Table 4 of the PCCM paper.
@@ -245,7 +251,7 @@ struct TessellateArgs {
 
 /// `--adaptive`: which per-edge metric.
 #[derive(Clone, Debug)]
-enum AdaptiveArg {
+pub(crate) enum AdaptiveArg {
     Random { seed: u64, lo: f32, hi: f32 },
     Distance(f32),
     Screen(f32),
@@ -610,6 +616,16 @@ fn adaptive_metric(
     }
 }
 
+/// `--max-factor` rounded down to a power of two, within 1 ..= MAX_LEVEL:
+/// the instanced path's largest bucket level.
+pub(crate) fn power_of_two_level(max_factor: f32) -> u32 {
+    let mut max_level = 1u32;
+    while max_level * 2 <= max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
+        max_level *= 2;
+    }
+    max_level
+}
+
 /// The instanced adaptive path's input (`--backend cpu|wgpu`): the mesh
 /// whose edges are numbered (quad topology, or for triangle schemes the
 /// triangle mesh, `--split-quads`, crease `--tags` for stpn), positions,
@@ -671,10 +687,7 @@ fn instanced_adaptive(
         .iter()
         .map(|p| glam::Vec3::from_array(*p))
         .collect();
-    let mut max_level = 1u32;
-    while max_level * 2 <= args.max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
-        max_level *= 2;
-    }
+    let max_level = power_of_two_level(args.max_factor);
     let adaptive = tessgen_runtime::adaptive::Adaptive {
         metric: adaptive_metric(domain.edges().edge_ids().1, &positions, args),
         partitioning: Partitioning::Integer,

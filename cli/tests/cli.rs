@@ -871,3 +871,52 @@ fn tessellate_adaptive_with_displacement() {
         assert!(stdout(&o).contains("NOT watertight"), "{}", all(&o));
     }
 }
+
+/// PNG width and height from the IHDR chunk (bytes 16..24).
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = std::fs::read(path).expect("png written");
+    assert_eq!(&b[1..4], b"PNG", "{} is not a PNG", path.display());
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+/// `render`, uniform and `--adaptive` (GPU-driven buckets drawn with
+/// indirect draws, every metric), writes a PNG of the asked size;
+/// `--max-factor` needs `--adaptive`.
+#[test]
+fn render_uniform_and_adaptive() {
+    let tmp = TempDir::new("render");
+    let cube = mesh("catmark_cube.obj");
+    for (k, extra) in [
+        vec!["--level", "4"],
+        vec!["--adaptive", "random:3:1:16", "--max-factor", "16"],
+        vec!["--adaptive", "distance:8"],
+        vec!["--adaptive", "screen:12", "--wireframe"],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = tmp.path().join(format!("r{k}.png"));
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "render".as_ref(),
+            cube.as_os_str(),
+            "--size".as_ref(),
+            "96x64".as_ref(),
+            "--out".as_ref(),
+            out.as_os_str(),
+        ];
+        args.extend(extra.iter().map(|s| std::ffi::OsStr::new(*s)));
+        let o = tessgen(args);
+        assert_ok(&o);
+        assert_eq!(png_size(&out), (96, 64), "{extra:?}");
+    }
+    let o = tessgen([
+        "render".as_ref(),
+        cube.as_os_str(),
+        "--max-factor".as_ref(),
+        "8".as_ref(),
+        "--out".as_ref(),
+        tmp.path().join("x.png").as_os_str(),
+    ]);
+    assert_exit(&o, 2);
+}

@@ -116,6 +116,9 @@ struct Params {
 // binding 28: GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
 [[vk::binding(28, 0)]] RWStructuredBuffer<uint> bucket_dispatch : register(u28);
 
+// binding 29: GPU-driven adaptive buckets: draw_indexed_indirect arguments (index count of the bucket level's grid, instance count = the slot's patches, first index 0, base vertex 0, first instance 0), 5 u32 per bucket slot, written by adaptive_plan_main; a renderer draws slot b with eval_adaptive_indirect_vs
+[[vk::binding(29, 0)]] RWStructuredBuffer<uint> bucket_draw : register(u29);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -200,16 +203,6 @@ float3 tessgen_normalize(float3 x) {
     return x;
 }
 
-// Cubic Bézier point and derivative by symmetric de Casteljau: every lerp is `x·l + y·r`.
-Curve tessgen_cubic(float3 b0, float3 b1, float3 b2, float3 b3, float l, float r) {
-    float3 c0 = ((b0 * l) + (b1 * r));
-    float3 c1 = ((b1 * l) + (b2 * r));
-    float3 c2 = ((b2 * l) + (b3 * r));
-    float3 d0 = ((c0 * l) + (c1 * r));
-    float3 d1 = ((c1 * l) + (c2 * r));
-    return make_Curve(((d0 * l) + (d1 * r)), ((d1 - d0) * 3.0f));
-}
-
 // Point `i/level` along the cubic boundary curve `b0..b3`. The two patches of an edge call this with reversed points and `level - i`; both weights come from integers, so every lerp is `x·l + y·r` on one side and `y·r + x·l` on the other: the same bits. Corners return the corner point itself.
 precise float3 tessgen_edge(float3 b0, float3 b1, float3 b2, float3 b3, uint i, uint level) {
     if ((i == 0u)) {
@@ -273,75 +266,6 @@ precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edg
         factor = adaptive[24u];
     }
     return factor;
-}
-
-// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
-precise float tessgen_edge_factor_runtime(float3 a, float3 b, uint va, uint vb, uint edge) {
-    precise float3 p = a;
-    precise float3 q = b;
-    if ((vb < va)) {
-        p = b;
-        q = a;
-    }
-    precise float factor = 1.0f;
-    if ((adaptive[25u] == 2.0f)) {
-        factor = edge_factors[edge];
-    } else {
-        if ((adaptive[25u] == 1.0f)) {
-            precise float3 d = (q - p);
-            precise float3 mid = ((p + q) * 0.5f);
-            precise float dist = sqrt(dot((mid - float3(adaptive[16u], adaptive[17u], adaptive[18u])), (mid - float3(adaptive[16u], adaptive[17u], adaptive[18u]))));
-            if ((dist > 0.0f)) {
-                factor = ((adaptive[19u] * sqrt(dot(d, d))) / dist);
-            } else {
-                factor = adaptive[24u];
-            }
-        } else {
-            precise float wp = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), p) + adaptive[15u]);
-            precise float wq = (dot(float3(adaptive[3u], adaptive[7u], adaptive[11u]), q) + adaptive[15u]);
-            if (((wp > 0.0f) && (wq > 0.0f))) {
-                precise float dx = ((((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), q) + adaptive[12u]) / wq) - ((dot(float3(adaptive[0u], adaptive[4u], adaptive[8u]), p) + adaptive[12u]) / wp)) * (adaptive[20u] * 0.5f));
-                precise float dy = ((((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), q) + adaptive[13u]) / wq) - ((dot(float3(adaptive[1u], adaptive[5u], adaptive[9u]), p) + adaptive[13u]) / wp)) * (adaptive[21u] * 0.5f));
-                factor = (sqrt(((dx * dx) + (dy * dy))) / adaptive[22u]);
-            } else {
-                factor = adaptive[24u];
-            }
-        }
-    }
-    if ((factor >= adaptive[23u])) {
-    } else {
-        factor = adaptive[23u];
-    }
-    if ((factor > adaptive[24u])) {
-        factor = adaptive[24u];
-    }
-    return factor;
-}
-
-// Power-of-two level of an edge: the smallest 2^k >= factor, clamped to max_level (a power of two). A function of the factor alone, so both patches of an edge get the same level. A bounded loop (16 doublings) instead of a while: every language prints it alike; a NaN factor compares false and gives 1.
-uint tessgen_edge_level(float factor, uint max_level) {
-    uint level = 1u;
-    for (uint step_ = 0u; step_ < 16u; step_ += 1u) {
-        if (((float(level) < factor) && (level < max_level))) {
-            level = (level * 2u);
-        }
-    }
-    return level;
-}
-
-// Bucket of a patch: the largest of its four edge levels (all powers of two, so each divides it). Patches of one bucket and class are one instanced draw.
-uint tessgen_bucket_level(uint l0, uint l1, uint l2, uint l3) {
-    uint bucket = l0;
-    if ((l1 > bucket)) {
-        bucket = l1;
-    }
-    if ((l2 > bucket)) {
-        bucket = l2;
-    }
-    if ((l3 > bucket)) {
-        bucket = l3;
-    }
-    return bucket;
 }
 
 // ---- module `phong` ----

@@ -118,6 +118,9 @@ struct Params {
 // GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
 @group(0) @binding(28) var<storage, read_write> bucket_dispatch: array<u32>;
 
+// GPU-driven adaptive buckets: draw_indexed_indirect arguments (index count of the bucket level's grid, instance count = the slot's patches, first index 0, base vertex 0, first instance 0), 5 u32 per bucket slot, written by adaptive_plan_main; a renderer draws slot b with eval_adaptive_indirect_vs
+@group(0) @binding(29) var<storage, read_write> bucket_draw: array<u32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -966,8 +969,9 @@ fn adaptive_count_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample
-// (prefix sums of count and count·grid_len(2^(slot % 16))) and the indirect dispatch arguments
-// (x = min(workgroups, 32768), y = the rest) into bucket_list and bucket_dispatch.
+// (prefix sums of count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments
+// (x = min(workgroups, 32768), y = the rest) and the indexed indirect draw arguments
+// (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.
 @compute @workgroup_size(64)
 fn adaptive_plan_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k: u32 = gid.x;
@@ -991,6 +995,12 @@ fn adaptive_plan_main(@builtin(global_invocation_id) gid: vec3<u32>) {
         bucket_dispatch[(3u * b)] = x;
         bucket_dispatch[((3u * b) + 1u)] = y;
         bucket_dispatch[((3u * b) + 2u)] = 1u;
+        let lb: u32 = (1u << (b % 16u));
+        bucket_draw[(5u * b)] = (3u * (lb * lb));
+        bucket_draw[((5u * b) + 1u)] = n;
+        bucket_draw[((5u * b) + 2u)] = 0u;
+        bucket_draw[((5u * b) + 3u)] = 0u;
+        bucket_draw[((5u * b) + 4u)] = 0u;
         entry = (entry + n);
         first_sample = (first_sample + (n * spp));
     }
@@ -1048,5 +1058,26 @@ fn eval_adaptive_indirect_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     samples[(o + 3u)] = result.normal.x;
     samples[(o + 4u)] = result.normal.y;
     samples[(o + 5u)] = result.normal.z;
+}
+
+// GPU-driven buckets 4, drawn: one draw_indexed_indirect per slot out_base (bucket_draw's
+// arguments) of the slot's level grid, instance inst = entry inst of the slot (header in
+// bucket_patches, entries after it: first = the number of slots).
+@vertex
+fn eval_adaptive_indirect_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {
+    let h: u32 = (4u * params.out_base);
+    let iu: u32 = grid_iu(vi, params.level);
+    let iv: u32 = grid_iv(vi, params.level);
+    let e: u32 = ((4u * params.first) + (6u * (bucket_patches[(h + 1u)] + inst)));
+    let cp: u32 = bucket_patches[(e + 1u)];
+    let face: u32 = patch_faces[bucket_patches[e]];
+    let result: Sample = eval_adaptive_displaced(face, params.class_, cp, iu, iv, params.level, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);
+    var out: VsOut;
+    out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));
+    out.world_position = result.position;
+    out.normal = result.normal;
+    out.patch_class = params.class_;
+    out.uv = (vec2<f32>(f32(iu), f32(iv)) / f32(params.level));
+    return out;
 }
 

@@ -18,6 +18,49 @@ pub use crate::upload::ClassRange;
 use crate::upload::{binding, params_bytes, vec3_bytes, Upload, UploadError, PARAMS_SIZE};
 use wgpu::naga;
 
+/// Bucket slots per class range of the GPU-driven adaptive buffers (slot
+/// `16r + j`: class range r, bucket `2^j`; `backend::wgsl::BUCKET_SLOTS`).
+pub(crate) const SLOTS: u32 = 16;
+
+/// How one compute run of a phase is dispatched: direct with x workgroups,
+/// or indirect from the byte offset of its slot's arguments.
+pub(crate) enum Run {
+    Direct(u32),
+    Indirect(u64),
+}
+
+/// The buffers of one GPU-driven adaptive run (see
+/// [`GpuMesh::evaluate_adaptive_gpu_driven`]).
+pub(crate) struct Buckets {
+    face_edges: wgpu::Buffer,
+    edge_factors: wgpu::Buffer,
+    params: wgpu::Buffer,
+    levels: wgpu::Buffer,
+    list: wgpu::Buffer,
+    dispatch: wgpu::Buffer,
+    pub(crate) draw: wgpu::Buffer,
+    pub(crate) slots: u32,
+    list_words: u64,
+}
+
+impl Buckets {
+    /// The per-call bindings: the edge inputs, the levels, the lists
+    /// (also as `bucket_patches`, what the evaluation and the draws read)
+    /// and the indirect arguments.
+    pub(crate) fn bindings(&self) -> [(u32, &wgpu::Buffer); 8] {
+        [
+            (binding::FACE_EDGES, &self.face_edges),
+            (binding::EDGE_FACTORS, &self.edge_factors),
+            (binding::ADAPTIVE, &self.params),
+            (binding::PATCH_LEVELS, &self.levels),
+            (binding::BUCKET_LIST, &self.list),
+            (binding::BUCKET_DISPATCH, &self.dispatch),
+            (binding::BUCKET_DRAW, &self.draw),
+            (binding::BUCKET_PATCHES, &self.list),
+        ]
+    }
+}
+
 /// Errors of the GPU path.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -501,7 +544,7 @@ impl<'g> GpuMesh<'g> {
     /// has the adaptive kernels, the mesh is of the scheme's domain
     /// (`Domain`) and the uploaded one (`MeshMismatch`) — and the edge
     /// inputs (factors, face edges, params).
-    fn adaptive_inputs(
+    pub(crate) fn adaptive_inputs(
         &self,
         mesh: crate::adaptive::AdaptiveMesh<'_>,
         a: &crate::adaptive::Adaptive,
@@ -569,7 +612,7 @@ impl<'g> GpuMesh<'g> {
 
     /// [`GpuMesh::bind_group`] with per-call buffers (`extra`, by binding)
     /// taking precedence over the mesh's own.
-    fn bind_group_with(
+    pub(crate) fn bind_group_with(
         &self,
         entry: &str,
         layout: &wgpu::BindGroupLayout,
@@ -1087,70 +1130,25 @@ impl<'g> GpuMesh<'g> {
         a: &crate::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
-        use crate::upload::{f32_bytes, u32_bytes};
-        const SLOTS: u32 = 16;
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let faces = self.patch_faces.len();
         let dev = &self.gpu.device;
-        let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
+        let b = self.bucket_buffers(&inp)?;
+        let slots = b.slots;
         let patches = faces as u64;
-        let slots = SLOTS * self.classes.len() as u32;
         let max_spp = (self.scheme.grid_len)(max_level) as u64;
-        let list_words = 4 * slots as u64 + 6 * patches;
         let sample_bytes = (patches * max_spp * 24).max(24);
-        check(&self.limits, "patch_levels", patches * 20)?;
-        check(&self.limits, "bucket_list", list_words * 4)?;
         check(
             &self.limits,
             "samples (every patch at the largest level)",
             sample_bytes,
         )?;
-        let face_edges = storage(
-            "face_edges",
-            &u32_bytes(&inp.face_edges),
-            wgpu::BufferUsages::empty(),
-        );
-        let edge_factors = storage(
-            "edge_factors",
-            &f32_bytes(&inp.edge_factors),
-            wgpu::BufferUsages::empty(),
-        );
-        let params_buf = storage(
-            "adaptive",
-            &f32_bytes(&inp.params),
-            wgpu::BufferUsages::empty(),
-        );
-        let levels_buf = storage(
-            "patch_levels",
-            &vec![0u8; patches as usize * 20],
-            wgpu::BufferUsages::COPY_SRC,
-        );
-        let list_buf = storage(
-            "bucket_list",
-            &vec![0u8; list_words as usize * 4],
-            wgpu::BufferUsages::COPY_SRC,
-        );
-        let dispatch_buf = storage(
-            "bucket_dispatch",
-            &vec![0u8; slots as usize * 12],
-            wgpu::BufferUsages::INDIRECT,
-        );
         let samples = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("samples"),
             size: sample_bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let extra = [
-            (binding::FACE_EDGES, &face_edges),
-            (binding::EDGE_FACTORS, &edge_factors),
-            (binding::ADAPTIVE, &params_buf),
-            (binding::PATCH_LEVELS, &levels_buf),
-            (binding::BUCKET_LIST, &list_buf),
-            (binding::BUCKET_DISPATCH, &dispatch_buf),
-            (binding::BUCKET_PATCHES, &list_buf),
-        ];
-        let pipe = |entry: &str| self.compute_pipeline(entry);
         let staging = |label: &'static str, size: u64| {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -1160,14 +1158,154 @@ impl<'g> GpuMesh<'g> {
             })
         };
         let levels_read = staging("patch_levels readback", patches * 20);
-        let list_read = staging("bucket_list readback", list_words * 4);
+        let list_read = staging("bucket_list readback", b.list_words * 4);
         let samples_read = staging("samples readback", sample_bytes);
-        // (entry, params, x workgroups or the indirect offset of the slot).
-        enum Run {
-            Direct(u32),
-            Indirect(u64),
+        let mut phases = self.bucket_phases(max_level, slots);
+        let mut evals = Vec::new();
+        for (slot, class, level) in self.bucket_slots(max_level) {
+            evals.push((
+                self.slot_params(Mat4::IDENTITY, slots, class, level, slot, 0),
+                Run::Indirect(12 * slot as u64),
+            ));
         }
-        let mut phases: Vec<(&str, Vec<(wgpu::Buffer, Run)>)> = Vec::new();
+        phases.push(("eval_adaptive_indirect_main", evals));
+        self.gpu.scoped(|| -> Result<(), GpuError> {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("adaptive, GPU-driven"),
+            });
+            self.encode_phases(&mut enc, &phases, &b, Some(&samples))?;
+            enc.copy_buffer_to_buffer(&b.levels, 0, &levels_read, 0, patches * 20);
+            enc.copy_buffer_to_buffer(&b.list, 0, &list_read, 0, b.list_words * 4);
+            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, sample_bytes);
+            self.gpu.queue.submit([enc.finish()]);
+            Ok(())
+        })??;
+        let lv = self.read_words(&levels_read)?;
+        let list = self.read_words(&list_read)?;
+        let floats = self.read(&samples_read)?;
+        let (levels, edge_levels, offsets) = self.face_levels(&lv);
+        let total = offsets[faces];
+        let mut positions = vec![Vec3::ZERO; total];
+        let mut normals = vec![Vec3::ZERO; total];
+        for b in 0..slots as usize {
+            let (n, first, sample) = (
+                list[4 * b] as usize,
+                list[4 * b + 1] as usize,
+                list[4 * b + 2] as usize,
+            );
+            let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as usize;
+            for m in 0..n {
+                let e = 4 * slots as usize + 6 * (first + m);
+                let face = self.patch_faces[list[e] as usize] as usize;
+                for s in 0..spp {
+                    let f = &floats[6 * (sample + m * spp + s)..][..6];
+                    positions[offsets[face] + s] = Vec3::new(f[0], f[1], f[2]);
+                    normals[offsets[face] + s] = Vec3::new(f[3], f[4], f[5]);
+                }
+            }
+        }
+        Ok(crate::adaptive::AdaptiveTessellation {
+            sides: self.scheme.sides,
+            levels,
+            edge_levels,
+            offsets,
+            positions,
+            normals,
+        })
+    }
+
+    /// The buffers of the GPU-driven buckets for the edge inputs `inp`
+    /// (`patch_levels`, `bucket_list` with its header of 4 u32 per slot,
+    /// the indirect dispatch and draw arguments), checked against the
+    /// binding limit.
+    pub(crate) fn bucket_buffers(
+        &self,
+        inp: &crate::adaptive::EdgeInputs,
+    ) -> Result<Buckets, GpuError> {
+        use crate::upload::{f32_bytes, u32_bytes};
+        let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
+        let patches = self.patch_faces.len() as u64;
+        let slots = SLOTS * self.classes.len() as u32;
+        let list_words = 4 * slots as u64 + 6 * patches;
+        check(&self.limits, "patch_levels", patches * 20)?;
+        check(&self.limits, "bucket_list", list_words * 4)?;
+        let zeros = |words: u64| vec![0u8; words as usize * 4];
+        Ok(Buckets {
+            face_edges: storage(
+                "face_edges",
+                &u32_bytes(&inp.face_edges),
+                wgpu::BufferUsages::empty(),
+            ),
+            edge_factors: storage(
+                "edge_factors",
+                &f32_bytes(&inp.edge_factors),
+                wgpu::BufferUsages::empty(),
+            ),
+            params: storage(
+                "adaptive",
+                &f32_bytes(&inp.params),
+                wgpu::BufferUsages::empty(),
+            ),
+            levels: storage(
+                "patch_levels",
+                &zeros(5 * patches),
+                wgpu::BufferUsages::COPY_SRC,
+            ),
+            list: storage(
+                "bucket_list",
+                &zeros(list_words),
+                wgpu::BufferUsages::COPY_SRC,
+            ),
+            dispatch: storage(
+                "bucket_dispatch",
+                &zeros(3 * slots as u64),
+                wgpu::BufferUsages::INDIRECT,
+            ),
+            draw: storage(
+                "bucket_draw",
+                &zeros(5 * slots as u64),
+                wgpu::BufferUsages::INDIRECT,
+            ),
+            slots,
+            list_words,
+        })
+    }
+
+    /// Every bucket slot up to `max_level`: `(slot 16r + j, class of range
+    /// r, level 2^j)`.
+    pub(crate) fn bucket_slots(&self, max_level: u32) -> Vec<(u32, u32, u32)> {
+        let mut out = Vec::new();
+        for (r, c) in self.classes.iter().enumerate() {
+            let mut j = 0;
+            while (1u32 << j) <= max_level && j < SLOTS {
+                out.push((SLOTS * r as u32 + j, c.class, 1 << j));
+                j += 1;
+            }
+        }
+        out
+    }
+
+    /// The Params of slot `slot`'s evaluation or draw: entries after the
+    /// header of `slots` slots (`first`), the slot in `out_base`.
+    pub(crate) fn slot_params(
+        &self,
+        view_proj: Mat4,
+        slots: u32,
+        class: u32,
+        level: u32,
+        slot: u32,
+        flags: u32,
+    ) -> wgpu::Buffer {
+        self.params(view_proj, slots, 0, class, 0, level, slot, flags)
+    }
+
+    /// Steps 1–4 of the GPU-driven buckets (classify, count, plan, scatter)
+    /// as `(entry, [(params, run)])`.
+    pub(crate) fn bucket_phases(
+        &self,
+        max_level: u32,
+        slots: u32,
+    ) -> Vec<(&'static str, Vec<(wgpu::Buffer, Run)>)> {
         let prm = |first, count, class, cp_base, level, out_base| {
             self.params_buffer(&params_bytes(
                 Mat4::IDENTITY,
@@ -1179,6 +1317,7 @@ impl<'g> GpuMesh<'g> {
                 out_base,
             ))
         };
+        let mut phases = Vec::new();
         let chunk = self.chunk(1) as u32;
         let mut classify = Vec::new();
         for c in &self.classes {
@@ -1221,81 +1360,40 @@ impl<'g> GpuMesh<'g> {
             vec![(prm(0, slots, 0, 0, 0, 0), Run::Direct(1))],
         ));
         phases.push(("adaptive_scatter_main", per_range(slots)));
-        let mut evals = Vec::new();
-        for (r, c) in self.classes.iter().enumerate() {
-            let mut j = 0;
-            while (1u32 << j) <= max_level {
-                let b = SLOTS * r as u32 + j;
-                evals.push((
-                    prm(slots, 0, c.class, 0, 1 << j, b),
-                    Run::Indirect(12 * b as u64),
-                ));
-                j += 1;
-            }
-        }
-        phases.push(("eval_adaptive_indirect_main", evals));
-        self.gpu.scoped(|| -> Result<(), GpuError> {
-            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("adaptive, GPU-driven"),
+        phases
+    }
+
+    /// Record compute `phases` into `enc`, each run with the bucket
+    /// buffers `b` bound (and `samples`).
+    pub(crate) fn encode_phases(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        phases: &[(&'static str, Vec<(wgpu::Buffer, Run)>)],
+        b: &Buckets,
+        samples: Option<&wgpu::Buffer>,
+    ) -> Result<(), GpuError> {
+        let extra = b.bindings();
+        for (entry, runs) in phases {
+            let pipeline = self.compute_pipeline(entry)?;
+            let layout = pipeline.get_bind_group_layout(0);
+            let groups: Vec<wgpu::BindGroup> = runs
+                .iter()
+                .map(|(p, _)| self.bind_group_with(entry, &layout, p, samples, &extra))
+                .collect();
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(entry),
+                timestamp_writes: None,
             });
-            for (entry, runs) in &phases {
-                let pipeline = pipe(entry)?;
-                let layout = pipeline.get_bind_group_layout(0);
-                let groups: Vec<wgpu::BindGroup> = runs
-                    .iter()
-                    .map(|(p, _)| self.bind_group_with(entry, &layout, p, Some(&samples), &extra))
-                    .collect();
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(entry),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&pipeline);
-                for ((_, run), group) in runs.iter().zip(&groups) {
-                    pass.set_bind_group(0, group, &[]);
-                    match run {
-                        Run::Direct(x) => pass.dispatch_workgroups(*x, 1, 1),
-                        Run::Indirect(at) => pass.dispatch_workgroups_indirect(&dispatch_buf, *at),
-                    }
-                }
-            }
-            enc.copy_buffer_to_buffer(&levels_buf, 0, &levels_read, 0, patches * 20);
-            enc.copy_buffer_to_buffer(&list_buf, 0, &list_read, 0, list_words * 4);
-            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, sample_bytes);
-            self.gpu.queue.submit([enc.finish()]);
-            Ok(())
-        })??;
-        let lv = self.read_words(&levels_read)?;
-        let list = self.read_words(&list_read)?;
-        let floats = self.read(&samples_read)?;
-        let (levels, edge_levels, offsets) = self.face_levels(&lv);
-        let total = offsets[faces];
-        let mut positions = vec![Vec3::ZERO; total];
-        let mut normals = vec![Vec3::ZERO; total];
-        for b in 0..slots as usize {
-            let (n, first, sample) = (
-                list[4 * b] as usize,
-                list[4 * b + 1] as usize,
-                list[4 * b + 2] as usize,
-            );
-            let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as usize;
-            for m in 0..n {
-                let e = 4 * slots as usize + 6 * (first + m);
-                let face = self.patch_faces[list[e] as usize] as usize;
-                for s in 0..spp {
-                    let f = &floats[6 * (sample + m * spp + s)..][..6];
-                    positions[offsets[face] + s] = Vec3::new(f[0], f[1], f[2]);
-                    normals[offsets[face] + s] = Vec3::new(f[3], f[4], f[5]);
+            pass.set_pipeline(&pipeline);
+            for ((_, run), group) in runs.iter().zip(&groups) {
+                pass.set_bind_group(0, group, &[]);
+                match run {
+                    Run::Direct(x) => pass.dispatch_workgroups(*x, 1, 1),
+                    Run::Indirect(at) => pass.dispatch_workgroups_indirect(&b.dispatch, *at),
                 }
             }
         }
-        Ok(crate::adaptive::AdaptiveTessellation {
-            sides: self.scheme.sides,
-            levels,
-            edge_levels,
-            offsets,
-            positions,
-            normals,
-        })
+        Ok(())
     }
 
     /// Read back the control points (class-sorted layout, see [`ClassRange`]).

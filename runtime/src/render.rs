@@ -119,23 +119,164 @@ impl Image {
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// One draw of [`GpuMesh::render_with`]: a bind group, which index buffer,
+/// and the counts (direct) or the indirect arguments.
+enum Draw<'a> {
+    Direct {
+        group: wgpu::BindGroup,
+        pattern: usize,
+        instances: u32,
+    },
+    Indirect {
+        group: wgpu::BindGroup,
+        pattern: usize,
+        args: &'a wgpu::Buffer,
+        offset: u64,
+    },
+}
+
 impl GpuMesh<'_> {
-    /// Render the surface offscreen.
+    /// Render the surface offscreen: one instanced draw of `eval_vs` per
+    /// facet class at the uniform `opts.level`.
     pub fn render(&self, opts: &RenderOptions) -> Result<Image, GpuError> {
+        let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
+        let indices = if self.scheme.sides == 3 {
+            crate::trimesh::tri_grid_triangles(level).concat()
+        } else {
+            pattern::cache_friendly_indices(level, 20)
+        };
+        let count = indices.len() as u32;
+        self.render_with(
+            opts,
+            "eval_vs",
+            vec![indices],
+            |_| Ok(()),
+            |layout, view_proj| {
+                // One instanced draw per facet class (patches are sorted by class).
+                let mut draws = Vec::new();
+                for c in &self.classes {
+                    if c.count == 0 {
+                        continue;
+                    }
+                    let p = self.params(
+                        view_proj,
+                        c.first,
+                        c.count,
+                        c.class,
+                        c.cp_base,
+                        level,
+                        0,
+                        u32::from(opts.wireframe),
+                    );
+                    draws.push(Draw::Direct {
+                        group: self.bind_group("eval_vs", layout, &p, None),
+                        pattern: 0,
+                        instances: c.count,
+                    });
+                }
+                (draws, count)
+            },
+        )
+    }
+
+    /// Render adaptive tessellation with GPU-driven buckets: the classify,
+    /// count, plan and scatter passes of
+    /// [`GpuMesh::evaluate_adaptive_gpu_driven`] build the bucket lists and,
+    /// per bucket slot (class range, level `2^j`), `draw_indexed_indirect`
+    /// arguments (`bucket_draw`: the level's grid, one instance per
+    /// patch); then one indirect draw of `eval_adaptive_indirect_vs` per
+    /// slot up to `max_level`, with that level's index buffer. Nothing is
+    /// read back before the image: the host never learns the buckets.
+    /// Boundary samples are snapped onto each edge's own level, so the
+    /// rasterized surface has no T-junction cracks (`opts.level` is
+    /// unused; displaced on a mesh uploaded with displacement).
+    pub fn render_adaptive<'m>(
+        &self,
+        opts: &RenderOptions,
+        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<Image, GpuError> {
+        let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
+        let b = self.bucket_buffers(&inp)?;
+        let phases = self.bucket_phases(max_level, b.slots);
+        let slots = self.bucket_slots(max_level);
+        // One index buffer per level 2^j: exactly the cells of the grid
+        // (the plan pass writes 6·L² (quads) or 3·L² (triangles) indices).
+        let levels: Vec<u32> = (0..crate::gpu::SLOTS)
+            .map(|j| 1u32 << j)
+            .take_while(|&l| l <= max_level)
+            .collect();
+        let patterns: Vec<Vec<u32>> = levels
+            .iter()
+            .map(|&l| {
+                if self.scheme.sides == 3 {
+                    crate::trimesh::tri_grid_triangles(l).concat()
+                } else {
+                    pattern::scanline_indices(l)
+                }
+            })
+            .collect();
+        self.render_with(
+            opts,
+            "eval_adaptive_indirect_vs",
+            patterns,
+            |enc| self.encode_phases(enc, &phases, &b, None),
+            |layout, view_proj| {
+                let extra = b.bindings();
+                let draws = slots
+                    .iter()
+                    .map(|&(slot, class, level)| {
+                        let p = self.slot_params(
+                            view_proj,
+                            b.slots,
+                            class,
+                            level,
+                            slot,
+                            u32::from(opts.wireframe),
+                        );
+                        Draw::Indirect {
+                            group: self.bind_group_with(
+                                "eval_adaptive_indirect_vs",
+                                layout,
+                                &p,
+                                None,
+                                &extra,
+                            ),
+                            pattern: level.trailing_zeros() as usize,
+                            args: &b.draw,
+                            offset: 20 * slot as u64,
+                        }
+                    })
+                    .collect();
+                (draws, 0)
+            },
+        )
+    }
+
+    /// The render pipeline of vertex entry `vs` with `shade_fs`, `pre`
+    /// recorded before the render pass (compute passes), then the draws
+    /// `make(layout, view_proj)` returns (with the index count of direct
+    /// draws) over the index buffers `patterns`; the image read back.
+    fn render_with<'a>(
+        &self,
+        opts: &RenderOptions,
+        vs: &str,
+        patterns: Vec<Vec<u32>>,
+        pre: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
+        make: impl FnOnce(&wgpu::BindGroupLayout, Mat4) -> (Vec<Draw<'a>>, u32),
+    ) -> Result<Image, GpuError> {
         let gpu = self.gpu();
         let dev = &gpu.device;
         let (w, h) = (opts.width.max(1), opts.height.max(1));
-        let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
         let view_proj = opts.camera.view_proj(w as f32 / h as f32);
-        let indices = pattern::cache_friendly_indices(level, 20);
-        let index_bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        gpu.scoped(|| {
+        gpu.scoped(|| -> Result<(wgpu::Buffer, u32), GpuError> {
             let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some("tessgen render"),
                 layout: None,
                 vertex: wgpu::VertexState {
                     module: self.module(),
-                    entry_point: Some("eval_vs"),
+                    entry_point: Some(vs),
                     compilation_options: Default::default(),
                     buffers: &[],
                 },
@@ -166,13 +307,20 @@ impl GpuMesh<'_> {
                 multiview_mask: None,
                 cache: None,
             });
-            let index_buffer = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("refinement pattern"),
-                size: index_bytes.len() as u64,
-                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            gpu.queue.write_buffer(&index_buffer, 0, &index_bytes);
+            let index_buffers: Vec<wgpu::Buffer> = patterns
+                .iter()
+                .map(|indices| {
+                    let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("refinement pattern"),
+                        size: (bytes.len() as u64).max(4),
+                        usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    gpu.queue.write_buffer(&buf, 0, &bytes);
+                    buf
+                })
+                .collect();
             let extent = wgpu::Extent3d {
                 width: w,
                 height: h,
@@ -197,29 +345,11 @@ impl GpuMesh<'_> {
             let depth = target(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
             let color_view = color.create_view(&Default::default());
             let depth_view = depth.create_view(&Default::default());
-            // One instanced draw per facet class (patches are sorted by class).
-            let mut draws = Vec::new();
-            for c in &self.classes {
-                if c.count == 0 {
-                    continue;
-                }
-                let p = self.params(
-                    view_proj,
-                    c.first,
-                    c.count,
-                    c.class,
-                    c.cp_base,
-                    level,
-                    0,
-                    u32::from(opts.wireframe),
-                );
-                let group =
-                    self.bind_group("eval_vs", &pipeline.get_bind_group_layout(0), &p, None);
-                draws.push((group, c.count));
-            }
+            let (draws, index_count) = make(&pipeline.get_bind_group_layout(0), view_proj);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("render"),
             });
+            pre(&mut enc)?;
             {
                 let [r, g, b, a] = opts.background;
                 let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -246,10 +376,34 @@ impl GpuMesh<'_> {
                     multiview_mask: None,
                 });
                 pass.set_pipeline(&pipeline);
-                pass.set_index_buffer(index_buffer.slice(..), wgpu::IndexFormat::Uint32);
-                for (group, count) in &draws {
-                    pass.set_bind_group(0, group, &[]);
-                    pass.draw_indexed(0..indices.len() as u32, 0, 0..*count);
+                for d in &draws {
+                    match d {
+                        Draw::Direct {
+                            group,
+                            pattern,
+                            instances,
+                        } => {
+                            pass.set_index_buffer(
+                                index_buffers[*pattern].slice(..),
+                                wgpu::IndexFormat::Uint32,
+                            );
+                            pass.set_bind_group(0, group, &[]);
+                            pass.draw_indexed(0..index_count, 0, 0..*instances);
+                        }
+                        Draw::Indirect {
+                            group,
+                            pattern,
+                            args,
+                            offset,
+                        } => {
+                            pass.set_index_buffer(
+                                index_buffers[*pattern].slice(..),
+                                wgpu::IndexFormat::Uint32,
+                            );
+                            pass.set_bind_group(0, group, &[]);
+                            pass.draw_indexed_indirect(args, *offset);
+                        }
+                    }
                 }
             }
             let row = (4 * w).div_ceil(256) * 256;
@@ -277,8 +431,8 @@ impl GpuMesh<'_> {
                 extent,
             );
             gpu.queue.submit([enc.finish()]);
-            (readback, row)
-        })
+            Ok((readback, row))
+        })?
         .and_then(|(readback, row)| {
             let bytes = self.read_bytes(&readback)?;
             let mut rgba = Vec::with_capacity((4 * w * h) as usize);

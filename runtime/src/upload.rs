@@ -55,6 +55,7 @@ pub mod binding {
     /// arguments; per call of `gpu::GpuMesh::evaluate_adaptive`.
     pub const BUCKET_LIST: u32 = 27;
     pub const BUCKET_DISPATCH: u32 = 28;
+    pub const BUCKET_DRAW: u32 = 29;
 }
 
 /// Errors building an [`Upload`].

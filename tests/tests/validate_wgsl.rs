@@ -499,6 +499,7 @@ fn entry_point_bindings() {
                     "10 params -",
                     "27 bucket_list read_write",
                     "28 bucket_dispatch read_write",
+                    "29 bucket_draw read_write",
                 ],
                 "adaptive_scatter_main" => &[
                     "10 params -",
@@ -510,6 +511,17 @@ fn entry_point_bindings() {
                     "10 params -",
                     "11 patch_faces read",
                     "12 samples read_write",
+                    "21 texcoords read",
+                    "22 owners read",
+                    "23 displace_info read",
+                    "24 displace_map -",
+                    "26 bucket_patches read",
+                ],
+                // Its drawn twin: the same lists, no samples.
+                "eval_adaptive_indirect_vs" => &[
+                    "8 control_points_ro read",
+                    "10 params -",
+                    "11 patch_faces read",
                     "21 texcoords read",
                     "22 owners read",
                     "23 displace_info read",

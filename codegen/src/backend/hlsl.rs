@@ -508,14 +508,18 @@ impl<'a> Writer<'a> {
         // `eval_displaced_tess`, whose owner evaluation (`eval_global`)
         // reads the global buffer (TESSGEN_DISPLACE). The instanced path's
         // adaptive functions have no HLSL entry either.
-        let skip: Vec<usize> = if std::ptr::eq(m, self.module) {
-            let used = self.used_functions();
-            (0..m.functions.len())
-                .filter(|i| !used.contains(i))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let used = self.used_functions();
+        let common = std::ptr::eq(m, &self.plan.common);
+        let skip: Vec<usize> = (0..m.functions.len())
+            .filter(|&i| {
+                let r = if common {
+                    FnRef::Common(i)
+                } else {
+                    FnRef::Local(i)
+                };
+                !used.contains(&r)
+            })
+            .collect();
         for (i, f) in m.functions.iter().enumerate() {
             if skip.contains(&i) {
                 continue;
@@ -525,39 +529,38 @@ impl<'a> Writer<'a> {
         }
     }
 
-    /// The scheme-module functions the entry points of this file reach:
-    /// the Plan's stage bodies ([`TessStages`], the compute vertex stage),
-    /// the patch functions and `eval`/grid functions the compute entries
-    /// call, and everything those call.
-    fn used_functions(&self) -> Vec<usize> {
+    /// The functions the entry points of this file reach, as `FnRef`s
+    /// (`Common(i)`, `Local(i)` of the scheme module): the Plan's stage
+    /// bodies ([`TessStages`], the compute vertex stage and evaluation),
+    /// the patch functions `patch_main` calls (printer text), and
+    /// everything those call.
+    fn used_functions(&self) -> Vec<FnRef> {
         let e = self.entries;
-        // The patch functions: `patch_main` calls them (printer text).
-        let mut todo: Vec<usize> = e.patches.iter().map(|p| p.function).collect();
+        let mut todo: Vec<FnRef> = e.patches.iter().map(|p| FnRef::Local(p.function)).collect();
         for body in [
             &e.tess.control,
             &e.tess.evaluation,
             &e.compute_vertex,
             &e.compute_eval,
         ] {
-            todo.extend(called(body).into_iter().filter_map(|r| match r {
-                FnRef::Local(i) => Some(i),
-                FnRef::Common(_) => None,
-            }));
+            todo.extend(called(body));
         }
         let mut used = Vec::new();
-        while let Some(i) = todo.pop() {
-            if used.contains(&i) {
+        while let Some(r) = todo.pop() {
+            if used.contains(&r) {
                 continue;
             }
-            used.push(i);
-            todo.extend(
-                called(&self.module.functions[i])
+            used.push(r);
+            todo.extend(match r {
+                FnRef::Local(i) => called(&self.module.functions[i]),
+                // Inside the common module, `Local` names a common function.
+                FnRef::Common(i) => called(&self.plan.common.functions[i])
                     .into_iter()
-                    .filter_map(|r| match r {
-                        FnRef::Local(j) => Some(j),
-                        FnRef::Common(_) => None,
-                    }),
-            );
+                    .map(|c| match c {
+                        FnRef::Local(j) | FnRef::Common(j) => FnRef::Common(j),
+                    })
+                    .collect(),
+            });
         }
         used
     }

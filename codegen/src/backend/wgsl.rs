@@ -71,6 +71,7 @@ pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
     ("adaptive_plan_main", "compute"),
     ("adaptive_scatter_main", "compute"),
     ("eval_adaptive_indirect_main", "compute"),
+    ("eval_adaptive_indirect_vs", "vertex"),
 ];
 
 /// Bucket slots per class range in the GPU-driven adaptive buffers: slot
@@ -915,7 +916,21 @@ impl<'a> Writer<'a> {
         self.indent += 1;
         self.line(&format!("let iu: u32 = {grid_iu}(vi, {level});"));
         self.line(&format!("let iv: u32 = {grid_iv}(vi, {level});"));
-        entry(self, "inst");
+        self.line(&format!("let e: u32 = (6u * ({first} + inst));"));
+        self.adaptive_vs_tail(&sample_ty, &eval);
+        self.gpu_driven_entry_points(&sample_ty, &eval);
+    }
+
+    /// The rest of an adaptive vertex entry after `iu`, `iv` and the entry
+    /// offset `e` into `bucket_patches`: the snapped, displaced sample
+    /// (`eval`) and the `VsOut` of `eval_vs`.
+    fn adaptive_vs_tail(&mut self, sample_ty: &str, eval: &str) {
+        let (class, level) = (param("class"), param("level"));
+        self.line("let cp: u32 = bucket_patches[(e + 1u)];");
+        self.line("let face: u32 = patch_faces[bucket_patches[e]];");
+        self.line(&format!(
+            "let result: {sample_ty} = {eval}(face, {class}, cp, iu, iv, {level}, bucket_patches[(e + 2u)], bucket_patches[(e + 3u)], bucket_patches[(e + 4u)], bucket_patches[(e + 5u)]);"
+        ));
         self.line("var out: VsOut;");
         self.line("out.clip_position = (params.view_proj * vec4<f32>(result.position, 1.0f));");
         self.line("out.world_position = result.position;");
@@ -928,7 +943,6 @@ impl<'a> Writer<'a> {
         self.indent -= 1;
         self.line("}");
         self.line("");
-        self.gpu_driven_entry_points(&sample_ty, &eval);
     }
 
     /// GPU-driven buckets: the lists of `bucket_patches` and the indirect
@@ -973,10 +987,11 @@ impl<'a> Writer<'a> {
         self.end_fn();
 
         self.line("// GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample");
-        self.line("// (prefix sums of count and count·grid_len(2^(slot % 16))) and the indirect dispatch arguments");
+        self.line("// (prefix sums of count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments");
         self.line(&format!(
-            "// (x = min(workgroups, {INDIRECT_X}), y = the rest) into bucket_list and bucket_dispatch."
+            "// (x = min(workgroups, {INDIRECT_X}), y = the rest) and the indexed indirect draw arguments"
         ));
+        self.line("// (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.");
         self.compute_head("adaptive_plan_main");
         self.early_return("(k >= 1u)");
         self.line("var entry: u32 = 0u;");
@@ -1005,6 +1020,16 @@ impl<'a> Writer<'a> {
         self.line("bucket_dispatch[(3u * b)] = x;");
         self.line("bucket_dispatch[((3u * b) + 1u)] = y;");
         self.line("bucket_dispatch[((3u * b) + 2u)] = 1u;");
+        // The level's grid: 2·L² (quads) or L² (triangles) triangles.
+        let per_cell = if self.entries.sides == 4 { 6 } else { 3 };
+        self.line(&format!("let lb: u32 = (1u << (b % {slots}u));"));
+        self.line(&format!(
+            "bucket_draw[(5u * b)] = ({per_cell}u * (lb * lb));"
+        ));
+        self.line("bucket_draw[((5u * b) + 1u)] = n;");
+        self.line("bucket_draw[((5u * b) + 2u)] = 0u;");
+        self.line("bucket_draw[((5u * b) + 3u)] = 0u;");
+        self.line("bucket_draw[((5u * b) + 4u)] = 0u;");
         self.line("entry = (entry + n);");
         self.line("first_sample = (first_sample + (n * spp));");
         self.indent -= 1;
@@ -1077,5 +1102,21 @@ impl<'a> Writer<'a> {
         self.line("let o: u32 = ((bucket_patches[(h + 2u)] + k) * 6u);");
         self.store_sample();
         self.end_fn();
+
+        self.line("// GPU-driven buckets 4, drawn: one draw_indexed_indirect per slot out_base (bucket_draw's");
+        self.line("// arguments) of the slot's level grid, instance inst = entry inst of the slot (header in");
+        self.line("// bucket_patches, entries after it: first = the number of slots).");
+        self.line("@vertex");
+        self.line(
+            "fn eval_adaptive_indirect_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -> VsOut {",
+        );
+        self.indent += 1;
+        self.line(&format!("let h: u32 = (4u * {out_base});"));
+        self.line(&format!("let iu: u32 = {grid_iu}(vi, {level});"));
+        self.line(&format!("let iv: u32 = {grid_iv}(vi, {level});"));
+        self.line(&format!(
+            "let e: u32 = ((4u * {first}) + (6u * (bucket_patches[(h + 1u)] + inst)));"
+        ));
+        self.adaptive_vs_tail(sample_ty, eval);
     }
 }
