@@ -238,7 +238,7 @@ struct TessellateArgs {
     /// Weld the result by exact position bits, print the report, exit 1 unless it is a closed 2-manifold.
     #[arg(long)]
     check_watertight: bool,
-    /// Displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed. Quad schemes on every backend; triangle schemes (pn, stpn, phong; with --split-quads for quad meshes) on cpu and wgpu. With --adaptive: cpu and wgpu (owner's normal and texture coordinate at each edge's own level).
+    /// Displace along the normal by a scalar map (PNG, luminance in [0, 1], bottom row at vt v = 0), sampled at the OBJ's per-corner texture coordinates (`f v/vt`) with edge/corner ownership, so texture seams stay closed. Every scheme on every backend (triangle schemes pn, stpn, phong with --split-quads for quad meshes, without --tags; glsl/hlsl build the evaluation stage with TESSGEN_DISPLACE), with or without --adaptive (the owner's normal and texture coordinate at each edge's own level).
     #[arg(long, value_name = "MAP.png")]
     displace: Option<PathBuf>,
     /// Displacement scale: position + scale · height · normal.

@@ -110,7 +110,7 @@ struct Params {
 // binding 26: adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 [[vk::binding(26, 0)]] StructuredBuffer<uint> bucket_patches : register(t26);
 
-// binding 27: GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+// binding 27: GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_plan_main (the header) and adaptive_scatter_main (the entries): a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
 [[vk::binding(27, 0)]] RWStructuredBuffer<uint> bucket_list : register(u27);
 
 // binding 28: GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
@@ -118,6 +118,9 @@ struct Params {
 
 // binding 29: GPU-driven adaptive buckets: draw_indexed_indirect arguments (index count of the bucket level's grid, instance count = the slot's patches, first index 0, base vertex 0, first instance 0), 5 u32 per bucket slot, written by adaptive_plan_main; a renderer draws slot b with eval_adaptive_indirect_vs
 [[vk::binding(29, 0)]] RWStructuredBuffer<uint> bucket_draw : register(u29);
+
+// binding 30: GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused
+[[vk::binding(30, 0)]] RWStructuredBuffer<uint> bucket_chunks : register(u30);
 
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 40u;

@@ -112,7 +112,7 @@ struct Params {
 // adaptive draw lists (WGSL instanced path), 6 u32 per entry: patch p (index into patch_faces), its first control point, the levels of its edges 0-3; entry params.first + i is instance / patch i of a bucket's draw; for eval_adaptive_indirect_main the GPU-built bucket_list (header of 4 u32 per bucket slot, then the entries)
 @group(0) @binding(26) var<storage, read> bucket_patches: array<u32>;
 
-// GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_count_main / adaptive_plan_main / adaptive_scatter_main, a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
+// GPU-driven adaptive buckets (WGSL instanced path): written by adaptive_plan_main (the header) and adaptive_scatter_main (the entries): a header of 4 u32 per bucket slot 16r + j (class range r, bucket 2^j: count, first entry, first sample, x workgroups), then 6 u32 per entry as bucket_patches; bound as bucket_patches (26) for eval_adaptive_indirect_main
 @group(0) @binding(27) var<storage, read_write> bucket_list: array<u32>;
 
 // GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main
@@ -120,6 +120,9 @@ struct Params {
 
 // GPU-driven adaptive buckets: draw_indexed_indirect arguments (index count of the bucket level's grid, instance count = the slot's patches, first index 0, base vertex 0, first instance 0), 5 u32 per bucket slot, written by adaptive_plan_main; a renderer draws slot b with eval_adaptive_indirect_vs
 @group(0) @binding(29) var<storage, read_write> bucket_draw: array<u32>;
+
+// GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused
+@group(0) @binding(30) var<storage, read_write> bucket_chunks: array<u32>;
 
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
@@ -1130,31 +1133,55 @@ fn eval_adaptive_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ins
     return out;
 }
 
-// GPU-driven buckets 1: for the class range of patches first .. first + count, invocation j < 16
-// counts the patches whose bucket (patch_levels[5p + 4]) is 2^j into bucket_list[4·(out_base + j)].
-@compute @workgroup_size(64)
-fn adaptive_count_main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k: u32 = gid.x;
-    if (k >= 16u) {
-        return;
+// One chunk's bucket levels (0 = no patch of the dispatch's class range), shared by the
+// workgroup of adaptive_count_main / adaptive_scatter_main.
+var<workgroup> tessgen_bucket_tile: array<u32, 256>;
+
+// GPU-driven buckets 1: for the class range of patches first .. first + count, workgroup w is
+// chunk c = first / 256 + w (patches 256c ..); invocation l < 16 counts the chunk's patches of
+// the range whose bucket (patch_levels[5p + 4]) is 2^l into bucket_chunks[2c·level + out_base + l]
+// (level = the number of slots; row c: the counts, then the offsets).
+@compute @workgroup_size(256)
+fn adaptive_count_main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) l: u32) {
+    let c: u32 = ((params.first / 256u) + wid.x);
+    let p: u32 = ((256u * c) + l);
+    var lv: u32 = 0u;
+    if ((p >= params.first) && (p < (params.first + params.count))) {
+        lv = patch_levels[((5u * p) + 4u)];
     }
-    var n: u32 = 0u;
-    for (var i: u32 = 0u; i < params.count; i = i + 1u) {
-        if (patch_levels[((5u * (params.first + i)) + 4u)] == (1u << k)) {
-            n = (n + 1u);
+    tessgen_bucket_tile[l] = lv;
+    workgroupBarrier();
+    if (l < 16u) {
+        var n: u32 = 0u;
+        for (var m: u32 = 0u; m < 256u; m = m + 1u) {
+            if (tessgen_bucket_tile[m] == (1u << l)) {
+                n = (n + 1u);
+            }
         }
+        bucket_chunks[(((2u * c) * params.level) + (params.out_base + l))] = n;
     }
-    bucket_list[(4u * (params.out_base + k))] = n;
 }
 
-// GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample
-// (prefix sums of count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments
+// GPU-driven buckets 2 (one workgroup): invocation s (and s + 64, …) < count scans slot s's
+// chunk counts (bucket_chunks[2c·count + s], chunk rows c < first) into each chunk's offset within
+// the slot (exclusive prefix, at 2c·count + count + s) and the total into the slot's header; then
+// invocation 0, for slots 0 .. count, writes the first entry and first sample (prefix sums of
+// count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments
 // (x = min(workgroups, 32768), y = the rest) and the indexed indirect draw arguments
 // (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.
 @compute @workgroup_size(64)
-fn adaptive_plan_main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k: u32 = gid.x;
-    if (k >= 1u) {
+fn adaptive_plan_main(@builtin(local_invocation_index) l: u32) {
+    for (var s: u32 = l; s < params.count; s = s + 64u) {
+        var n: u32 = 0u;
+        for (var c: u32 = 0u; c < params.first; c = c + 1u) {
+            let at: u32 = (((2u * c) * params.count) + s);
+            bucket_chunks[(at + params.count)] = n;
+            n = (n + bucket_chunks[at]);
+        }
+        bucket_list[(4u * s)] = n;
+    }
+    storageBarrier();
+    if (l != 0u) {
         return;
     }
     var entry: u32 = 0u;
@@ -1185,33 +1212,43 @@ fn adaptive_plan_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// GPU-driven buckets 3: for the class range of patches first .. first + count, invocation j < 16
-// writes the entries of slot out_base + j in patch order at bucket_list[4·level + 6·(first entry + m) ..]
-// (level = the number of slots, the header's length / 4): patch, first control point, edge levels.
-@compute @workgroup_size(64)
-fn adaptive_scatter_main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let k: u32 = gid.x;
-    if (k >= 16u) {
-        return;
+// GPU-driven buckets 3: for the class range of patches first .. first + count, chunk c as in 1;
+// the chunk's patch p of bucket 2^j goes to entry (first entry of slot out_base + j) + (the chunk's
+// offset in bucket_chunks) + (its rank among the chunk's earlier patches of bucket 2^j), at
+// bucket_list[4·level + 6·entry ..] (level = the number of slots, the header's length / 4):
+// patch, first control point, edge levels.
+@compute @workgroup_size(256)
+fn adaptive_scatter_main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) l: u32) {
+    let c: u32 = ((params.first / 256u) + wid.x);
+    let p: u32 = ((256u * c) + l);
+    var lv: u32 = 0u;
+    if ((p >= params.first) && (p < (params.first + params.count))) {
+        lv = patch_levels[((5u * p) + 4u)];
     }
-    var points: u32 = 0u;
-    if (params.class_ == 0u) {
-        points = 16u;
-    } else {
-        points = 24u;
-    }
-    var at: u32 = ((4u * params.level) + (6u * bucket_list[((4u * (params.out_base + k)) + 1u)]));
-    for (var i: u32 = 0u; i < params.count; i = i + 1u) {
-        let p: u32 = (params.first + i);
-        if (patch_levels[((5u * p) + 4u)] == (1u << k)) {
-            bucket_list[at] = p;
-            bucket_list[(at + 1u)] = (params.cp_base + (i * points));
-            bucket_list[(at + 2u)] = patch_levels[((5u * p) + 0u)];
-            bucket_list[(at + 3u)] = patch_levels[((5u * p) + 1u)];
-            bucket_list[(at + 4u)] = patch_levels[((5u * p) + 2u)];
-            bucket_list[(at + 5u)] = patch_levels[((5u * p) + 3u)];
-            at = (at + 6u);
+    tessgen_bucket_tile[l] = lv;
+    workgroupBarrier();
+    let j: u32 = countTrailingZeros(lv);
+    if ((j < 16u) && (lv == (1u << j))) {
+        var points: u32 = 0u;
+        if (params.class_ == 0u) {
+            points = 16u;
+        } else {
+            points = 24u;
         }
+        var rank: u32 = 0u;
+        for (var m: u32 = 0u; m < l; m = m + 1u) {
+            if (tessgen_bucket_tile[m] == lv) {
+                rank = (rank + 1u);
+            }
+        }
+        let slot: u32 = (params.out_base + j);
+        let at: u32 = ((4u * params.level) + (6u * ((bucket_list[((4u * slot) + 1u)] + bucket_chunks[((((2u * c) + 1u) * params.level) + slot)]) + rank)));
+        bucket_list[at] = p;
+        bucket_list[(at + 1u)] = (params.cp_base + ((p - params.first) * points));
+        bucket_list[(at + 2u)] = patch_levels[((5u * p) + 0u)];
+        bucket_list[(at + 3u)] = patch_levels[((5u * p) + 1u)];
+        bucket_list[(at + 4u)] = patch_levels[((5u * p) + 2u)];
+        bucket_list[(at + 5u)] = patch_levels[((5u * p) + 3u)];
     }
 }
 

@@ -21,6 +21,10 @@ use wgpu::naga;
 /// Bucket slots per class range of the GPU-driven adaptive buffers (slot
 /// `16r + j`: class range r, bucket `2^j`; `backend::wgsl::BUCKET_SLOTS`).
 pub(crate) const SLOTS: u32 = 16;
+/// Patches per chunk of the GPU-driven bucket compaction (one workgroup
+/// each in `adaptive_count_main` / `adaptive_scatter_main`;
+/// `backend::wgsl::BUCKET_CHUNK`).
+pub(crate) const CHUNK: u32 = 256;
 
 /// How one compute run of a phase is dispatched: direct with x workgroups,
 /// or indirect from the byte offset of its slot's arguments.
@@ -39,6 +43,7 @@ pub(crate) struct Buckets {
     list: wgpu::Buffer,
     dispatch: wgpu::Buffer,
     pub(crate) draw: wgpu::Buffer,
+    chunks: wgpu::Buffer,
     pub(crate) slots: u32,
     list_words: u64,
 }
@@ -47,7 +52,7 @@ impl Buckets {
     /// The per-call bindings: the edge inputs, the levels, the lists
     /// (also as `bucket_patches`, what the evaluation and the draws read)
     /// and the indirect arguments.
-    pub(crate) fn bindings(&self) -> [(u32, &wgpu::Buffer); 8] {
+    pub(crate) fn bindings(&self) -> [(u32, &wgpu::Buffer); 9] {
         [
             (binding::FACE_EDGES, &self.face_edges),
             (binding::EDGE_FACTORS, &self.edge_factors),
@@ -57,6 +62,7 @@ impl Buckets {
             (binding::BUCKET_DISPATCH, &self.dispatch),
             (binding::BUCKET_DRAW, &self.draw),
             (binding::BUCKET_PATCHES, &self.list),
+            (binding::BUCKET_CHUNKS, &self.chunks),
         ]
     }
 }
@@ -86,6 +92,8 @@ pub enum GpuError {
         needed: u64,
         max: u64,
     },
+    #[error("{patches} patches need {chunks} workgroups of {CHUNK} in one dispatch of the GPU-driven buckets, more than max_workgroups_per_dimension = {max}")]
+    TooManyChunks { patches: u64, chunks: u64, max: u32 },
     #[error("wgpu reported an error: {0}")]
     Wgpu(String),
     #[error("image: {0}")]
@@ -1094,9 +1102,11 @@ impl<'g> GpuMesh<'g> {
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
         let bytes = self.patch_faces.len() as u64 * (self.scheme.grid_len)(max_level) as u64 * 24;
+        let chunks = (self.patch_faces.len() as u64).div_ceil(CHUNK as u64);
         if max_level.is_power_of_two()
             && max_level <= cpu::MAX_LEVEL
             && bytes <= self.limits.max_storage_buffer_binding_size
+            && chunks <= self.limits.max_workgroups_per_dimension as u64
         {
             self.evaluate_adaptive_gpu_driven(mesh, a, max_level)
         } else {
@@ -1108,13 +1118,18 @@ impl<'g> GpuMesh<'g> {
     /// nothing is read back before the evaluation.
     ///
     /// 1. `adaptive_classify_main` as there;
-    /// 2. per class range r, `adaptive_count_main`: one invocation per
-    ///    bucket slot `16r + j` counts the range's patches of bucket `2^j`;
-    /// 3. `adaptive_plan_main` (one invocation): each slot's first entry
-    ///    and first sample (prefix sums) and its `dispatch_workgroups_indirect`
-    ///    arguments (x ≤ 32768 workgroups, the rest in y);
-    /// 4. per class range, `adaptive_scatter_main`: each slot's entries in
-    ///    patch order (no atomics: the lists are the host-built ones);
+    /// 2. per class range r, `adaptive_count_main`: a workgroup per chunk
+    ///    of [`CHUNK`] patches counts the chunk's patches of each bucket
+    ///    slot `16r + j` (bucket `2^j`) into `bucket_chunks`;
+    /// 3. `adaptive_plan_main` (one workgroup): each chunk's offset within
+    ///    each slot (a scan over the chunks per slot), each slot's count,
+    ///    first entry and first sample (prefix sums) and its
+    ///    `dispatch_workgroups_indirect` arguments (x ≤ 32768 workgroups,
+    ///    the rest in y);
+    /// 4. per class range, `adaptive_scatter_main`: a workgroup per chunk
+    ///    writes every patch at its slot's first entry plus its chunk's
+    ///    offset plus its rank in the chunk — patch order, no atomics, so the lists
+    ///    are the host-built ones;
     /// 5. one `dispatch_workgroups_indirect` of `eval_adaptive_indirect_main`
     ///    per slot up to `max_level` (empty slots dispatch nothing).
     ///
@@ -1123,7 +1138,8 @@ impl<'g> GpuMesh<'g> {
     /// as [`GpuMesh::evaluate_adaptive_host_lists`], bit for bit. The samples buffer
     /// is sized for every patch at `max_level` (the host does not know the
     /// buckets before the evaluation): `BufferTooLarge` beyond the binding
-    /// limit.
+    /// limit, `TooManyChunks` beyond 256 × max_workgroups_per_dimension
+    /// patches.
     pub fn evaluate_adaptive_gpu_driven<'m>(
         &self,
         mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
@@ -1229,6 +1245,16 @@ impl<'g> GpuMesh<'g> {
         let list_words = 4 * slots as u64 + 6 * patches;
         check(&self.limits, "patch_levels", patches * 20)?;
         check(&self.limits, "bucket_list", list_words * 4)?;
+        let chunk_rows = patches.div_ceil(CHUNK as u64);
+        if chunk_rows > self.limits.max_workgroups_per_dimension as u64 {
+            return Err(GpuError::TooManyChunks {
+                patches,
+                chunks: chunk_rows,
+                max: self.limits.max_workgroups_per_dimension,
+            });
+        }
+        let chunk_words = 2 * chunk_rows * slots as u64;
+        check(&self.limits, "bucket_chunks", chunk_words * 4)?;
         let zeros = |words: u64| vec![0u8; words as usize * 4];
         Ok(Buckets {
             face_edges: storage(
@@ -1265,6 +1291,11 @@ impl<'g> GpuMesh<'g> {
                 "bucket_draw",
                 &zeros(5 * slots as u64),
                 wgpu::BufferUsages::INDIRECT,
+            ),
+            chunks: storage(
+                "bucket_chunks",
+                &zeros(chunk_words),
+                wgpu::BufferUsages::empty(),
             ),
             slots,
             list_words,
@@ -1337,29 +1368,34 @@ impl<'g> GpuMesh<'g> {
             }
         }
         phases.push(("adaptive_classify_main", classify));
-        let per_range = |level: u32| {
+        // The count and scatter passes: per class range, a workgroup per
+        // chunk of CHUNK patches that holds one of the range's patches.
+        let per_range = || {
             self.classes
                 .iter()
                 .enumerate()
+                .filter(|(_, c)| c.count > 0)
                 .map(|(r, c)| {
                     let p = prm(
                         c.first,
                         c.count,
                         c.class,
                         c.cp_base,
-                        level,
+                        slots,
                         SLOTS * r as u32,
                     );
-                    (p, Run::Direct(1))
+                    let chunks = (c.first + c.count - 1) / CHUNK - c.first / CHUNK + 1;
+                    (p, Run::Direct(chunks))
                 })
                 .collect::<Vec<_>>()
         };
-        phases.push(("adaptive_count_main", per_range(0)));
+        let chunk_rows = (self.patch_faces.len() as u32).div_ceil(CHUNK);
+        phases.push(("adaptive_count_main", per_range()));
         phases.push((
             "adaptive_plan_main",
-            vec![(prm(0, slots, 0, 0, 0, 0), Run::Direct(1))],
+            vec![(prm(chunk_rows, slots, 0, 0, 0, 0), Run::Direct(1))],
         ));
-        phases.push(("adaptive_scatter_main", per_range(slots)));
+        phases.push(("adaptive_scatter_main", per_range()));
         phases
     }
 

@@ -56,6 +56,9 @@ pub mod binding {
     pub const BUCKET_LIST: u32 = 27;
     pub const BUCKET_DISPATCH: u32 = 28;
     pub const BUCKET_DRAW: u32 = 29;
+    /// GPU-driven adaptive buckets: per-chunk slot counts, then offsets,
+    /// of the parallel compaction (per call as well).
+    pub const BUCKET_CHUNKS: u32 = 30;
 }
 
 /// Errors building an [`Upload`].

@@ -486,25 +486,29 @@ fn entry_point_bindings() {
                     "24 displace_map -",
                     "26 bucket_patches read",
                 ],
-                // GPU-driven buckets: counting and scattering read the
-                // levels and write the lists, the plan pass writes the
-                // lists' header and the indirect arguments; the indirect
-                // evaluation reads the lists as bucket_patches.
+                // GPU-driven buckets: counting reads the levels and writes
+                // the per-chunk counts, the plan pass scans them into
+                // offsets and writes the lists' header and the indirect
+                // arguments, scattering reads the levels and the offsets
+                // and writes the lists; the indirect evaluation reads the
+                // lists as bucket_patches.
                 "adaptive_count_main" => &[
                     "10 params -",
                     "25 patch_levels read_write",
-                    "27 bucket_list read_write",
+                    "30 bucket_chunks read_write",
                 ],
                 "adaptive_plan_main" => &[
                     "10 params -",
                     "27 bucket_list read_write",
                     "28 bucket_dispatch read_write",
                     "29 bucket_draw read_write",
+                    "30 bucket_chunks read_write",
                 ],
                 "adaptive_scatter_main" => &[
                     "10 params -",
                     "25 patch_levels read_write",
                     "27 bucket_list read_write",
+                    "30 bucket_chunks read_write",
                 ],
                 "eval_adaptive_indirect_main" => &[
                     "8 control_points_ro read",

@@ -81,6 +81,11 @@ pub const BUCKET_SLOTS: u32 = 16;
 /// Largest x workgroup count of one GPU-driven evaluation dispatch; the
 /// rest goes to y (WebGPU allows 65,535 per dimension).
 pub const INDIRECT_X: u32 = 32768;
+/// Patches per chunk (and workgroup size) of the GPU-driven bucket
+/// compaction (`adaptive_count_main`, `adaptive_scatter_main`): chunk c
+/// holds patches `256c .. 256c + 256` of `patch_faces`, `bucket_chunks`
+/// one row of slot counts per chunk.
+pub const BUCKET_CHUNK: u32 = 256;
 
 /// WGSL keywords and reserved words (WGSL §15), then the predeclared types
 /// and built-in functions this printer uses: never used as a plain name.
@@ -656,6 +661,32 @@ impl<'a> Writer<'a> {
         self.line("let k: u32 = gid.x;");
     }
 
+    /// Head of a chunk pass (`adaptive_count_main`, `adaptive_scatter_main`):
+    /// a workgroup of [`BUCKET_CHUNK`] invocations per chunk of the class
+    /// range `first .. first + count`; invocation l loads patch
+    /// `p = BUCKET_CHUNK·c + l`'s bucket level into the shared tile (0
+    /// outside the range), then the workgroup synchronises.
+    fn chunk_head(&mut self, name: &str) {
+        let first = param("first");
+        let count = param("count");
+        let chunk = BUCKET_CHUNK;
+        self.line(&format!("@compute @workgroup_size({chunk})"));
+        self.line(&format!(
+            "fn {name}(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) l: u32) {{"
+        ));
+        self.indent += 1;
+        self.line(&format!("let c: u32 = (({first} / {chunk}u) + wid.x);"));
+        self.line(&format!("let p: u32 = (({chunk}u * c) + l);"));
+        self.line("var lv: u32 = 0u;");
+        self.line(&format!(
+            "if ((p >= {first}) && (p < ({first} + {count}))) {{"
+        ));
+        self.line("    lv = patch_levels[((5u * p) + 4u)];");
+        self.line("}");
+        self.line("tessgen_bucket_tile[l] = lv;");
+        self.line("workgroupBarrier();");
+    }
+
     fn early_return(&mut self, cond: &str) {
         self.line(&format!("if {cond} {{"));
         self.line("    return;");
@@ -948,16 +979,22 @@ impl<'a> Writer<'a> {
     /// GPU-driven buckets: the lists of `bucket_patches` and the indirect
     /// dispatch arguments built on the GPU from `patch_levels`, so nothing
     /// is read back before the evaluation. Per class range r (slots
-    /// `16r + j`, bucket `2^j`): `adaptive_count_main` (one invocation per
-    /// slot) counts the range's patches of its bucket, `adaptive_plan_main`
-    /// (one invocation) prefix-sums the counts into each slot's first entry
-    /// and first sample and writes the dispatch arguments,
-    /// `adaptive_scatter_main` (one invocation per slot) writes the slot's
-    /// entries in patch order — the order the host lists had, with no
-    /// atomics — and `eval_adaptive_indirect_main` runs one indirect
-    /// dispatch per slot. `bucket_list` (written here) is bound as
-    /// `bucket_patches` for the evaluation: a header of 4 u32 per slot
-    /// (count, first entry, first sample, x workgroups), then the entries.
+    /// `16r + j`, bucket `2^j`), a stable parallel compaction over chunks of
+    /// [`BUCKET_CHUNK`] patches (chunk c = patches `256c ..`, a workgroup
+    /// each): `adaptive_count_main` counts each chunk's patches per bucket
+    /// into `bucket_chunks`, `adaptive_plan_main` (one workgroup) turns the
+    /// chunk counts into each chunk's offset within its slot (one invocation
+    /// per slot, a scan over the chunks), then prefix-sums the slots into
+    /// first entry and first sample and writes the indirect arguments, and
+    /// `adaptive_scatter_main` writes every patch at the sum of its slot's
+    /// first entry, its chunk's offset and its rank among the chunk's
+    /// earlier patches of the same bucket. The entries come out in patch order — the order the
+    /// host lists have — without atomics, and no invocation loops over more
+    /// than one chunk's patches (the plan's scan: over the chunks).
+    /// `eval_adaptive_indirect_main` runs one indirect dispatch per slot.
+    /// `bucket_list` (written here) is bound as `bucket_patches` for the
+    /// evaluation: a header of 4 u32 per slot (count, first entry, first
+    /// sample, x workgroups), then the entries.
     fn gpu_driven_entry_points(&mut self, sample_ty: &str, eval: &str) {
         let first = param("first");
         let count = param("count");
@@ -966,34 +1003,75 @@ impl<'a> Writer<'a> {
         let cp_base = param("cp_base");
         let out_base = param("out_base");
         let slots = BUCKET_SLOTS;
+        let chunk = BUCKET_CHUNK;
         let [grid_len, grid_iu, grid_iv] = self.entries.grid.map(|g| self.fn_name(FnRef::Local(g)));
+        self.line(
+            "// One chunk's bucket levels (0 = no patch of the dispatch's class range), shared by the",
+        );
+        self.line("// workgroup of adaptive_count_main / adaptive_scatter_main.");
         self.line(&format!(
-            "// GPU-driven buckets 1: for the class range of patches first .. first + count, invocation j < {slots}"
+            "var<workgroup> tessgen_bucket_tile: array<u32, {chunk}>;"
         ));
-        self.line("// counts the patches whose bucket (patch_levels[5p + 4]) is 2^j into bucket_list[4·(out_base + j)].");
-        self.compute_head("adaptive_count_main");
-        self.early_return(&format!("(k >= {slots}u)"));
+        self.line("");
+        self.line(
+            "// GPU-driven buckets 1: for the class range of patches first .. first + count, workgroup w is",
+        );
+        self.line(&format!(
+            "// chunk c = first / {chunk} + w (patches {chunk}c ..); invocation l < {slots} counts the chunk's patches of"
+        ));
+        self.line("// the range whose bucket (patch_levels[5p + 4]) is 2^l into bucket_chunks[2c·level + out_base + l]");
+        self.line("// (level = the number of slots; row c: the counts, then the offsets).");
+        self.chunk_head("adaptive_count_main");
+        self.line(&format!("if (l < {slots}u) {{"));
+        self.indent += 1;
         self.line("var n: u32 = 0u;");
         self.line(&format!(
-            "for (var i: u32 = 0u; i < {count}; i = i + 1u) {{"
+            "for (var m: u32 = 0u; m < {chunk}u; m = m + 1u) {{"
         ));
-        self.line(&format!(
-            "    if (patch_levels[((5u * ({first} + i)) + 4u)] == (1u << k)) {{"
-        ));
+        self.line("    if (tessgen_bucket_tile[m] == (1u << l)) {");
         self.line("        n = (n + 1u);");
         self.line("    }");
         self.line("}");
-        self.line(&format!("bucket_list[(4u * ({out_base} + k))] = n;"));
+        self.line(&format!(
+            "bucket_chunks[(((2u * c) * {level}) + ({out_base} + l))] = n;"
+        ));
+        self.indent -= 1;
+        self.line("}");
         self.end_fn();
 
-        self.line("// GPU-driven buckets 2 (one invocation): for slots 0 .. count, the first entry and first sample");
-        self.line("// (prefix sums of count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments");
+        self.line("// GPU-driven buckets 2 (one workgroup): invocation s (and s + 64, …) < count scans slot s's");
+        self.line("// chunk counts (bucket_chunks[2c·count + s], chunk rows c < first) into each chunk's offset within");
+        self.line("// the slot (exclusive prefix, at 2c·count + count + s) and the total into the slot's header; then");
+        self.line("// invocation 0, for slots 0 .. count, writes the first entry and first sample (prefix sums of");
+        self.line("// count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments");
         self.line(&format!(
             "// (x = min(workgroups, {INDIRECT_X}), y = the rest) and the indexed indirect draw arguments"
         ));
         self.line("// (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.");
-        self.compute_head("adaptive_plan_main");
-        self.early_return("(k >= 1u)");
+        self.line(&format!(
+            "@compute @workgroup_size({})",
+            abi::WORKGROUP_SIZE
+        ));
+        self.line("fn adaptive_plan_main(@builtin(local_invocation_index) l: u32) {");
+        self.indent += 1;
+        self.line(&format!(
+            "for (var s: u32 = l; s < {count}; s = s + {}u) {{",
+            abi::WORKGROUP_SIZE
+        ));
+        self.indent += 1;
+        self.line("var n: u32 = 0u;");
+        self.line(&format!(
+            "for (var c: u32 = 0u; c < {first}; c = c + 1u) {{"
+        ));
+        self.line(&format!("    let at: u32 = (((2u * c) * {count}) + s);"));
+        self.line(&format!("    bucket_chunks[(at + {count})] = n;"));
+        self.line("    n = (n + bucket_chunks[at]);");
+        self.line("}");
+        self.line("bucket_list[(4u * s)] = n;");
+        self.indent -= 1;
+        self.line("}");
+        self.line("storageBarrier();");
+        self.early_return("(l != 0u)");
         self.line("var entry: u32 = 0u;");
         self.line("var first_sample: u32 = 0u;");
         self.line(&format!(
@@ -1036,35 +1114,38 @@ impl<'a> Writer<'a> {
         self.line("}");
         self.end_fn();
 
-        self.line(&format!(
-            "// GPU-driven buckets 3: for the class range of patches first .. first + count, invocation j < {slots}"
-        ));
-        self.line("// writes the entries of slot out_base + j in patch order at bucket_list[4·level + 6·(first entry + m) ..]");
-        self.line("// (level = the number of slots, the header's length / 4): patch, first control point, edge levels.");
-        self.compute_head("adaptive_scatter_main");
-        self.early_return(&format!("(k >= {slots}u)"));
-        self.points_of_class();
-        self.line(&format!(
-            "var at: u32 = ((4u * {level}) + (6u * bucket_list[((4u * ({out_base} + k)) + 1u)]));"
-        ));
-        self.line(&format!(
-            "for (var i: u32 = 0u; i < {count}; i = i + 1u) {{"
-        ));
+        self.line(
+            "// GPU-driven buckets 3: for the class range of patches first .. first + count, chunk c as in 1;",
+        );
+        self.line("// the chunk's patch p of bucket 2^j goes to entry (first entry of slot out_base + j) + (the chunk's");
+        self.line("// offset in bucket_chunks) + (its rank among the chunk's earlier patches of bucket 2^j), at");
+        self.line("// bucket_list[4·level + 6·entry ..] (level = the number of slots, the header's length / 4):");
+        self.line("// patch, first control point, edge levels.");
+        self.chunk_head("adaptive_scatter_main");
+        self.line("let j: u32 = countTrailingZeros(lv);");
+        self.line(&format!("if ((j < {slots}u) && (lv == (1u << j))) {{"));
         self.indent += 1;
-        self.line(&format!("let p: u32 = ({first} + i);"));
-        self.line("if (patch_levels[((5u * p) + 4u)] == (1u << k)) {");
-        self.line("    bucket_list[at] = p;");
+        self.points_of_class();
+        self.line("var rank: u32 = 0u;");
+        self.line("for (var m: u32 = 0u; m < l; m = m + 1u) {");
+        self.line("    if (tessgen_bucket_tile[m] == lv) {");
+        self.line("        rank = (rank + 1u);");
+        self.line("    }");
+        self.line("}");
+        self.line(&format!("let slot: u32 = ({out_base} + j);"));
         self.line(&format!(
-            "    bucket_list[(at + 1u)] = ({cp_base} + (i * points));"
+            "let at: u32 = ((4u * {level}) + (6u * ((bucket_list[((4u * slot) + 1u)] + bucket_chunks[((((2u * c) + 1u) * {level}) + slot)]) + rank)));"
+        ));
+        self.line("bucket_list[at] = p;");
+        self.line(&format!(
+            "bucket_list[(at + 1u)] = ({cp_base} + ((p - {first}) * points));"
         ));
         for e in 0..4 {
             self.line(&format!(
-                "    bucket_list[(at + {}u)] = patch_levels[((5u * p) + {e}u)];",
+                "bucket_list[(at + {}u)] = patch_levels[((5u * p) + {e}u)];",
                 e + 2
             ));
         }
-        self.line("    at = (at + 6u);");
-        self.line("}");
         self.indent -= 1;
         self.line("}");
         self.end_fn();
