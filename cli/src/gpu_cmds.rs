@@ -156,6 +156,9 @@ pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
         .map(|g| g.info.name.clone())
         .unwrap_or_else(|| format!("CPU, {} threads", rayon_threads()));
     println!("# tessgen bench: {} ({} faces), scheme {}, backend {} ({device}), median of {runs} runs after 1 warm-up", args.mesh.display(), topo.corners.len(), args.scheme, args.backend.name());
+    if let Some(metric) = &args.adaptive {
+        return bench_adaptive(args, metric, &topo, &positions, kernels, gpu.as_ref());
+    }
     println!("| N | samples | construct ms | evaluate ms | samples/s |");
     println!("|---|---|---|---|---|");
     match &gpu {
@@ -219,6 +222,129 @@ pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
         }
     }
     let _ = faces;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Median seconds of `runs` timed calls of `f` after one warm-up call,
+/// and the value of the last call.
+fn timed<T>(runs: usize, mut f: impl FnMut() -> Result<T, String>) -> Result<(f64, T), String> {
+    let mut out = f()?;
+    let mut ts = Vec::new();
+    for _ in 0..runs {
+        let t0 = std::time::Instant::now();
+        out = f()?;
+        ts.push(t0.elapsed().as_secs_f64());
+    }
+    Ok((median(ts), out))
+}
+
+/// `bench --adaptive METRIC`: per largest level L, uniform evaluation at L
+/// (the baseline, every patch at L) and the instanced adaptive path with
+/// the metric's per-edge factors clamped to [1, L] — on the CPU
+/// (`adaptive::evaluate_cpu_adaptive`), or on wgpu both ways the runtime
+/// has: host-built lists (classify, read back, lists on the CPU, one
+/// dispatch per bucket) and GPU-driven buckets (classify, count, plan,
+/// scatter, indirect dispatches, nothing read back before the
+/// evaluation). Every column includes the readback of the samples; the
+/// control points are built once, outside the timings.
+fn bench_adaptive(
+    args: &BenchArgs,
+    metric: &crate::AdaptiveArg,
+    topo: &tessgen_runtime::Topology,
+    positions: &[glam::Vec3],
+    kernels: &'static tessgen_runtime::kernels::common::SchemeKernels,
+    gpu: Option<&tessgen_runtime::gpu::Gpu>,
+) -> CmdResult {
+    use tessgen_runtime::adaptive::{self, Adaptive, Partitioning};
+    let runs = args.runs as usize;
+    let edges = adaptive::edge_ids(topo).1;
+    let adaptive_at = |level: u32| Adaptive {
+        metric: crate::adaptive_metric(edges, positions, Some(metric)),
+        partitioning: Partitioning::Integer,
+        min: 1.0,
+        max: level as f32,
+    };
+    let levels: Vec<u32> = args
+        .levels
+        .iter()
+        .map(|&l| crate::power_of_two_level(l as f32))
+        .collect();
+    match gpu {
+        None => {
+            let patches = cpu::construct(topo, positions, kernels).map_err(|e| e.to_string())?;
+            println!("| L | uniform samples | adaptive samples | uniform ms | adaptive ms | uniform samples/s | adaptive samples/s | adaptive / uniform time |");
+            println!("|---|---|---|---|---|---|---|---|");
+            for level in levels {
+                let a = adaptive_at(level);
+                let (tu, u) = timed(runs, || {
+                    cpu::evaluate(&patches, level).map_err(|e| e.to_string())
+                })?;
+                let (ta, t) = timed(runs, || {
+                    adaptive::evaluate_cpu_adaptive(&patches, topo, &a, level)
+                        .map_err(|e| e.to_string())
+                })?;
+                let (nu, na) = (u.positions.len(), t.positions.len());
+                println!(
+                    "| {level} | {nu} | {na} | {:.3} | {:.3} | {:.3e} | {:.3e} | {:.3} |",
+                    tu * 1e3,
+                    ta * 1e3,
+                    nu as f64 / tu,
+                    na as f64 / ta,
+                    ta / tu
+                );
+            }
+        }
+        Some(g) => {
+            let mesh = tessgen_runtime::gpu::GpuMesh::new(g, topo, positions, &args.scheme)
+                .map_err(|e| e.to_string())?;
+            mesh.construct().map_err(|e| e.to_string())?;
+            mesh.wait().map_err(|e| e.to_string())?;
+            println!("| L | uniform samples | adaptive samples | uniform ms | host lists ms | GPU-driven ms | host lists / uniform | GPU-driven / uniform | GPU-driven / host lists |");
+            println!("|---|---|---|---|---|---|---|---|---|");
+            for level in levels {
+                let a = adaptive_at(level);
+                let (tu, u) = timed(runs, || mesh.evaluate(level).map_err(|e| e.to_string()))?;
+                let (th, h) = timed(runs, || {
+                    mesh.evaluate_adaptive_host_lists(topo, &a, level)
+                        .map_err(|e| e.to_string())
+                })?;
+                // The GPU-driven buffers hold every patch at L: past the
+                // binding limit only the host lists run (as evaluate_adaptive
+                // would choose).
+                let driven = timed(runs, || {
+                    mesh.evaluate_adaptive_gpu_driven(topo, &a, level)
+                        .map_err(|e| e.to_string())
+                });
+                let (driven_ms, vs_uniform, vs_host) = match driven {
+                    Ok((td, d)) => {
+                        if h.positions.len() != d.positions.len() {
+                            return Err("bench: the two adaptive paths disagree".into());
+                        }
+                        (
+                            format!("{:.3}", td * 1e3),
+                            format!("{:.3}", td / tu),
+                            format!("{:.3}", td / th),
+                        )
+                    }
+                    Err(e) => {
+                        eprintln!("tessgen bench: L = {level}, GPU-driven: {e}");
+                        ("—".into(), "—".into(), "—".into())
+                    }
+                };
+                println!(
+                    "| {level} | {} | {} | {:.3} | {:.3} | {driven_ms} | {:.3} | {vs_uniform} | {vs_host} |",
+                    u.positions.len(),
+                    h.positions.len(),
+                    tu * 1e3,
+                    th * 1e3,
+                    th / tu,
+                );
+            }
+            println!(
+                "(wgpu: every column includes the readback of positions and normals to the CPU)"
+            );
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }
 

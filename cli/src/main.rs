@@ -114,6 +114,9 @@ struct BenchArgs {
     /// Timed runs per level (after one warm-up run).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     runs: u32,
+    /// Bench the instanced adaptive path instead: per largest level L of `--levels` (rounded down to a power of two), uniform evaluation at L against adaptive evaluation with this metric (random:SEED[:LO:HI], distance:K, screen:PX), on the CPU or on wgpu (host-built lists and GPU-driven buckets), in the same run.
+    #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
+    adaptive: Option<AdaptiveArg>,
 }
 
 /// Generate the kernels of every target and the stencil table into a directory, or check that it is up to date.
@@ -580,10 +583,10 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
 /// The metric of `--adaptive`: random factors for `edges` edges, or the
 /// distance/screen metric with the eye at 2.5 bounding-box diagonals
 /// from the mesh centre (azimuth 30°, elevation 20°), looking at the centre.
-fn adaptive_metric(
+pub(crate) fn adaptive_metric(
     edges: u32,
     positions: &[glam::Vec3],
-    args: &TessellateArgs,
+    adaptive: Option<&AdaptiveArg>,
 ) -> tessgen_runtime::adaptive::Metric {
     use glam::Vec3;
     use tessgen_runtime::adaptive::{self, Metric};
@@ -594,7 +597,7 @@ fn adaptive_metric(
     let (center, diag) = ((lo + hi) * 0.5, (hi - lo).length().max(1e-6));
     let (az, el) = (30f32.to_radians(), 20f32.to_radians());
     let eye = center + Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()) * 2.5 * diag;
-    match args.adaptive.clone() {
+    match adaptive.cloned() {
         Some(AdaptiveArg::Random { seed, lo, hi }) => {
             Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
         }
@@ -608,8 +611,8 @@ fn adaptive_metric(
             }
             .view_proj(1.0),
             viewport: [1024.0, 1024.0],
-            pixels_per_segment: match args.adaptive {
-                Some(AdaptiveArg::Screen(px)) => px,
+            pixels_per_segment: match adaptive {
+                Some(AdaptiveArg::Screen(px)) => *px,
                 _ => 8.0,
             },
         },
@@ -689,7 +692,11 @@ fn instanced_adaptive(
         .collect();
     let max_level = power_of_two_level(args.max_factor);
     let adaptive = tessgen_runtime::adaptive::Adaptive {
-        metric: adaptive_metric(domain.edges().edge_ids().1, &positions, args),
+        metric: adaptive_metric(
+            domain.edges().edge_ids().1,
+            &positions,
+            args.adaptive.as_ref(),
+        ),
         partitioning: Partitioning::Integer,
         min: 1.0,
         max: max_level as f32,
@@ -792,7 +799,7 @@ fn vulkan_adaptive(
         .iter()
         .map(|p| Vec3::from_array(*p))
         .collect();
-    let metric = adaptive_metric(edges, &positions, args);
+    let metric = adaptive_metric(edges, &positions, args.adaptive.as_ref());
     let options = Options {
         adaptive: Some(Adaptive {
             metric,

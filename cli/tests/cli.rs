@@ -920,3 +920,53 @@ fn render_uniform_and_adaptive() {
     ]);
     assert_exit(&o, 2);
 }
+
+/// `bench`: the uniform table on cpu and wgpu, and with `--adaptive` the
+/// adaptive table (cpu: uniform vs adaptive; wgpu: uniform vs host lists
+/// vs GPU-driven buckets), one row per level with numbers in every
+/// column; glsl/hlsl are refused. Times are printed, never asserted.
+#[test]
+fn bench_uniform_and_adaptive() {
+    let cube = mesh("catmark_cube.obj");
+    let cube = cube.to_str().unwrap();
+    for (backend, adaptive, columns) in [
+        ("cpu", None, 5),
+        ("wgpu", None, 5),
+        ("cpu", Some("random:3:1:4"), 8),
+        ("wgpu", Some("random:3:1:4"), 9),
+    ] {
+        let mut args = vec![
+            "bench",
+            cube,
+            "--levels",
+            "2,4",
+            "--runs",
+            "1",
+            "--backend",
+            backend,
+        ];
+        if let Some(m) = adaptive {
+            args.extend(["--adaptive", m]);
+        }
+        let o = tessgen(&args);
+        assert_ok(&o);
+        let out = stdout(&o);
+        for level in ["2", "4"] {
+            let row = out
+                .lines()
+                .find(|l| l.starts_with(&format!("| {level} |")))
+                .unwrap_or_else(|| panic!("{backend} {adaptive:?}: no row for {level}:\n{out}"));
+            let cells: Vec<&str> = row.trim_matches('|').split('|').map(str::trim).collect();
+            assert_eq!(cells.len(), columns, "{row}");
+            for c in &cells {
+                assert!(
+                    c.parse::<f64>().is_ok(),
+                    "{backend} {adaptive:?}: `{c}` in {row}"
+                );
+            }
+        }
+    }
+    let o = tessgen(["bench", cube, "--backend", "glsl"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("not supported"), "{}", stderr(&o));
+}

@@ -1144,7 +1144,7 @@ fn adaptive_count_main(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_inv
 // the slot (exclusive prefix, at 2c·count + count + s) and the total into the slot's header; then
 // invocation 0, for slots 0 .. count, writes the first entry and first sample (prefix sums of
 // count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments
-// (x = min(workgroups, 32768), y = the rest) and the indexed indirect draw arguments
+// (y = ⌈workgroups / 32768⌉ rows of x = ⌈workgroups / y⌉) and the indexed indirect draw arguments
 // (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.
 @compute @workgroup_size(64)
 fn adaptive_plan_main(@builtin(local_invocation_index) l: u32) {
@@ -1167,10 +1167,10 @@ fn adaptive_plan_main(@builtin(local_invocation_index) l: u32) {
         let n: u32 = bucket_list[(4u * b)];
         let spp: u32 = grid_len((1u << (b % 16u)));
         let groups: u32 = (((n * spp) + 63u) / 64u);
-        let x: u32 = min(groups, 32768u);
-        var y: u32 = 0u;
-        if (x > 0u) {
-            y = ((groups + (x - 1u)) / x);
+        let y: u32 = ((groups + 32767u) / 32768u);
+        var x: u32 = 0u;
+        if (y > 0u) {
+            x = ((groups + (y - 1u)) / y);
         }
         bucket_list[((4u * b) + 1u)] = entry;
         bucket_list[((4u * b) + 2u)] = first_sample;

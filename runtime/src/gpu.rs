@@ -256,6 +256,11 @@ pub struct GpuMesh<'g> {
     vertex_pipeline: wgpu::ComputePipeline,
     patch_pipeline: wgpu::ComputePipeline,
     eval_pipeline: wgpu::ComputePipeline,
+    /// The other compute entries' pipelines (adaptive classify, bucket
+    /// passes, adaptive evaluation), built on first use and kept: building
+    /// one compiles the entry for the device, which on llvmpipe cost more
+    /// than the work of a level-4 adaptive run when it was done per call.
+    pipelines: std::sync::Mutex<HashMap<String, wgpu::ComputePipeline>>,
 }
 
 /// An `R32Float` texture holding `texels` (row-major, `width` columns).
@@ -485,6 +490,7 @@ impl<'g> GpuMesh<'g> {
             vertex_pipeline,
             patch_pipeline,
             eval_pipeline,
+            pipelines: Default::default(),
         };
         mesh.construct()?;
         Ok(mesh)
@@ -533,8 +539,13 @@ impl<'g> GpuMesh<'g> {
 
     /// The compute pipeline of one entry point of the scheme's module
     /// (layout derived from the shader).
+    /// The pipeline of compute entry `entry`, built once per mesh.
     fn compute_pipeline(&self, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
-        self.gpu.scoped(|| {
+        let cached = |m: &HashMap<String, wgpu::ComputePipeline>| m.get(entry).cloned();
+        if let Some(p) = self.pipelines.lock().ok().as_deref().and_then(cached) {
+            return Ok(p);
+        }
+        let p = self.gpu.scoped(|| {
             self.gpu
                 .device
                 .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -545,7 +556,11 @@ impl<'g> GpuMesh<'g> {
                     compilation_options: Default::default(),
                     cache: None,
                 })
-        })
+        })?;
+        if let Ok(mut m) = self.pipelines.lock() {
+            m.insert(entry.to_string(), p.clone());
+        }
+        Ok(p)
     }
 
     /// The checks both adaptive paths make before any GPU work — the scheme
@@ -1124,8 +1139,8 @@ impl<'g> GpuMesh<'g> {
     /// 3. `adaptive_plan_main` (one workgroup): each chunk's offset within
     ///    each slot (a scan over the chunks per slot), each slot's count,
     ///    first entry and first sample (prefix sums) and its
-    ///    `dispatch_workgroups_indirect` arguments (x ≤ 32768 workgroups,
-    ///    the rest in y);
+    ///    `dispatch_workgroups_indirect` arguments (y = ⌈workgroups / 32768⌉
+    ///    rows of x = ⌈workgroups / y⌉, so fewer than y are idle);
     /// 4. per class range, `adaptive_scatter_main`: a workgroup per chunk
     ///    writes every patch at its slot's first entry plus its chunk's
     ///    offset plus its rank in the chunk — patch order, no atomics, so the lists
@@ -1175,7 +1190,6 @@ impl<'g> GpuMesh<'g> {
         };
         let levels_read = staging("patch_levels readback", patches * 20);
         let list_read = staging("bucket_list readback", b.list_words * 4);
-        let samples_read = staging("samples readback", sample_bytes);
         let mut phases = self.bucket_phases(max_level, slots);
         let mut evals = Vec::new();
         for (slot, class, level) in self.bucket_slots(max_level) {
@@ -1192,12 +1206,31 @@ impl<'g> GpuMesh<'g> {
             self.encode_phases(&mut enc, &phases, &b, Some(&samples))?;
             enc.copy_buffer_to_buffer(&b.levels, 0, &levels_read, 0, patches * 20);
             enc.copy_buffer_to_buffer(&b.list, 0, &list_read, 0, b.list_words * 4);
-            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, sample_bytes);
             self.gpu.queue.submit([enc.finish()]);
             Ok(())
         })??;
         let lv = self.read_words(&levels_read)?;
         let list = self.read_words(&list_read)?;
+        // After the evaluation, the headers say how many samples were
+        // written (slots are laid out in order, so the last slot's first
+        // sample plus its samples): read back only those, not the buffer
+        // sized for every patch at `max_level`.
+        let written: u64 = (0..slots as usize)
+            .map(|b| {
+                let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as u64;
+                list[4 * b + 2] as u64 + list[4 * b] as u64 * spp
+            })
+            .max()
+            .unwrap_or(0)
+            .min(patches * max_spp);
+        let samples_read = staging("samples readback", written * 24);
+        self.gpu.scoped(|| {
+            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("adaptive samples readback"),
+            });
+            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, written * 24);
+            self.gpu.queue.submit([enc.finish()]);
+        })?;
         let floats = self.read(&samples_read)?;
         let (levels, edge_levels, offsets) = self.face_levels(&lv);
         let total = offsets[faces];

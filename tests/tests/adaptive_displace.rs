@@ -343,23 +343,25 @@ fn gpu_driven_buckets_match_the_host_lists_bit_for_bit() {
 /// host-list tessellation bit for bit. catmark_righthanded (434 quads;
 /// pn on its 868-triangle split) and big/catmark_righthanded_L3 (27,776
 /// quads, 109 chunks), random factors in [1, 2.4] (buckets 2 and 4 about
-/// evenly, so every chunk has both), largest level 4 (to keep the
-/// llvmpipe evaluation short).
+/// evenly, so every chunk has both), largest level 4; and pccm on
+/// righthanded_L3 with factors in [5, 8], so the level-8 bucket needs more
+/// than 32,768 workgroups and its indirect dispatch runs in two rows.
 #[test]
 fn gpu_driven_buckets_match_the_host_lists_across_chunks() {
-    const LEVEL: u32 = 4;
-    for (scheme, name) in [
-        ("pccm", "catmark_righthanded"),
-        ("pn", "catmark_righthanded"),
-        ("gregory", common::BIG_MESH),
+    for (scheme, name, hi, level) in [
+        ("pccm", "catmark_righthanded", 2.4, 4),
+        ("pn", "catmark_righthanded", 2.4, 4),
+        ("gregory", common::BIG_MESH, 2.4, 4),
+        ("pccm", common::BIG_MESH, 8.0, 8),
     ] {
         let c = Case::new(scheme, common::mesh(name));
         let (_, edges) = c.edges().edge_ids();
+        let lo = if level == 8 { 5.0 } else { 1.0 };
         let a = Adaptive {
-            metric: Metric::Buffer(adaptive::random_factors(edges, SEED, 1.0, 2.4)),
+            metric: Metric::Buffer(adaptive::random_factors(edges, SEED, lo, hi)),
             partitioning: Partitioning::Integer,
             min: 1.0,
-            max: LEVEL as f32,
+            max: level as f32,
         };
         let g = gpu();
         let m = match (&c.topo, &c.tri) {
@@ -374,22 +376,26 @@ fn gpu_driven_buckets_match_the_host_lists_across_chunks() {
             "{scheme} {name}: {patches} patches, one chunk"
         );
         let host = m
-            .evaluate_adaptive_host_lists(c.edges(), &a, LEVEL)
+            .evaluate_adaptive_host_lists(c.edges(), &a, level)
             .expect("host lists");
         let driven = m
-            .evaluate_adaptive_gpu_driven(c.edges(), &a, LEVEL)
+            .evaluate_adaptive_gpu_driven(c.edges(), &a, level)
             .expect("gpu-driven");
-        let buckets: Vec<usize> = [1, 2, 4]
+        let buckets: Vec<usize> = [1, 2, 4, 8]
             .iter()
             .map(|&l| driven.levels.iter().filter(|&&x| x == l).count())
             .collect();
         println!(
-            "{scheme} {name}: {patches} patches, ranges {:?}, buckets 1/2/4: {buckets:?}",
+            "{scheme} {name}: {patches} patches, ranges {:?}, buckets 1/2/4/8: {buckets:?}",
             m.classes
                 .iter()
                 .map(|r| (r.first, r.count))
                 .collect::<Vec<_>>()
         );
+        if level == 8 {
+            // The largest bucket's evaluation: more than 32,768 workgroups of 64.
+            assert!(buckets[3] * 81 > 32_768 * 64, "{buckets:?}");
+        }
         assert_eq!(driven.levels, host.levels, "{scheme} {name}");
         assert_eq!(driven.edge_levels, host.edge_levels, "{scheme} {name}");
         assert!(bit_equal(&driven, &host), "{scheme} {name}");

@@ -78,8 +78,9 @@ pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
 /// `16·r + j` holds the patches of class range r whose bucket is `2^j`
 /// (levels up to 2^15).
 pub const BUCKET_SLOTS: u32 = 16;
-/// Largest x workgroup count of one GPU-driven evaluation dispatch; the
-/// rest goes to y (WebGPU allows 65,535 per dimension).
+/// Largest x workgroup count of one GPU-driven evaluation dispatch
+/// (WebGPU allows 65,535 per dimension): a bucket needing more runs as
+/// y = ⌈workgroups / INDIRECT_X⌉ rows of x = ⌈workgroups / y⌉.
 pub const INDIRECT_X: u32 = 32768;
 /// Patches per chunk (and workgroup size) of the GPU-driven bucket
 /// compaction (`adaptive_count_main`, `adaptive_scatter_main`): chunk c
@@ -1045,7 +1046,7 @@ impl<'a> Writer<'a> {
         self.line("// invocation 0, for slots 0 .. count, writes the first entry and first sample (prefix sums of");
         self.line("// count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments");
         self.line(&format!(
-            "// (x = min(workgroups, {INDIRECT_X}), y = the rest) and the indexed indirect draw arguments"
+            "// (y = ⌈workgroups / {INDIRECT_X}⌉ rows of x = ⌈workgroups / y⌉) and the indexed indirect draw arguments"
         ));
         self.line("// (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw.");
         self.line(&format!(
@@ -1087,10 +1088,16 @@ impl<'a> Writer<'a> {
             abi::WORKGROUP_SIZE - 1,
             abi::WORKGROUP_SIZE
         ));
-        self.line(&format!("let x: u32 = min(groups, {INDIRECT_X}u);"));
-        self.line("var y: u32 = 0u;");
-        self.line("if (x > 0u) {");
-        self.line("    y = ((groups + (x - 1u)) / x);");
+        // As few rows y as the x limit allows, then the narrowest x for
+        // them: fewer than y idle workgroups (x = min(groups, limit) would
+        // leave up to limit − 1 of them in the last row).
+        self.line(&format!(
+            "let y: u32 = ((groups + {}u) / {INDIRECT_X}u);",
+            INDIRECT_X - 1
+        ));
+        self.line("var x: u32 = 0u;");
+        self.line("if (y > 0u) {");
+        self.line("    x = ((groups + (y - 1u)) / y);");
         self.line("}");
         self.line("bucket_list[((4u * b) + 1u)] = entry;");
         self.line("bucket_list[((4u * b) + 2u)] = first_sample;");
