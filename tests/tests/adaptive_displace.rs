@@ -113,8 +113,15 @@ impl Case {
     }
 
     fn wgpu(&self, scheme: &str, a: &Adaptive, d: Option<&Displacement>) -> AdaptiveTessellation {
+        self.gpu_mesh(scheme, d)
+            .evaluate_adaptive(self.edges(), a, MAX_LEVEL)
+            .expect("evaluate_adaptive")
+    }
+
+    /// The case uploaded for `scheme`, with displacement `d` if any.
+    fn gpu_mesh(&self, scheme: &str, d: Option<&Displacement>) -> GpuMesh<'static> {
         let g = gpu();
-        let m = match (&self.topo, &self.tri, d) {
+        match (&self.topo, &self.tri, d) {
             (Some(t), _, None) => GpuMesh::new(g, t, &self.positions, scheme),
             (Some(t), _, Some(d)) => {
                 GpuMesh::new_displaced(g, &self.mesh, t, &self.positions, scheme, d)
@@ -123,9 +130,7 @@ impl Case {
             (_, Some(t), Some(d)) => GpuMesh::new_tri_displaced(g, &self.mesh, t, scheme, d),
             _ => unreachable!(),
         }
-        .expect("gpu mesh");
-        m.evaluate_adaptive(self.edges(), a, MAX_LEVEL)
-            .expect("evaluate_adaptive")
+        .expect("gpu mesh")
     }
 }
 
@@ -308,17 +313,7 @@ fn gpu_driven_buckets_match_the_host_lists_bit_for_bit() {
             let c = Case::new(scheme, mesh);
             let a = c.random();
             for disp in [None, Some(&d)] {
-                let g = gpu();
-                let m = match (&c.topo, &c.tri, disp) {
-                    (Some(t), _, None) => GpuMesh::new(g, t, &c.positions, scheme),
-                    (Some(t), _, Some(d)) => {
-                        GpuMesh::new_displaced(g, &c.mesh, t, &c.positions, scheme, d)
-                    }
-                    (_, Some(t), None) => GpuMesh::new_tri(g, t, scheme),
-                    (_, Some(t), Some(d)) => GpuMesh::new_tri_displaced(g, &c.mesh, t, scheme, d),
-                    _ => unreachable!(),
-                }
-                .expect("gpu mesh");
+                let m = c.gpu_mesh(scheme, disp);
                 let host = m
                     .evaluate_adaptive_host_lists(c.edges(), &a, MAX_LEVEL)
                     .expect("host lists");
@@ -363,13 +358,7 @@ fn gpu_driven_buckets_match_the_host_lists_across_chunks() {
             min: 1.0,
             max: level as f32,
         };
-        let g = gpu();
-        let m = match (&c.topo, &c.tri) {
-            (Some(t), _) => GpuMesh::new(g, t, &c.positions, scheme),
-            (_, Some(t)) => GpuMesh::new_tri(g, t, scheme),
-            _ => unreachable!(),
-        }
-        .expect("gpu mesh");
+        let m = c.gpu_mesh(scheme, None);
         let patches: u32 = m.classes.iter().map(|r| r.count).sum();
         assert!(
             patches > 256,
