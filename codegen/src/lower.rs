@@ -507,11 +507,11 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
                 },
                 sides,
             ));
-        Some(AdaptiveEntries {
+        AdaptiveEntries {
             edge_level,
             eval: eval_a,
             eval_displaced: eval_ad,
-        })
+        }
     };
     // Triangles: the displacement step at the tessellator's float domain
     // point (integer path on the boundary, raw point inside); the CPU's

@@ -638,10 +638,9 @@ pub struct Entries {
     /// flat sample index of an integer domain point (the tessellation
     /// evaluation stages write their captured samples there).
     pub grid_index: usize,
-    /// Adaptive tessellation without a hardware tessellator (quad and
-    /// triangle schemes; `None` only for a module without one): see
-    /// `crate::adaptive`.
-    pub adaptive: Option<AdaptiveEntries>,
+    /// Adaptive tessellation without a hardware tessellator (every quad
+    /// and triangle scheme): see `crate::adaptive`.
+    pub adaptive: AdaptiveEntries,
     /// The bodies of the hardware tessellation stages (GLSL, HLSL).
     pub tess: TessStages,
     /// The body of the compute entry `vertex_stage_main` (GLSL, HLSL):

@@ -478,9 +478,7 @@ fn adaptive_cpu(
     use crate::kernels::common::Sample;
     use rayon::prelude::*;
     let kernels = patches.scheme;
-    let Some(ak) = kernels.adaptive else {
-        return Err(crate::cpu::facet_error(kernels).into());
-    };
+    let ak = kernels.adaptive;
     check_mesh(kernels, &mesh, patches.face_class.len())?;
     let inp = edge_inputs(mesh, a, max_level)?;
     let corner_vertex = mesh.corner_vertex();

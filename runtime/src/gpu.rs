@@ -563,8 +563,8 @@ impl<'g> GpuMesh<'g> {
         Ok(p)
     }
 
-    /// The checks both adaptive paths make before any GPU work — the scheme
-    /// has the adaptive kernels, the mesh is of the scheme's domain
+    /// The checks both adaptive paths make before any GPU work — the mesh
+    /// is of the scheme's domain
     /// (`Domain`) and the uploaded one (`MeshMismatch`) — and the edge
     /// inputs (factors, face edges, params).
     pub(crate) fn adaptive_inputs(
@@ -573,9 +573,6 @@ impl<'g> GpuMesh<'g> {
         a: &crate::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::adaptive::EdgeInputs, GpuError> {
-        if self.scheme.adaptive.is_none() {
-            return Err(cpu::facet_error(self.scheme).into());
-        }
         crate::adaptive::check_mesh(self.scheme, &mesh, self.patch_faces.len())?;
         Ok(crate::adaptive::edge_inputs(mesh, a, max_level)?)
     }

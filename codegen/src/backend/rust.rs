@@ -260,7 +260,7 @@ pub struct SchemeKernels {
     pub eval_domain_displaced: Option<fn(&Inputs, &[Vec3], u32, u32, u32, f32, f32, f32, u32) -> Sample>,
     /// Adaptive tessellation on the instanced path (quad and triangle
     /// schemes).
-    pub adaptive: Option<AdaptiveKernels>,
+    pub adaptive: AdaptiveKernels,
     /// Corners per facet: 4 (quads, (u, v) domain) or 3 (triangles,
     /// barycentric (level − iu − iv, iu, iv) of corners 0, 1, 2).
     pub sides: u32,
@@ -333,15 +333,12 @@ pub struct SchemeKernels {
             )),
             None => self.line("    eval_domain_displaced: None,"),
         }
-        match e.adaptive {
-            Some(a) => self.line(&format!(
-                "    adaptive: Some(AdaptiveKernels {{ edge_level: {}, eval: {}, eval_displaced: {} }}),",
-                m.functions[a.edge_level].name,
-                m.functions[a.eval].name,
-                m.functions[a.eval_displaced].name
-            )),
-            None => self.line("    adaptive: None,"),
-        }
+        self.line(&format!(
+            "    adaptive: AdaptiveKernels {{ edge_level: {}, eval: {}, eval_displaced: {} }},",
+            m.functions[e.adaptive.edge_level].name,
+            m.functions[e.adaptive.eval].name,
+            m.functions[e.adaptive.eval_displaced].name
+        ));
         self.line(&format!("    sides: {},", e.sides));
         for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {
             self.line(&format!("    {field}: {},", m.functions[g].name));

@@ -873,9 +873,7 @@ impl<'a> Writer<'a> {
     /// `patch_edge_level`, `tessgen_bucket_level` and `eval_adaptive`; these
     /// entries only index buffers.
     fn adaptive_entry_points(&mut self) {
-        let Some(a) = self.entries.adaptive else {
-            return;
-        };
+        let a = self.entries.adaptive;
         let first = param("first");
         let count = param("count");
         let level = param("level");
