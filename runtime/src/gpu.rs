@@ -261,6 +261,12 @@ pub struct GpuMesh<'g> {
     /// one compiles the entry for the device, which on llvmpipe cost more
     /// than the work of a level-4 adaptive run when it was done per call.
     pipelines: std::sync::Mutex<HashMap<String, wgpu::ComputePipeline>>,
+    /// The GPU-driven adaptive path's samples buffer (sized for every patch
+    /// at the call's `max_level`), kept for the next call that fits:
+    /// allocating and zero-initialising it per call was most of that
+    /// path's cost over the host lists on llvmpipe. Locked for the whole
+    /// call, so concurrent calls on one mesh do not share it.
+    driven_samples: std::sync::Mutex<Option<wgpu::Buffer>>,
 }
 
 /// An `R32Float` texture holding `texels` (row-major, `width` columns).
@@ -491,6 +497,7 @@ impl<'g> GpuMesh<'g> {
             patch_pipeline,
             eval_pipeline,
             pipelines: Default::default(),
+            driven_samples: Default::default(),
         };
         mesh.construct()?;
         Ok(mesh)
@@ -1171,12 +1178,21 @@ impl<'g> GpuMesh<'g> {
             "samples (every patch at the largest level)",
             sample_bytes,
         )?;
-        let samples = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("samples"),
-            size: sample_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let mut kept = self
+            .driven_samples
+            .lock()
+            .map_err(|_| GpuError::Readback("samples buffer lock poisoned".into()))?;
+        if kept.as_ref().is_none_or(|b| b.size() < sample_bytes) {
+            *kept = Some(dev.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("samples (GPU-driven adaptive)"),
+                size: sample_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }));
+        }
+        let Some(samples) = kept.as_ref() else {
+            return Err(GpuError::Readback("no samples buffer".into()));
+        };
         let staging = |label: &'static str, size: u64| {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -1200,7 +1216,7 @@ impl<'g> GpuMesh<'g> {
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("adaptive, GPU-driven"),
             });
-            self.encode_phases(&mut enc, &phases, &b, Some(&samples))?;
+            self.encode_phases(&mut enc, &phases, &b, Some(samples))?;
             enc.copy_buffer_to_buffer(&b.levels, 0, &levels_read, 0, patches * 20);
             enc.copy_buffer_to_buffer(&b.list, 0, &list_read, 0, b.list_words * 4);
             self.gpu.queue.submit([enc.finish()]);
@@ -1225,7 +1241,7 @@ impl<'g> GpuMesh<'g> {
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("adaptive samples readback"),
             });
-            enc.copy_buffer_to_buffer(&samples, 0, &samples_read, 0, written * 24);
+            enc.copy_buffer_to_buffer(samples, 0, &samples_read, 0, written * 24);
             self.gpu.queue.submit([enc.finish()]);
         })?;
         let floats = self.read(&samples_read)?;

@@ -389,5 +389,14 @@ fn gpu_driven_buckets_match_the_host_lists_across_chunks() {
         assert_eq!(driven.edge_levels, host.edge_levels, "{scheme} {name}");
         assert!(bit_equal(&driven, &host), "{scheme} {name}");
         assert_eq!(open_edges(&driven).0, 0, "{scheme} {name}");
+        // The samples buffer is kept between calls: a smaller run into the
+        // larger buffer, holding the first run's samples, is still exact.
+        let smaller = m
+            .evaluate_adaptive_gpu_driven(c.edges(), &a, level / 2)
+            .expect("gpu-driven, reused buffer");
+        let host_smaller = m
+            .evaluate_adaptive_host_lists(c.edges(), &a, level / 2)
+            .expect("host lists");
+        assert!(bit_equal(&smaller, &host_smaller), "{scheme} {name} reused");
     }
 }
