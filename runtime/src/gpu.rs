@@ -545,8 +545,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// The compute pipeline of one entry point of the scheme's module
-    /// (layout derived from the shader).
-    /// The pipeline of compute entry `entry`, built once per mesh.
+    /// (layout derived from the shader), built once per mesh.
     fn compute_pipeline(&self, entry: &str) -> Result<wgpu::ComputePipeline, GpuError> {
         let cached = |m: &HashMap<String, wgpu::ComputePipeline>| m.get(entry).cloned();
         if let Some(p) = self.pipelines.lock().ok().as_deref().and_then(cached) {
@@ -571,9 +570,8 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// The checks both adaptive paths make before any GPU work — the mesh
-    /// is of the scheme's domain
-    /// (`Domain`) and the uploaded one (`MeshMismatch`) — and the edge
-    /// inputs (factors, face edges, params).
+    /// is of the scheme's domain (`Domain`) and the uploaded one
+    /// (`MeshMismatch`) — and the edge inputs (factors, face edges, params).
     pub(crate) fn adaptive_inputs(
         &self,
         mesh: crate::adaptive::AdaptiveMesh<'_>,
@@ -1121,11 +1119,10 @@ impl<'g> GpuMesh<'g> {
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
         let bytes = self.patch_faces.len() as u64 * (self.scheme.grid_len)(max_level) as u64 * 24;
-        let chunks = (self.patch_faces.len() as u64).div_ceil(CHUNK as u64);
         if max_level.is_power_of_two()
             && max_level <= cpu::MAX_LEVEL
             && bytes <= self.limits.max_storage_buffer_binding_size
-            && chunks <= self.limits.max_workgroups_per_dimension as u64
+            && self.chunk_rows() <= self.limits.max_workgroups_per_dimension as u64
         {
             self.evaluate_adaptive_gpu_driven(mesh, a, max_level)
         } else {
@@ -1182,17 +1179,17 @@ impl<'g> GpuMesh<'g> {
             .driven_samples
             .lock()
             .map_err(|_| GpuError::Readback("samples buffer lock poisoned".into()))?;
-        if kept.as_ref().is_none_or(|b| b.size() < sample_bytes) {
-            *kept = Some(dev.create_buffer(&wgpu::BufferDescriptor {
+        if kept.as_ref().is_some_and(|b| b.size() < sample_bytes) {
+            *kept = None;
+        }
+        let samples: &wgpu::Buffer = kept.get_or_insert_with(|| {
+            dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("samples (GPU-driven adaptive)"),
                 size: sample_bytes,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
-            }));
-        }
-        let Some(samples) = kept.as_ref() else {
-            return Err(GpuError::Readback("no samples buffer".into()));
-        };
+            })
+        });
         let staging = |label: &'static str, size: u64| {
             dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -1225,9 +1222,9 @@ impl<'g> GpuMesh<'g> {
         let lv = self.read_words(&levels_read)?;
         let list = self.read_words(&list_read)?;
         // After the evaluation, the headers say how many samples were
-        // written (slots are laid out in order, so the last slot's first
-        // sample plus its samples): read back only those, not the buffer
-        // sized for every patch at `max_level`.
+        // written (the end of the furthest slot: first sample + count ·
+        // samples per patch): read back only those, not the buffer sized
+        // for every patch at `max_level`.
         let written: u64 = (0..slots as usize)
             .map(|b| {
                 let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as u64;
@@ -1291,7 +1288,7 @@ impl<'g> GpuMesh<'g> {
         let list_words = 4 * slots as u64 + 6 * patches;
         check(&self.limits, "patch_levels", patches * 20)?;
         check(&self.limits, "bucket_list", list_words * 4)?;
-        let chunk_rows = patches.div_ceil(CHUNK as u64);
+        let chunk_rows = self.chunk_rows();
         if chunk_rows > self.limits.max_workgroups_per_dimension as u64 {
             return Err(GpuError::TooManyChunks {
                 patches,
@@ -1346,6 +1343,13 @@ impl<'g> GpuMesh<'g> {
             slots,
             list_words,
         })
+    }
+
+    /// Chunks of [`CHUNK`] patches the bucket compaction runs over (one
+    /// row of `bucket_chunks` each; at most max_workgroups_per_dimension,
+    /// as `bucket_buffers` checks).
+    fn chunk_rows(&self) -> u64 {
+        (self.patch_faces.len() as u64).div_ceil(CHUNK as u64)
     }
 
     /// Every bucket slot up to `max_level`: `(slot 16r + j, class of range
@@ -1435,11 +1439,13 @@ impl<'g> GpuMesh<'g> {
                 })
                 .collect::<Vec<_>>()
         };
-        let chunk_rows = (self.patch_faces.len() as u32).div_ceil(CHUNK);
         phases.push(("adaptive_count_main", per_range()));
         phases.push((
             "adaptive_plan_main",
-            vec![(prm(chunk_rows, slots, 0, 0, 0, 0), Run::Direct(1))],
+            vec![(
+                prm(self.chunk_rows() as u32, slots, 0, 0, 0, 0),
+                Run::Direct(1),
+            )],
         ));
         phases.push(("adaptive_scatter_main", per_range()));
         phases

@@ -84,8 +84,8 @@ pub const BUCKET_SLOTS: u32 = 16;
 pub const INDIRECT_X: u32 = 32768;
 /// Patches per chunk (and workgroup size) of the GPU-driven bucket
 /// compaction (`adaptive_count_main`, `adaptive_scatter_main`): chunk c
-/// holds patches `256c .. 256c + 256` of `patch_faces`, `bucket_chunks`
-/// one row of slot counts per chunk.
+/// holds patches `256c .. 256c + 256` of `patch_faces`; `bucket_chunks`
+/// holds two rows per chunk, its slot counts and their offsets.
 pub const BUCKET_CHUNK: u32 = 256;
 
 /// WGSL keywords and reserved words (WGSL §15), then the predeclared types
@@ -987,9 +987,10 @@ impl<'a> Writer<'a> {
     /// first entry and first sample and writes the indirect arguments, and
     /// `adaptive_scatter_main` writes every patch at the sum of its slot's
     /// first entry, its chunk's offset and its rank among the chunk's
-    /// earlier patches of the same bucket. The entries come out in patch order — the order the
-    /// host lists have — without atomics, and no invocation loops over more
-    /// than one chunk's patches (the plan's scan: over the chunks).
+    /// earlier patches of the same bucket. The entries come out in patch
+    /// order — the order the host lists have — without atomics, and no
+    /// invocation loops over more than one chunk's patches (the plan's
+    /// scan: over the chunks).
     /// `eval_adaptive_indirect_main` runs one indirect dispatch per slot.
     /// `bucket_list` (written here) is bound as `bucket_patches` for the
     /// evaluation: a header of 4 u32 per slot (count, first entry, first
