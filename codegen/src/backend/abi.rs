@@ -138,8 +138,38 @@ pub fn params_offset(field: &str) -> u32 {
 /// Size of the `Params` block in bytes.
 pub const PARAMS_SIZE: u32 = 64 + 4 * 8;
 
-/// Workgroup size of every compute entry point.
+/// Workgroup size of every compute entry point (but the bucket compaction
+/// passes, whose workgroup is one chunk: [`BUCKET_CHUNK`]).
 pub const WORKGROUP_SIZE: u32 = 64;
+
+/// `f32` per evaluated sample in `samples` (binding 12): position xyz, normal xyz.
+pub const SAMPLE_FLOATS: u32 = 6;
+/// `u32` per patch in `patch_levels` (binding 25): the levels of edges 0–3, then the bucket.
+pub const PATCH_LEVELS_WORDS: u32 = 5;
+/// `u32` per entry of `bucket_patches` / `bucket_list` (bindings 26, 27): patch,
+/// first control point, the levels of edges 0–3.
+pub const BUCKET_ENTRY_WORDS: u32 = 6;
+/// `u32` per bucket slot in the header of `bucket_list` (binding 27): count,
+/// first entry, first sample, x workgroups.
+pub const BUCKET_HEADER_WORDS: u32 = 4;
+/// `u32` per bucket slot in `bucket_dispatch` (binding 28): `dispatch_workgroups_indirect` x, y, z.
+pub const BUCKET_DISPATCH_WORDS: u32 = 3;
+/// `u32` per bucket slot in `bucket_draw` (binding 29): `draw_indexed_indirect` arguments.
+pub const BUCKET_DRAW_WORDS: u32 = 5;
+
+/// Bucket slots per class range in the GPU-driven adaptive buffers: slot
+/// `16·r + j` holds the patches of class range r whose bucket is `2^j`
+/// (levels up to 2^15).
+pub const BUCKET_SLOTS: u32 = 16;
+/// Largest x workgroup count of one GPU-driven evaluation dispatch
+/// (WebGPU allows 65,535 per dimension): a bucket needing more runs as
+/// y = ⌈workgroups / INDIRECT_X⌉ rows of x = ⌈workgroups / y⌉.
+pub const INDIRECT_X: u32 = 32768;
+/// Patches per chunk (and workgroup size) of the GPU-driven bucket
+/// compaction (`adaptive_count_main`, `adaptive_scatter_main`): chunk c
+/// holds patches `256c .. 256c + 256` of `patch_faces`; `bucket_chunks`
+/// holds two rows per chunk, its slot counts and their offsets.
+pub const BUCKET_CHUNK: u32 = 256;
 
 /// Entry points, by name, that every shader target provides (where its
 /// pipeline model has the stage).

@@ -74,19 +74,7 @@ pub const ADAPTIVE_ENTRY_POINTS: &[(&str, &str)] = &[
     ("eval_adaptive_indirect_vs", "vertex"),
 ];
 
-/// Bucket slots per class range in the GPU-driven adaptive buffers: slot
-/// `16·r + j` holds the patches of class range r whose bucket is `2^j`
-/// (levels up to 2^15).
-pub const BUCKET_SLOTS: u32 = 16;
-/// Largest x workgroup count of one GPU-driven evaluation dispatch
-/// (WebGPU allows 65,535 per dimension): a bucket needing more runs as
-/// y = ⌈workgroups / INDIRECT_X⌉ rows of x = ⌈workgroups / y⌉.
-pub const INDIRECT_X: u32 = 32768;
-/// Patches per chunk (and workgroup size) of the GPU-driven bucket
-/// compaction (`adaptive_count_main`, `adaptive_scatter_main`): chunk c
-/// holds patches `256c .. 256c + 256` of `patch_faces`; `bucket_chunks`
-/// holds two rows per chunk, its slot counts and their offsets.
-pub const BUCKET_CHUNK: u32 = 256;
+pub use super::abi::{BUCKET_CHUNK, BUCKET_SLOTS, INDIRECT_X};
 
 /// WGSL keywords and reserved words (WGSL §15), then the predeclared types
 /// and built-in functions this printer uses: never used as a plain name.
