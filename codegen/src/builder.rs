@@ -12,8 +12,8 @@
 //! ```
 
 use crate::backend::{self, Target};
+use crate::front::scheme::{Scheme, SchemeError};
 use crate::plan::Plan;
-use crate::scheme::{Scheme, SchemeError};
 use crate::table::{StencilTable, DEFAULT_MAX_VALENCE};
 use std::path::{Path, PathBuf};
 

@@ -1,7 +1,7 @@
 //! tessgen compiler: scheme DSL → symbolic IR → stencil table → Plan → printers.
 //!
 //! ```text
-//! scheme source (DSL) ─ parse (syn) ─▶ Scheme IR (symbolic, checked)   [dsl, scheme, sym]
+//! scheme source (DSL) ─ parse (syn) ─▶ Scheme IR (symbolic, checked)   [front: dsl, scheme, sym]
 //! Scheme IR           ─ per valence ─▶ StencilTable (f64 → f32 rows)   [table]
 //! Scheme IR           ─ lower ──────▶ Plan (ordered statements)        [lower, plan, form]
 //! Plan                ─ print ──────▶ Rust | …                         [backend]
@@ -14,15 +14,17 @@ pub mod adaptive;
 pub mod backend;
 pub mod builder;
 pub mod displace;
-pub mod dsl;
 pub mod form;
+pub mod front;
 pub mod lower;
 pub mod outdir;
 pub mod plan;
-pub mod scheme;
-pub mod sym;
 pub mod table;
 pub mod tess;
+
+/// The front end's modules at their long-standing public paths
+/// (`tessgen_codegen::scheme`, …), used by the `scheme!` macro and by users.
+pub use front::{dsl, scheme, sym};
 
 pub use backend::Target;
 pub use builder::{builtin_schemes, BuildError, Builder, GeneratedFile, Output, SchemeSource};

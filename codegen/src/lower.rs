@@ -10,10 +10,10 @@
 //!   (symmetric de Casteljau; `spec/watertight.md` Rule 2).
 
 use crate::form::Form;
+use crate::front::scheme::{self, Class, Scheme, CORNER_VAR};
+use crate::front::sym::{self, Sym};
 use crate::plan::build::*;
 use crate::plan::{self, *};
-use crate::scheme::{self, Class, Scheme, CORNER_VAR};
-use crate::sym::{self, Sym};
 use crate::table::{SchemeRows, StencilTable};
 use std::collections::BTreeMap;
 

@@ -6,7 +6,7 @@
 //! a manifest that says what each row is. On the GPU it is an `R32Float`
 //! texture (row = y, slot = x); on the CPU a slice.
 
-use crate::scheme::Scheme;
+use crate::front::scheme::Scheme;
 use serde::Serialize;
 
 /// Default largest valence.
@@ -146,7 +146,7 @@ impl StencilTable {
                     .map(|(_, d)| OutputInfo {
                         name: d.name.clone(),
                         per_sector: d.indexed,
-                        kind: if d.kind == crate::dsl::DefKind::Vector {
+                        kind: if d.kind == crate::front::dsl::DefKind::Vector {
                             "vector"
                         } else {
                             "point"

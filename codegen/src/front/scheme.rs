@@ -6,9 +6,9 @@
 //! (a point times a point), and rows whose weights do not sum to 1 (0 for
 //! tangent vectors) at some valence.
 
-use crate::dsl::{self, DefAst, DefKind, SchemeAst};
 use crate::form::{Form, SlotKind};
-use crate::sym::{self, BinOp, CmpOp, Env, Func, Sym, Value};
+use crate::front::dsl::{self, DefAst, DefKind, SchemeAst};
+use crate::front::sym::{self, BinOp, CmpOp, Env, Func, Sym, Value};
 use proc_macro2::Span;
 use std::collections::BTreeMap;
 use syn::{Expr, Ident};

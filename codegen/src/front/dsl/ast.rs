@@ -1,6 +1,6 @@
 //! Syntax tree of a scheme declaration, straight from the parser.
 //!
-//! Expressions stay `syn::Expr` here; [`crate::scheme`] resolves names and
+//! Expressions stay `syn::Expr` here; [`crate::front::scheme`] resolves names and
 //! types and turns them into the symbolic IR.
 
 use proc_macro2::Span;
