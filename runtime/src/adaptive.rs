@@ -10,8 +10,8 @@
 //! parameter buffer (binding 19, layout `abi::ADAPTIVE`) and the metric
 //! options.
 
-use crate::topology::Topology;
-use crate::trimesh::TriMesh;
+use crate::mesh::topology::Topology;
+use crate::mesh::trimesh::TriMesh;
 use glam::{Mat4, Vec3};
 
 /// How the tessellator spaces the vertices of a fractional factor.
@@ -352,7 +352,7 @@ pub fn edge_inputs<'m>(
 /// Face `f` is the `grid_len(levels[f])` samples of its domain's grid from
 /// `offsets[f]`: quads an `(L + 1)²` grid in the usual order
 /// (`iv·(L+1) + iu`), triangles (`sides` 3) the triangle grid row by row
-/// (`crate::trimesh::tri_grid_index`, barycentric `(L − iu − iv, iu, iv)`).
+/// (`crate::grid::tri_grid_index`, barycentric `(L − iu − iv, iu, iv)`).
 /// Its interior samples are at `(iu, iv)/L`; a boundary sample `i` of edge
 /// `k`, whose own level is `L_e = edge_levels[sides·f + k] ≤ L`,
 /// is *snapped* to the edge's coarser point `⌊i / (L / L_e)⌋` and evaluated
@@ -376,9 +376,9 @@ pub struct AdaptiveTessellation {
 
 impl AdaptiveTessellation {
     /// Every face's grid triangles as world positions (a triangle soup for
-    /// [`crate::weld::weld_triangles`] or OBJ output): the quad grid's
-    /// ([`crate::weld::grid_triangles`]) or the triangle grid's
-    /// ([`crate::trimesh::tri_grid_triangles`], the uniform triangle path's).
+    /// [`crate::check::weld::weld_triangles`] or OBJ output): the quad grid's
+    /// ([`crate::grid::grid_triangles`]) or the triangle grid's
+    /// ([`crate::grid::tri_grid_triangles`], the uniform triangle path's).
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
         let mut out = Vec::new();
         let mut local: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
@@ -386,9 +386,9 @@ impl AdaptiveTessellation {
             let base = self.offsets[f];
             let tris = local.entry(l).or_insert_with(|| {
                 if self.sides == 3 {
-                    crate::trimesh::tri_grid_triangles(l)
+                    crate::grid::tri_grid_triangles(l)
                 } else {
-                    crate::weld::grid_triangles(l)
+                    crate::grid::grid_triangles(l)
                 }
             });
             for t in tris.iter() {

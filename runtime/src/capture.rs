@@ -11,7 +11,7 @@
 //! watertightness check; evaluating the CPU surface at each captured domain
 //! point is the parity check.
 
-use crate::weld::{weld_triangles, WeldReport};
+use crate::check::weld::{weld_triangles, WeldReport};
 use glam::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write;
@@ -243,7 +243,7 @@ impl TriangleCapture {
     }
 
     /// Weld every captured triangle by exact position bits (see
-    /// [`crate::weld`]): 0 open edges means the hardware's output is a
+    /// [`crate::check::weld`]): 0 open edges means the hardware's output is a
     /// closed surface.
     pub fn weld(&self) -> WeldReport {
         let soup: Vec<Vec3> = self.triangles().into_iter().flatten().collect();
@@ -263,7 +263,7 @@ impl TriangleCapture {
             .collect()
     }
 
-    /// OBJ text in the layout of [`crate::obj`]: per patch `g patch_<k>`
+    /// OBJ text in the layout of [`crate::check::obj`]: per patch `g patch_<k>`
     /// (the `k`-th triangle of the triangle mesh), its `v` and `vn` lines
     /// (the captured vertices, sorted by domain point) and its triangles
     /// `f a//a b//b c//c` as the tessellator emitted them.

@@ -6,8 +6,8 @@
 
 use crate::displace::{DisplaceData, Displacement};
 use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
+use crate::mesh::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
 use crate::mesh::Mesh;
-use crate::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
 use glam::Vec3;
 use rayon::prelude::*;
 
@@ -31,9 +31,9 @@ pub enum TessError {
         hint: &'static str,
     },
     #[error(transparent)]
-    TriMesh(#[from] crate::trimesh::TriMeshError),
+    TriMesh(#[from] crate::mesh::trimesh::TriMeshError),
     #[error(transparent)]
-    Tags(#[from] crate::tags::TagError),
+    Tags(#[from] crate::mesh::tags::TagError),
     #[error("scheme `{scheme}` takes no crease tags (only `stpn` reads them)")]
     TagsUnused { scheme: String },
     #[error(transparent)]
@@ -235,7 +235,7 @@ pub fn construct(
 /// `(level+1)²` grid, sample `j·(level+1) + i` at `(u, v) = (i, j)/level`.
 /// Triangles (`sides` 3): `(level+1)(level+2)/2` samples row by row, sample
 /// `(i, j)` at barycentrics `(level − i − j, i, j)/level` of corners 0, 1, 2
-/// ([`crate::trimesh::tri_grid_coords`]).
+/// ([`crate::grid::tri_grid_coords`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tessellation {
     pub level: u32,
@@ -249,7 +249,7 @@ impl Tessellation {
     /// Samples per face.
     pub fn grid_len(&self) -> usize {
         if self.sides == 3 {
-            crate::trimesh::tri_grid_len(self.level)
+            crate::grid::tri_grid_len(self.level)
         } else {
             ((self.level + 1) * (self.level + 1)) as usize
         }
@@ -259,9 +259,9 @@ impl Tessellation {
     /// and OBJ output connect.
     pub fn local_triangles(&self) -> Vec<[u32; 3]> {
         if self.sides == 3 {
-            crate::trimesh::tri_grid_triangles(self.level)
+            crate::grid::tri_grid_triangles(self.level)
         } else {
-            crate::weld::grid_triangles(self.level)
+            crate::grid::grid_triangles(self.level)
         }
     }
 }
@@ -481,7 +481,7 @@ pub fn tessellate_displaced_any(
 /// `mesh`).
 pub fn displacement_data_tri(
     mesh: &Mesh,
-    tri: &crate::trimesh::TriMesh,
+    tri: &crate::mesh::trimesh::TriMesh,
     patches: &Patches,
     d: &Displacement,
 ) -> Result<DisplaceData, TessError> {
@@ -559,7 +559,7 @@ pub fn vertex_out_offsets(topo: &Topology, scheme: &SchemeKernels) -> (Vec<u32>,
 /// Patch stage of a triangle scheme (`pn`, `phong`): per triangle, from its
 /// corners' positions and unit normals. There is no vertex stage.
 pub fn construct_tri(
-    mesh: &crate::trimesh::TriMesh,
+    mesh: &crate::mesh::trimesh::TriMesh,
     scheme: &'static SchemeKernels,
 ) -> Result<Patches, TessError> {
     if scheme.sides != 3 {
@@ -606,7 +606,7 @@ pub fn construct_tri(
 }
 
 /// Tessellate a polygon mesh with any built-in scheme: quad schemes through
-/// [`Topology`], triangle schemes through [`crate::trimesh::TriMesh`]
+/// [`Topology`], triangle schemes through [`crate::mesh::trimesh::TriMesh`]
 /// (quads split when `split_quads`; OBJ normals used when consistent,
 /// area-weighted otherwise).
 pub fn tessellate_any(
@@ -619,14 +619,14 @@ pub fn tessellate_any(
 }
 
 /// [`tessellate_any`] with the crease tags of a tag file for `stpn`
-/// ([`crate::tags`]); `tags` with any other scheme is an error rather than
+/// ([`crate::mesh::tags`]); `tags` with any other scheme is an error rather than
 /// silently ignored.
 pub fn tessellate_tagged(
     mesh: &Mesh,
     scheme_name: &str,
     level: u32,
     split_quads: bool,
-    tags: Option<&crate::tags::TagFile>,
+    tags: Option<&crate::mesh::tags::TagFile>,
 ) -> Result<Tessellation, TessError> {
     let kernels = scheme(scheme_name)?;
     if tags.is_some() && kernels.name != "stpn" {
@@ -650,11 +650,11 @@ pub fn tessellate_tagged(
 pub fn tri_mesh(
     mesh: &Mesh,
     split_quads: bool,
-    tags: Option<&crate::tags::TagFile>,
-) -> Result<crate::trimesh::TriMesh, TessError> {
-    let tri = crate::trimesh::TriMesh::from_mesh(
+    tags: Option<&crate::mesh::tags::TagFile>,
+) -> Result<crate::mesh::trimesh::TriMesh, TessError> {
+    let tri = crate::mesh::trimesh::TriMesh::from_mesh(
         mesh,
-        &crate::trimesh::TriOptions {
+        &crate::mesh::trimesh::TriOptions {
             split_quads,
             ..Default::default()
         },

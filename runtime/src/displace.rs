@@ -28,9 +28,9 @@
 //! normal and its own coordinates on its edges, and the displaced surface
 //! cracks along every texture seam.
 
+use crate::mesh::topology::Topology;
+use crate::mesh::trimesh::TriMesh;
 use crate::mesh::Mesh;
-use crate::topology::Topology;
-use crate::trimesh::TriMesh;
 use std::collections::HashMap;
 
 /// Errors building displacement data.

@@ -10,7 +10,7 @@
 
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 
@@ -371,7 +371,7 @@ impl<'g> GpuMesh<'g> {
     /// only by `stpn`); no vertex stage runs.
     pub fn new_tri(
         gpu: &'g Gpu,
-        mesh: &crate::trimesh::TriMesh,
+        mesh: &crate::mesh::trimesh::TriMesh,
         scheme_name: &str,
     ) -> Result<Self, GpuError> {
         Self::with_limits_tri(gpu, mesh, scheme_name, gpu.limits)
@@ -384,7 +384,7 @@ impl<'g> GpuMesh<'g> {
     pub fn new_tri_displaced(
         gpu: &'g Gpu,
         mesh: &crate::Mesh,
-        tri: &crate::trimesh::TriMesh,
+        tri: &crate::mesh::trimesh::TriMesh,
         scheme_name: &str,
         d: &crate::displace::Displacement,
     ) -> Result<Self, GpuError> {
@@ -398,7 +398,7 @@ impl<'g> GpuMesh<'g> {
     /// Like [`GpuMesh::new_tri`] with explicit (smaller) limits.
     pub fn with_limits_tri(
         gpu: &'g Gpu,
-        mesh: &crate::trimesh::TriMesh,
+        mesh: &crate::mesh::trimesh::TriMesh,
         scheme_name: &str,
         limits: Limits,
     ) -> Result<Self, GpuError> {
@@ -866,7 +866,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a
-    /// [`Topology`], triangle schemes on the [`crate::trimesh::TriMesh`]
+    /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
     /// [`crate::adaptive::evaluate_cpu_adaptive`] bit for bit:
     ///
@@ -1103,7 +1103,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a
-    /// [`Topology`], triangle schemes on the [`crate::trimesh::TriMesh`]
+    /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
     /// [`crate::adaptive::evaluate_cpu_adaptive`] (or `_displaced`, on a
     /// mesh uploaded with displacement): GPU-driven buckets
@@ -1614,7 +1614,7 @@ pub fn tessellate_displaced_any(
 }
 
 /// Like [`cpu::tessellate_any`] on the GPU: quad schemes through
-/// [`Topology`], triangle schemes through [`crate::trimesh::TriMesh`].
+/// [`Topology`], triangle schemes through [`crate::mesh::trimesh::TriMesh`].
 pub fn tessellate_any(
     mesh: &crate::Mesh,
     scheme: &str,
@@ -1630,7 +1630,7 @@ pub fn tessellate_tagged(
     scheme: &str,
     level: u32,
     split_quads: bool,
-    tags: Option<&crate::tags::TagFile>,
+    tags: Option<&crate::mesh::tags::TagFile>,
 ) -> Result<Tessellation, GpuError> {
     let kernels = cpu::scheme(scheme)?;
     if tags.is_some() && kernels.name != "stpn" {

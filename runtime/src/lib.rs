@@ -16,27 +16,27 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod accuracy;
 pub mod adaptive;
 pub mod capture;
+pub mod check;
 pub mod cpu;
 pub mod displace;
 #[cfg(feature = "gpu")]
 pub mod gpu;
+pub mod grid;
 pub mod kernels;
 pub mod mesh;
-pub mod obj;
 pub mod pattern;
 #[cfg(feature = "gpu")]
 pub mod render;
-pub mod stats;
-pub mod tags;
-pub mod topology;
-pub mod trimesh;
 pub mod upload;
 #[cfg(feature = "vulkan")]
 pub mod vulkan;
-pub mod weld;
+
+/// The mesh and check modules at their long-standing public paths
+/// (`tessgen_runtime::topology`, `::weld`, …).
+pub use check::{accuracy, obj, stats, weld};
+pub use mesh::{tags, topology, trimesh};
 
 pub use cpu::{TessError, Tessellation};
 pub use mesh::{Mesh, MeshError};

@@ -141,7 +141,7 @@ impl GpuMesh<'_> {
     pub fn render(&self, opts: &RenderOptions) -> Result<Image, GpuError> {
         let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
         let indices = if self.scheme.sides == 3 {
-            crate::trimesh::tri_grid_triangles(level).concat()
+            crate::grid::tri_grid_triangles(level).concat()
         } else {
             pattern::cache_friendly_indices(level, 20)
         };
@@ -211,7 +211,7 @@ impl GpuMesh<'_> {
             .iter()
             .map(|&l| {
                 if self.scheme.sides == 3 {
-                    crate::trimesh::tri_grid_triangles(l).concat()
+                    crate::grid::tri_grid_triangles(l).concat()
                 } else {
                     pattern::scanline_indices(l)
                 }

@@ -7,7 +7,7 @@
 
 use crate::cpu::{self, TessError};
 use crate::kernels::common::SchemeKernels;
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use glam::{Mat4, Vec3};
 
 /// Binding numbers (crate `tessgen-codegen`'s `backend::abi::BINDINGS`).
@@ -311,7 +311,10 @@ impl Upload {
 
     /// A triangle mesh for a triangle scheme: corner vertices, positions,
     /// unit normals and crease tags; no vertex stage runs.
-    pub fn tri(mesh: &crate::trimesh::TriMesh, scheme_name: &str) -> Result<Upload, UploadError> {
+    pub fn tri(
+        mesh: &crate::mesh::trimesh::TriMesh,
+        scheme_name: &str,
+    ) -> Result<Upload, UploadError> {
         let scheme = cpu::scheme(scheme_name)?;
         if scheme.sides != 3 {
             return Err(cpu::facet_error(scheme).into());

@@ -28,7 +28,7 @@ use crate::adaptive::{self, Adaptive, Metric};
 use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
-use crate::topology::Topology;
+use crate::mesh::topology::Topology;
 use crate::upload::{
     binding, f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
     PARAMS_SIZE,
@@ -898,7 +898,7 @@ impl<'v> VkMesh<'v> {
     pub fn new_tri_displaced(
         vk: &'v Vulkan,
         source: &crate::Mesh,
-        tri: &crate::trimesh::TriMesh,
+        tri: &crate::mesh::trimesh::TriMesh,
         scheme: &str,
         d: &crate::displace::Displacement,
         options: &Options,
@@ -934,7 +934,7 @@ impl<'v> VkMesh<'v> {
     /// A triangle mesh for a triangle scheme.
     pub fn new_tri(
         vk: &'v Vulkan,
-        mesh: &crate::trimesh::TriMesh,
+        mesh: &crate::mesh::trimesh::TriMesh,
         scheme: &str,
         options: &Options,
     ) -> Result<Self, VkError> {
@@ -945,7 +945,7 @@ impl<'v> VkMesh<'v> {
     /// The upload of a triangle mesh, with the adaptive buffers if asked for.
     fn tri_upload(
         vk: &'v Vulkan,
-        mesh: &crate::trimesh::TriMesh,
+        mesh: &crate::mesh::trimesh::TriMesh,
         scheme: &str,
         options: &Options,
     ) -> Result<Upload, VkError> {
@@ -1987,17 +1987,17 @@ pub enum VkOutput {
 }
 
 impl VkOutput {
-    /// OBJ text: [`crate::obj::to_obj`] or [`TriangleCapture::to_obj`].
+    /// OBJ text: [`crate::check::obj::to_obj`] or [`TriangleCapture::to_obj`].
     pub fn to_obj(&self) -> String {
         match self {
-            VkOutput::Grid(t) => crate::obj::to_obj(t),
+            VkOutput::Grid(t) => crate::check::obj::to_obj(t),
             VkOutput::Triangles(c) => c.to_obj(),
         }
     }
-    /// Exact-bit weld of the output (see [`crate::weld`]).
-    pub fn weld(&self) -> crate::weld::WeldReport {
+    /// Exact-bit weld of the output (see [`crate::check::weld`]).
+    pub fn weld(&self) -> crate::check::weld::WeldReport {
         match self {
-            VkOutput::Grid(t) => crate::weld::weld(t),
+            VkOutput::Grid(t) => crate::check::weld::weld(t),
             VkOutput::Triangles(c) => c.weld(),
         }
     }
@@ -2016,7 +2016,7 @@ impl VkOutput {
 
 /// Like [`cpu::tessellate_any`] through the Vulkan tessellation pipeline:
 /// quad schemes through [`Topology`], triangle schemes through
-/// [`crate::trimesh::TriMesh`].
+/// [`crate::mesh::trimesh::TriMesh`].
 pub fn tessellate_any(
     mesh: &crate::Mesh,
     scheme: &str,
@@ -2033,7 +2033,7 @@ pub fn tessellate_tagged(
     scheme: &str,
     level: u32,
     split_quads: bool,
-    tags: Option<&crate::tags::TagFile>,
+    tags: Option<&crate::mesh::tags::TagFile>,
     options: &Options,
 ) -> Result<VkOutput, VkError> {
     let kernels = cpu::scheme(scheme)?;

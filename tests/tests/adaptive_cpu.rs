@@ -88,7 +88,7 @@ fn per_patch_levels_without_snapping_open_the_weld() {
         let cp = &patches.control_points
             [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
         let at = |s: u32| (k.eval)(cp, patches.face_class[f], 0, s % (l + 1), s / (l + 1), l);
-        for tri in weld::grid_triangles(l) {
+        for tri in tessgen_runtime::grid::grid_triangles(l) {
             soup.extend(tri.map(|s| at(s).position));
         }
     }

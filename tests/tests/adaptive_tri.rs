@@ -22,8 +22,9 @@ use tessgen_runtime::adaptive::{
     self, Adaptive, AdaptiveError, AdaptiveTessellation, Metric, Partitioning,
 };
 use tessgen_runtime::gpu::{Gpu, GpuMesh};
+use tessgen_runtime::grid::tri_grid_coords;
 use tessgen_runtime::tags::TagFile;
-use tessgen_runtime::trimesh::{tri_grid_coords, TriMesh};
+use tessgen_runtime::trimesh::TriMesh;
 use tessgen_runtime::{cpu, weld, Topology};
 
 const SEED: u64 = 0x7e55_6e11;

@@ -8,12 +8,10 @@ use std::collections::HashMap;
 use std::fmt::Write;
 
 use glam::Vec3;
+use tessgen_runtime::grid::{tri_grid_coords, tri_grid_edge, tri_grid_len, tri_grid_triangles};
 use tessgen_runtime::mesh::NO_NORMAL;
 use tessgen_runtime::stats::MeshStats;
-use tessgen_runtime::trimesh::{
-    tri_grid_coords, tri_grid_edge, tri_grid_len, tri_grid_triangles, NormalSource, TriMesh,
-    TriMeshError, TriOptions,
-};
+use tessgen_runtime::trimesh::{NormalSource, TriMesh, TriMeshError, TriOptions};
 use tessgen_runtime::{obj, weld, Mesh, MeshError};
 
 const LEVELS: &[u32] = &[1, 2, 7, 8, 16];

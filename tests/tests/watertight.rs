@@ -136,7 +136,7 @@ fn creased_torus() -> (tessgen_runtime::Mesh, TagFile) {
 #[test]
 fn stpn_creased_torus_welds_closed_and_jumps_only_at_the_crease() {
     use std::collections::HashMap;
-    use tessgen_runtime::trimesh::tri_grid_edge;
+    use tessgen_runtime::grid::tri_grid_edge;
     let (mesh, tags) = creased_torus();
     let tri = cpu::tri_mesh(&mesh, true, Some(&tags)).expect("tri mesh");
     let creased = |v: u32| tri.crease_tags.crease[v as usize] != glam::Vec3::ZERO;

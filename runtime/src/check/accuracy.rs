@@ -15,10 +15,10 @@
 //! patches (ACC): a continuous shading normal over geometry that is only C⁰
 //! across edges near extraordinary vertices.
 
+use crate::check::weld;
 use crate::cpu::{self, Patches, TessError, Tessellation};
+use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
-use crate::topology::Topology;
-use crate::weld;
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::path::Path;
@@ -301,7 +301,7 @@ fn boundary_normals_by(
         .into_par_iter()
         .filter(|&h| {
             let g = topo.twin[h as usize];
-            g != crate::topology::NONE && g > h
+            g != crate::mesh::topology::NONE && g > h
         })
         .flat_map_iter(|h| {
             let g = topo.twin[h as usize];
@@ -325,7 +325,7 @@ pub fn boundary_normal_spread(topo: &Topology, t: &Tessellation) -> f64 {
     let mut worst = 0.0f64;
     for h in 0..topo.twin.len() as u32 {
         let g = topo.twin[h as usize];
-        if g == crate::topology::NONE || g < h {
+        if g == crate::mesh::topology::NONE || g < h {
             continue;
         }
         let (fa, fb) = (topo.face[h as usize], topo.face[g as usize]);

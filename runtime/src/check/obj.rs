@@ -6,13 +6,13 @@
 //! shortest round-trip formatting, so equal f32 values print identical text.
 //!
 //! Triangle patches ([`tri_to_obj`]) use the same layout with the
-//! `(N+1)(N+2)/2` samples of [`crate::trimesh::tri_grid_coords`] per patch
+//! `(N+1)(N+2)/2` samples of [`crate::grid::tri_grid_coords`] per patch
 //! (row by row, `(i, j)` with `i + j ≤ N`) and the `N²` triangles of
-//! [`crate::trimesh::tri_grid_triangles`].
+//! [`crate::grid::tri_grid_triangles`].
 
 use crate::cpu::Tessellation;
-use crate::trimesh::{tri_grid_len, tri_grid_triangles};
-use crate::weld::grid_triangles;
+use crate::grid::grid_triangles;
+use crate::grid::{tri_grid_len, tri_grid_triangles};
 use glam::Vec3;
 use std::fmt::Write;
 
@@ -35,7 +35,7 @@ pub fn to_obj(t: &Tessellation) -> String {
 /// Render a triangle-patch tessellation at `level` as OBJ text: `positions`
 /// and `normals` hold [`tri_grid_len`]`(level)` samples per patch, patch after
 /// patch (`g patch_<k>` names the `k`-th patch, i.e. the `k`-th triangle of
-/// the [`crate::trimesh::TriMesh`], not the input face).
+/// the [`crate::mesh::trimesh::TriMesh`], not the input face).
 ///
 /// # Panics
 ///

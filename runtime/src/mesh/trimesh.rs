@@ -23,7 +23,7 @@
 //!
 //! [`tri_grid_coords`], [`tri_grid_triangles`] and [`tri_grid_edge`] fix the sample pattern
 //! that every triangle backend uses at level `N` (the triangular analogue of the quad path's
-//! `(N+1)²` grid, see [`crate::weld::grid_triangles`]):
+//! `(N+1)²` grid, see [`crate::grid::grid_triangles`]):
 //!
 //! * samples `(i, j)` with `i + j ≤ N`, stored row by row: `j = 0..=N`, and in row `j`,
 //!   `i = 0..=N−j` (index [`tri_grid_index`]);
@@ -43,8 +43,8 @@ use std::collections::HashMap;
 use glam::{DVec3, Vec3};
 use thiserror::Error;
 
+use crate::mesh::tags::{CreaseTags, TagError, TagFile};
 use crate::mesh::{Mesh, MeshError};
-use crate::tags::{CreaseTags, TagError, TagFile};
 
 /// A triangle mesh with one unit normal per vertex: the input of the triangle schemes.
 ///
@@ -67,7 +67,7 @@ pub struct TriMesh {
     pub source_face: Vec<u32>,
     /// Where [`TriMesh::normals`] came from.
     pub normal_source: NormalSource,
-    /// Scalar tags and side signs for `stpn` ([`crate::tags`]); neutral (plain PN) unless
+    /// Scalar tags and side signs for `stpn` ([`crate::mesh::tags`]); neutral (plain PN) unless
     /// [`TriMesh::with_tags`] set them. Other schemes never read them.
     pub crease_tags: CreaseTags,
 }
@@ -187,7 +187,7 @@ impl TriMesh {
     /// tools, and the output must be a pure function of the file's face lists, reproducible for
     /// golden values and snapshots. The diagonal is interior to the face, so it never affects a
     /// neighbour's edge; and it is the same diagonal as the quad grid's cells
-    /// ([`crate::weld::grid_triangles`], corner `(0,0)` to `(1,1)`).
+    /// ([`crate::grid::grid_triangles`], corner `(0,0)` to `(1,1)`).
     ///
     /// **Polygons with more than 4 sides** are rejected even with splitting: a fan or any
     /// other fixed triangulation folds over on non-convex polygons, and choosing a good one is
@@ -224,10 +224,17 @@ impl TriMesh {
         })
     }
 
-    /// This mesh with the scalar tags of a parsed tag file ([`crate::tags`]): explicit sides
+    /// This mesh with the scalar tags of a parsed tag file ([`crate::mesh::tags`]): explicit sides
     /// where the file names them, the geometric default elsewhere.
     pub fn with_tags(mut self, file: &TagFile) -> Result<TriMesh, TagError> {
-        self.crease_tags = CreaseTags::resolve(&self, file)?;
+        self.crease_tags = CreaseTags::resolve(
+            crate::mesh::tags::Triangulation {
+                positions: &self.positions,
+                triangles: &self.triangles,
+                source_face: &self.source_face,
+            },
+            file,
+        )?;
         Ok(self)
     }
 
@@ -289,7 +296,7 @@ impl TriMesh {
     }
 
     /// `V − E + F` over the vertices that some triangle uses (unused vertices are not part of
-    /// the surface), as in [`crate::stats::MeshStats`], so a quad mesh and its split agree.
+    /// the surface), as in [`crate::check::stats::MeshStats`], so a quad mesh and its split agree.
     pub fn euler_characteristic(&self) -> i64 {
         let mut used = vec![false; self.positions.len()];
         for &v in self.triangles.iter().flatten() {
@@ -301,7 +308,7 @@ impl TriMesh {
 }
 
 /// Undirected edge → number of triangles using it.
-fn edge_uses(triangles: &[[u32; 3]]) -> HashMap<(u32, u32), u32> {
+pub(crate) fn edge_uses(triangles: &[[u32; 3]]) -> HashMap<(u32, u32), u32> {
     let mut uses = HashMap::with_capacity(triangles.len() * 3 / 2);
     for t in triangles {
         for e in 0..3 {
@@ -470,87 +477,6 @@ fn area_weighted_normals(
         .collect()
 }
 
-// ---------------------------------------------------------------------------------------------
-// Triangle tessellation domain
-
-/// Number of samples of one triangle at `level` N: `(N+1)(N+2)/2`.
-///
-/// Level 0 is degenerate (one sample with barycentrics `(0, 0, 0)`, no triangles); the
-/// tessellators use levels `1..=`[`crate::cpu::MAX_LEVEL`].
-pub fn tri_grid_len(level: u32) -> usize {
-    let n = level as usize;
-    (n + 1) * (n + 2) / 2
-}
-
-/// Local index of sample `(i, j)` (`i + j ≤ level`) in the row-by-row order: rows `0..j` hold
-/// `Σ_{r<j} (N + 1 − r)` samples. Panics (in debug builds) if `i + j > level`.
-pub fn tri_grid_index(level: u32, i: u32, j: u32) -> u32 {
-    debug_assert!(i + j <= level, "sample ({i}, {j}) outside level {level}");
-    let (n, i, j) = (u64::from(level), u64::from(i), u64::from(j));
-    (j * (n + 1) - j * j.saturating_sub(1) / 2 + i) as u32
-}
-
-/// Integer barycentrics `(a, b, c) = (N − i − j, i, j)` of every sample, in index order; corner
-/// `k`'s weight is the `k`-th entry over `N` (see the module docs for why this convention).
-///
-/// Panics if the level is so large that local indices would not fit `u32`.
-pub fn tri_grid_coords(level: u32) -> Vec<[u32; 3]> {
-    assert_fits(level);
-    let mut coords = Vec::with_capacity(tri_grid_len(level));
-    for j in 0..=level {
-        for i in 0..=level - j {
-            coords.push([level - i - j, i, j]);
-        }
-    }
-    coords
-}
-
-/// The `N²` triangles of the sample grid (local indices), counter-clockwise in the same sense
-/// as the corner order 0 → 1 → 2, so a tessellated triangle keeps its facet's orientation and
-/// the welded result of a consistently oriented mesh is consistently oriented. Per cell, row by
-/// row: the upward triangle `[(i,j), (i+1,j), (i,j+1)]`, then (where it exists) the downward
-/// one `[(i+1,j), (i+1,j+1), (i,j+1)]`.
-///
-/// Panics if the level is so large that local indices would not fit `u32`.
-pub fn tri_grid_triangles(level: u32) -> Vec<[u32; 3]> {
-    assert_fits(level);
-    let idx = |i, j| tri_grid_index(level, i, j);
-    let mut tris = Vec::with_capacity(level as usize * level as usize);
-    for j in 0..level {
-        let row = level - j;
-        for i in 0..row {
-            tris.push([idx(i, j), idx(i + 1, j), idx(i, j + 1)]);
-            if i + 1 < row {
-                tris.push([idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)]);
-            }
-        }
-    }
-    tris
-}
-
-/// The `N + 1` samples on edge `edge` (0, 1 or 2), from corner `edge` to corner `edge + 1
-/// (mod 3)`: the samples where the weight of corner `edge + 2 (mod 3)` is zero, in order of
-/// decreasing weight of corner `edge`. The neighbour across the edge sees the same samples in
-/// reverse order. Panics if `edge > 2`.
-pub fn tri_grid_edge(level: u32, edge: usize) -> Vec<u32> {
-    assert_fits(level);
-    let n = level;
-    let idx = |i, j| tri_grid_index(n, i, j);
-    match edge {
-        0 => (0..=n).map(|t| idx(t, 0)).collect(),
-        1 => (0..=n).map(|t| idx(n - t, t)).collect(),
-        2 => (0..=n).map(|t| idx(0, n - t)).collect(),
-        _ => panic!("a triangle has edges 0, 1 and 2, not {edge}"),
-    }
-}
-
-fn assert_fits(level: u32) {
-    assert!(
-        (tri_grid_len(level) as u64) < u64::from(u32::MAX),
-        "triangle level {level} is too large for u32 sample indices"
-    );
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -630,89 +556,6 @@ mod tests {
             "unused vertex keeps a zero normal"
         );
         assert_eq!(t.normals[0], Vec3::Z);
-    }
-
-    #[test]
-    fn grid_counts_and_coords() {
-        for n in 0..12 {
-            let coords = tri_grid_coords(n);
-            assert_eq!(coords.len(), tri_grid_len(n));
-            assert_eq!(tri_grid_triangles(n).len(), (n * n) as usize);
-            let mut k = 0;
-            for j in 0..=n {
-                for i in 0..=n - j {
-                    assert_eq!(tri_grid_index(n, i, j), k);
-                    assert_eq!(coords[k as usize], [n - i - j, i, j]);
-                    k += 1;
-                }
-            }
-        }
-        assert_eq!(tri_grid_coords(1), vec![[1, 0, 0], [0, 1, 0], [0, 0, 1]]);
-        assert_eq!(tri_grid_triangles(1), vec![[0, 1, 2]]);
-    }
-
-    #[test]
-    fn grid_triangles_are_ccw_and_edge_manifold() {
-        for n in 1..12 {
-            let coords = tri_grid_coords(n);
-            // Corner k at the k-th unit vector of the plane z = 0 with corners
-            // (0,0), (1,0), (0,1): barycentric (a,b,c) ↦ (b, c).
-            let xy = |k: u32| {
-                let [_, b, c] = coords[k as usize];
-                (i64::from(b), i64::from(c))
-            };
-            let tris = tri_grid_triangles(n);
-            let mut directed = HashMap::new();
-            for t in &tris {
-                let [(x0, y0), (x1, y1), (x2, y2)] = t.map(xy);
-                assert_eq!(
-                    (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0),
-                    1,
-                    "ccw, unit"
-                );
-                for e in 0..3 {
-                    *directed.entry((t[e], t[(e + 1) % 3])).or_insert(0) += 1;
-                }
-            }
-            assert!(directed.values().all(|&c| c == 1), "orientation");
-            let uses = edge_uses(&tris);
-            assert!(uses.values().all(|&c| c == 1 || c == 2));
-            let boundary: Vec<_> = uses.iter().filter(|(_, &c)| c == 1).collect();
-            assert_eq!(boundary.len() as u32, 3 * n);
-            // Every boundary edge lies on one of the three sides.
-            for (&(a, b), _) in boundary {
-                let (ca, cb) = (coords[a as usize], coords[b as usize]);
-                assert!((0..3).any(|k| ca[k] == 0 && cb[k] == 0));
-            }
-            // Euler characteristic of a disc.
-            let v = tri_grid_len(n) as i64;
-            assert_eq!(v - uses.len() as i64 + tris.len() as i64, 1);
-        }
-    }
-
-    #[test]
-    fn grid_edges_run_corner_to_corner() {
-        for n in 1..12 {
-            let coords = tri_grid_coords(n);
-            for k in 0..3 {
-                let edge = tri_grid_edge(n, k);
-                assert_eq!(edge.len() as u32, n + 1);
-                for (t, &s) in edge.iter().enumerate() {
-                    let c = coords[s as usize];
-                    let t = t as u32;
-                    assert_eq!(c[k], n - t, "corner {k} weight decreases");
-                    assert_eq!(c[(k + 1) % 3], t, "corner {} weight grows", (k + 1) % 3);
-                    assert_eq!(c[(k + 2) % 3], 0, "opposite corner absent");
-                }
-            }
-            // Corners: edge k starts where edge k-1 ends.
-            for k in 0..3 {
-                assert_eq!(
-                    tri_grid_edge(n, k)[0],
-                    *tri_grid_edge(n, (k + 2) % 3).last().unwrap()
-                );
-            }
-        }
     }
 
     #[test]

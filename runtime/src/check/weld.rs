@@ -7,7 +7,7 @@
 //!
 //! The same count works for any per-face sample pattern: [`weld`] for the quad
 //! grids of a [`Tessellation`], [`weld_triangles`] for triangle patches
-//! (with [`crate::trimesh::tri_grid_triangles`]) or anything else with a
+//! (with [`crate::grid::tri_grid_triangles`]) or anything else with a
 //! fixed number of samples per face and one local triangle list.
 
 use crate::cpu::Tessellation;
@@ -40,20 +40,6 @@ fn key(p: Vec3) -> [u32; 3] {
     [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }
 
-/// Triangles of one `(level+1)²` grid (local indices), counter-clockwise in (u, v).
-pub fn grid_triangles(level: u32) -> Vec<[u32; 3]> {
-    let w = level + 1;
-    let mut tris = Vec::with_capacity((2 * level * level) as usize);
-    for j in 0..level {
-        for i in 0..level {
-            let a = j * w + i;
-            tris.push([a, a + 1, a + w + 1]);
-            tris.push([a, a + w + 1, a + w]);
-        }
-    }
-    tris
-}
-
 /// Weld a tessellation (quad or triangle patches) by exact position bits and
 /// count edge uses.
 pub fn weld(t: &Tessellation) -> WeldReport {
@@ -66,7 +52,7 @@ pub fn weld(t: &Tessellation) -> WeldReport {
 /// is triangulated by the same `local_tris` (indices `< per_face`). For
 /// triangle patches at level `N` that is
 /// `weld_triangles(&positions, tri_grid_len(N), &tri_grid_triangles(N))`
-/// (see [`crate::trimesh`]).
+/// (see [`crate::mesh::trimesh`]).
 ///
 /// # Panics
 ///
@@ -133,7 +119,7 @@ fn weld_faces(positions: &[Vec3], faces: usize, per: usize, tris: &[[u32; 3]]) -
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::trimesh::{tri_grid_coords, tri_grid_len, tri_grid_triangles};
+    use crate::grid::{tri_grid_coords, tri_grid_len, tri_grid_triangles};
 
     /// Two triangles sharing the edge (1,0,0)-(0,1,0), sampled by integer
     /// barycentrics with only the non-zero terms summed: the shared edge

@@ -32,7 +32,15 @@
 
 use glam::Vec3;
 
-use crate::trimesh::TriMesh;
+/// The arrays of a triangulation that tag resolution reads (see
+/// `mesh::trimesh::TriMesh`, which builds one).
+#[derive(Clone, Copy, Debug)]
+pub struct Triangulation<'a> {
+    pub positions: &'a [Vec3],
+    pub triangles: &'a [[u32; 3]],
+    /// OBJ face (0-based) of each triangle, for errors.
+    pub source_face: &'a [u32],
+}
 
 /// Scalars per vertex in [`CreaseTags::tags`].
 pub const TAGS_PER_VERTEX: usize = 4;
@@ -286,9 +294,12 @@ impl CreaseTags {
         }
     }
 
-    /// Tags of `mesh`'s triangulation from a parsed file: explicit sides
-    /// where the file names them, the geometric default elsewhere.
-    pub fn resolve(mesh: &TriMesh, file: &TagFile) -> Result<CreaseTags, TagError> {
+    /// Tags of a triangulation from a parsed file: explicit sides where the
+    /// file names them, the geometric default elsewhere. Takes the
+    /// triangulation's arrays (a `TriMesh`'s `positions`, `triangles`,
+    /// `source_face`) rather than the type, so the tag format does not depend
+    /// on the mesh module that applies it.
+    pub fn resolve(mesh: Triangulation<'_>, file: &TagFile) -> Result<CreaseTags, TagError> {
         let mut per_vertex = vec![VertexTag::NEUTRAL; mesh.positions.len()];
         for (v, t) in &file.vertices {
             per_vertex[*v as usize] = *t;
