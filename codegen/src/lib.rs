@@ -10,17 +10,14 @@
 //! Math lives in the scheme declaration and the IR, order lives in the
 //! Plan, syntax lives in the printers.
 
-pub mod adaptive;
 pub mod backend;
 pub mod builder;
-pub mod displace;
 pub mod form;
 pub mod front;
 pub mod lower;
 pub mod outdir;
 pub mod plan;
 pub mod table;
-pub mod tess;
 
 /// The front end's modules at their long-standing public paths
 /// (`tessgen_codegen::scheme`, …), used by the `scheme!` macro and by users.

@@ -639,7 +639,7 @@ pub struct Entries {
     /// evaluation stages write their captured samples there).
     pub grid_index: usize,
     /// Adaptive tessellation without a hardware tessellator (every quad
-    /// and triangle scheme): see `crate::adaptive`.
+    /// and triangle scheme): see `crate::lower::adaptive`.
     pub adaptive: AdaptiveEntries,
     /// The bodies of the hardware tessellation stages (GLSL, HLSL).
     pub tess: TessStages,
@@ -650,7 +650,7 @@ pub struct Entries {
     /// The body of the compute entry `eval_main` (GLSL, HLSL): sample `k
     /// mod grid_len(level)` of patch `params.first + k / grid_len(level)`
     /// through `eval_displaced_global` into `samples` (see
-    /// `crate::tess::compute_eval`).
+    /// `crate::lower::tess::compute_eval`).
     pub compute_eval: Function,
 }
 

@@ -1050,7 +1050,7 @@ impl<'a> Writer<'a> {
                             self.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
                         }
                         StageOut::InsideFactor(d) => {
-                            let edges = crate::tess::inside_edges(sides, *d);
+                            let edges = crate::lower::tess::inside_edges(sides, *d);
                             let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
                             self.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
                         }

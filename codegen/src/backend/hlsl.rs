@@ -733,7 +733,7 @@ impl<'a> Writer<'a> {
                             self.line(&format!("c.edges[{slot}] = {v};"));
                         }
                         StageOut::InsideFactor(d) => {
-                            let edges = crate::tess::inside_edges(sides, *d);
+                            let edges = crate::lower::tess::inside_edges(sides, *d);
                             let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
                             if sides == 3 {
                                 self.line(&format!("c.inside = {v};"));

@@ -204,7 +204,7 @@ pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
 /// `eval_adaptive_displaced(face, class, cp_base, iu, iv, level, l0, l1,
 /// l2, l3) -> Sample` of a quad (`sides` 4) or triangle (`sides` 3) scheme:
 /// the snap of [`eval_adaptive_fn`], then `eval_displaced`'s body
-/// ([`crate::displace::displacement_step`], on the callees `c`) at the
+/// ([`crate::lower::displace::displacement_step`], on the callees `c`) at the
 /// snapped point. The step is inlined rather than a call to
 /// `eval_displaced` because the HLSL printer leaves `eval_displaced` out
 /// (its evaluation reads a patch-local array) but prints every other
@@ -228,7 +228,7 @@ pub fn eval_adaptive_fn(eval: usize, sides: u32) -> Function {
 /// texture coordinate). The position there is the corner point itself in
 /// either form (the shared edge evaluator returns it for `i = 0` and
 /// `i = level`).
-pub fn eval_adaptive_displaced_fn(c: crate::displace::Callees, sides: u32) -> Function {
+pub fn eval_adaptive_displaced_fn(c: crate::lower::displace::Callees, sides: u32) -> Function {
     let callee = Callee::Displaced(c);
     if sides == 3 {
         return eval_adaptive_tri_fn(callee);
@@ -244,7 +244,7 @@ enum Callee {
     /// `eval_displaced`'s step on `(face, class, cp_base, su, sv, sl)`,
     /// corners at level 1: `eval_adaptive_displaced` (which takes `face`
     /// first).
-    Displaced(crate::displace::Callees),
+    Displaced(crate::lower::displace::Callees),
 }
 
 impl Callee {
@@ -303,7 +303,12 @@ impl Callee {
                     ],
                     vec![],
                 ));
-                crate::displace::displacement_step(f, &c, sides, [face, class, cp, su, sv, sl]);
+                crate::lower::displace::displacement_step(
+                    f,
+                    &c,
+                    sides,
+                    [face, class, cp, su, sv, sl],
+                );
             }
             (Callee::Eval(e), _) => f.body.push(Stmt::Return(call(
                 FnRef::Local(e),

@@ -1,0 +1,354 @@
+//! Lowering: Scheme IR → Plan.
+//!
+//! All operation order is decided here, once, for every backend:
+//! * the vertex stage sums ring slots 0, 1, …, 2n in ring order with the f32
+//!   table weights, skipping exact zeros (DESIGN.md Rule 1);
+//! * the patch stage unrolls the scheme's per-corner definitions in source
+//!   order, folding number arithmetic in f64 before it becomes an f32 literal;
+//! * evaluation forms every weight pair from integer tessellation
+//!   coordinates and evaluates shared boundaries through one edge evaluator
+//!   (symmetric de Casteljau; `spec/watertight.md` Rule 2).
+
+use crate::form::Form;
+use crate::front::scheme::{self, Class, Scheme, CORNER_VAR};
+use crate::front::sym::{self, Sym};
+use crate::plan::build::*;
+use crate::plan::{self, *};
+use crate::table::{SchemeRows, StencilTable};
+use std::collections::BTreeMap;
+
+pub mod adaptive;
+mod common;
+pub mod displace;
+mod eval;
+mod grid;
+mod patch;
+mod surface;
+pub mod tess;
+mod vertex;
+pub use common::common_module;
+use eval::*;
+use grid::*;
+use patch::*;
+use surface::*;
+use vertex::*;
+
+/// Indices of the common module's functions.
+pub mod common_fn {
+    pub const NORMALIZE: usize = 0;
+    pub const CUBIC: usize = 1;
+    pub const EDGE: usize = 2;
+    pub const EDGE_FACTOR: usize = 3;
+    /// `tessgen_edge_factor_runtime`: the metric chosen at run time.
+    pub const EDGE_FACTOR_RUNTIME: usize = 4;
+    /// `tessgen_edge_level`: power-of-two edge level of a factor.
+    pub const EDGE_LEVEL: usize = 5;
+    /// `tessgen_bucket_level`: a patch's bucket, the largest edge level.
+    pub const BUCKET_LEVEL: usize = 6;
+}
+
+/// Name of the adaptive per-edge tessellation factor.
+pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";
+
+/// Name of the adaptive per-edge factor with the metric chosen at run time.
+pub const EDGE_FACTOR_RUNTIME_FN: &str = "tessgen_edge_factor_runtime";
+
+/// Fixed-point denominator of the adaptive evaluation: the hardware
+/// tessellator's domain coordinates are 16.16 fixed point, so `m / 2^16`
+/// is exact in f32 and `2^16 − m` is the neighbour's coordinate.
+pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
+
+/// Which patch edges feed a hardware tessellator's factors in adaptive
+/// builds: `(outer, inner)`, `outer[s]` the edge (k: `v_k → v_{k+1}`) whose
+/// factor goes to outer factor slot `s`, `inner[s]` the edges whose largest
+/// factor is inside factor `s`.
+///
+/// Conventions (Vulkan and D3D alike): a triangle domain's outer slot `s` is
+/// the edge where barycentric coordinate `s` is 0 — with `(x, y, z)`
+/// weighing corners 0, 1, 2 that is edge 1 (`x = 0`), edge 2 (`y = 0`),
+/// edge 0 (`z = 0`) — and its one inside factor is the largest of the three
+/// edges. A quad domain's outer slots are the edges `a = 0, b = 0, a = 1,
+/// b = 1` of its coordinates `(a, b)`, and inside factor 0 subdivides along
+/// `a` (the edges `b = 0`, `b = 1`). HLSL takes `(u, v) = (a, b)`
+/// (`first_is_u`), GLSL `(u, v) = (b, a)` (the axis swap that keeps the
+/// winding counter-clockwise); our edges are 0: `v = 0`, 1: `u = 1`,
+/// 2: `v = 1`, 3: `u = 0`. Every factor depends on its edge alone (Rule 3),
+/// the inside ones only on the patch's own edges.
+pub fn hw_factor_edges(sides: u32, first_is_u: bool) -> (Vec<usize>, Vec<Vec<usize>>) {
+    if sides == 3 {
+        return (vec![1, 2, 0], vec![vec![0, 1, 2]]);
+    }
+    let outer = if first_is_u {
+        vec![3, 0, 1, 2]
+    } else {
+        vec![0, 3, 2, 1]
+    };
+    let sorted = |mut v: Vec<usize>| {
+        v.sort_unstable();
+        v
+    };
+    let inner = vec![
+        sorted(vec![outer[1], outer[3]]),
+        sorted(vec![outer[0], outer[2]]),
+    ];
+    (outer, inner)
+}
+
+/// Name of the single shared edge evaluator.
+pub const EDGE_FN: &str = "tessgen_edge";
+
+fn f32c(x: f64) -> Expr {
+    Expr::F32(x as f32)
+}
+
+/// Lower one scheme to its module.
+pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
+    let mut m = Module {
+        name: s.name.clone(),
+        doc: s.doc.clone(),
+        ..Default::default()
+    };
+    let row_base = m.add_const(
+        "ROW_BASE",
+        "First stencil-table row of each valence's vertex-stage block (index = valence).",
+        ConstValue::U32Array(rows.valence_row_base.clone()),
+    );
+    let const_row = m.add_const(
+        "CONST_ROW_BASE",
+        "Stencil-table row of valence 3's per-valence constants; valence n is row CONST_ROW_BASE + n - 3.",
+        ConstValue::U32(rows.const_row_base),
+    );
+    let (ra, rb) = s.rows_linear();
+    m.add_const(
+        "ROWS_PER_N",
+        "Vertex-stage outputs per vertex: ROWS_PER_N·n + ROWS_FIXED.",
+        ConstValue::U32(ra),
+    );
+    m.add_const("ROWS_FIXED", "See ROWS_PER_N.", ConstValue::U32(rb));
+
+    let vertex_stage = m.functions.len();
+    m.functions.push(vertex_stage_fn(s, row_base, ra, rb));
+
+    let mut patches = Vec::new();
+    for pc in &s.patches {
+        let idx = m.functions.len();
+        m.functions.push(patch_fn(s, pc, const_row));
+        patches.push(PatchEntry {
+            class: pc.class,
+            form: pc.form,
+            control_points: pc.form.num_points() as u32,
+            function: idx,
+        });
+    }
+    // Boundary curves of every class, flattened: [class][edge][4].
+    let mut curves = Vec::new();
+    for pe in &patches {
+        for e in 0..pe.form.sides() {
+            curves.extend(pe.form.edge_curve(e).iter().map(|&x| x as u32));
+        }
+    }
+    let curve_const = m.add_const(
+        "EDGE_CURVE",
+        "Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.",
+        ConstValue::U32Array(curves),
+    );
+    let mut surfaces = Vec::new();
+    // Triangle forms: the surface at float barycentric weights, per class.
+    let mut surfaces_at = Vec::new();
+    for pe in &patches {
+        let f = match pe.form {
+            Form::Bicubic => bicubic_surface(pe.class),
+            Form::CPatch => cpatch_surface(pe.class),
+            Form::Acc => acc_surface(pe.class),
+            Form::Gregory => gregory_surface(pe.class),
+            Form::TriCubic => {
+                let at = m.functions.len();
+                m.functions.push(tri_cubic_surface_at(pe.class));
+                surfaces_at.push(at);
+                tri_cubic_surface(pe.class, at)
+            }
+        };
+        surfaces.push(m.functions.len());
+        m.functions.push(f);
+    }
+    let sides = s.facet.sides() as u32;
+    let eval = m.functions.len();
+    m.functions
+        .push(eval_fn(&patches, &surfaces, curve_const, sides));
+    let eval_domain = if sides == 3 && surfaces_at.len() == patches.len() {
+        m.functions.push(eval_domain_fn(eval, &surfaces_at));
+        Some(m.functions.len() - 1)
+    } else {
+        None
+    };
+    let grid = [
+        m.functions.len(),
+        m.functions.len() + 1,
+        m.functions.len() + 2,
+    ];
+    m.functions.extend(grid_fns(sides));
+    let grid_index = m.functions.len();
+    m.functions.push(grid_index_fn(sides));
+    // The displacement step (16 texture coordinates per quad patch, 12 per
+    // triangle).
+    let eval_displaced = {
+        let height = m.functions.len();
+        m.functions.push(crate::lower::displace::height_fn());
+        let texcoord = m.functions.len();
+        m.functions
+            .push(crate::lower::displace::texcoord_fn(height, sides));
+        let displace = m.functions.len();
+        m.functions
+            .push(crate::lower::displace::displace_point_fn());
+        let idx = m.functions.len();
+        m.functions.push(crate::lower::displace::eval_displaced_fn(
+            &crate::lower::displace::Callees {
+                eval,
+                owner_eval: eval,
+                texcoord,
+                displace,
+            },
+            sides,
+        ));
+        (idx, texcoord, displace, height)
+    };
+    // Adaptive tessellation on the instanced path (quad and triangle
+    // schemes: the same signatures, the domain's snap inside).
+    let adaptive = {
+        let (_, texcoord, displace, _) = eval_displaced;
+        let edge_level = m.functions.len();
+        m.functions
+            .push(crate::lower::adaptive::patch_edge_level_fn(
+                curve_const,
+                sides,
+            ));
+        let eval_a = m.functions.len();
+        m.functions
+            .push(crate::lower::adaptive::eval_adaptive_fn(eval, sides));
+        let eval_ad = m.functions.len();
+        m.functions
+            .push(crate::lower::adaptive::eval_adaptive_displaced_fn(
+                crate::lower::displace::Callees {
+                    eval,
+                    owner_eval: eval,
+                    texcoord,
+                    displace,
+                },
+                sides,
+            ));
+        AdaptiveEntries {
+            edge_level,
+            eval: eval_a,
+            eval_displaced: eval_ad,
+        }
+    };
+    // Triangles: the displacement step at the tessellator's float domain
+    // point (integer path on the boundary, raw point inside); the CPU's
+    // copy calls `eval_displaced` (the parity reference of the captures).
+    let domain_displaced = eval_domain.map(|ed| {
+        let (idx, _, displace, height_fn) = eval_displaced;
+        let height = m.functions.len();
+        m.functions
+            .push(crate::lower::displace::height_at_domain_fn(height_fn));
+        let f = m.functions.len();
+        m.functions
+            .push(crate::lower::displace::eval_domain_displaced_fn(
+            &crate::lower::displace::DomainCallees {
+                boundary: idx,
+                eval_domain: ed,
+                height,
+                displace,
+            },
+            "eval_domain_displaced",
+            "eval_domain with the displacement step (watertight.md Rules 4 and 5): on the patch \
+             boundary (a coordinate exactly 0) eval_displaced at the integer grid point \
+             (round(y·level), round(z·level)), the owner's normal and texture coordinate like \
+             every other patch of the edge; inside, the raw point displaced along its own normal \
+             by the height at its interior texture coordinate (tessgen_height_at_domain).",
+        ));
+        (f, ed, height, displace)
+    });
+    // The tessellation stages' variant: own sample from the patch-local
+    // control points, the owner's from the global buffer.
+    let tess_displaced = {
+        let (own_displaced, texcoord, displace, _) = eval_displaced;
+        let start = m.functions.len();
+        // `eval_displaced` on the global buffer, with `eval_global` and the
+        // surface copies under it.
+        let globals = crate::lower::displace::global_variants(&mut m, own_displaced);
+        let owner_eval = crate::lower::displace::global_of(&globals, eval);
+        let compute_eval = crate::lower::displace::global_of(&globals, own_displaced);
+        let idx = m.functions.len();
+        m.functions
+            .push(crate::lower::displace::eval_displaced_tess_fn(
+                &crate::lower::displace::Callees {
+                    eval,
+                    owner_eval,
+                    texcoord,
+                    displace,
+                },
+                sides,
+            ));
+        let domain = domain_displaced.map(|(_, ed, height, displace)| {
+            m.functions.push(crate::lower::displace::eval_domain_displaced_fn(
+                &crate::lower::displace::DomainCallees {
+                    boundary: idx,
+                    eval_domain: ed,
+                    height,
+                    displace,
+                },
+                "eval_domain_displaced_tess",
+                "eval_domain_displaced for the tessellation evaluation stage: the boundary through \
+                 eval_displaced_tess (own sample from the patch-local control points, the owner's \
+                 normal from the global control-point buffer), the interior displaced along its \
+                 own normal.",
+            ));
+            m.functions.len() - 1
+        });
+        Some(TessDisplaced {
+            eval_displaced: idx,
+            eval_domain: domain,
+            eval_displaced_global: compute_eval,
+            functions: start..m.functions.len(),
+        })
+    };
+    let eval_domain_displaced = domain_displaced.map(|d| d.0);
+    let eval_displaced = Some(eval_displaced.0);
+    let mut entries = Entries {
+        vertex_stage,
+        patches,
+        eval,
+        eval_domain,
+        eval_displaced,
+        eval_domain_displaced,
+        tess_displaced,
+        sides,
+        grid,
+        grid_index,
+        adaptive,
+        tess: TessStages {
+            control: Function::new("", ""),
+            evaluation: Function::new("", ""),
+            store_cp: Function::new("", ""),
+            load_cp: Function::new("", ""),
+        },
+        compute_vertex: Function::new("", ""),
+        compute_eval: Function::new("", ""),
+    };
+    // The hardware tessellation stages' bodies call the functions above.
+    entries.tess = crate::lower::tess::stages(&entries, curve_const);
+    entries.compute_vertex = crate::lower::tess::compute_vertex(&entries);
+    entries.compute_eval = crate::lower::tess::compute_eval(&entries);
+    (m, entries)
+}
+
+/// Lower every scheme against one stencil table.
+pub fn plan(schemes: &[Scheme], table: &StencilTable) -> Plan {
+    let common = common_module(table);
+    let schemes = schemes
+        .iter()
+        .zip(&table.schemes)
+        .map(|(s, rows)| scheme_module(s, rows))
+        .collect();
+    Plan { common, schemes }
+}
