@@ -12,7 +12,9 @@
 //! ```
 
 use crate::backend::{self, Target};
-use crate::front::scheme::{Scheme, SchemeError};
+pub use crate::error::BuildError;
+use crate::front::scheme::Scheme;
+pub use crate::outdir::GeneratedFile;
 use crate::plan::Plan;
 use crate::table::{StencilTable, DEFAULT_MAX_VALENCE};
 use std::path::{Path, PathBuf};
@@ -85,34 +87,6 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
             include_str!("../schemes/phong.tess"),
         ),
     ]
-}
-
-#[derive(Debug, thiserror::Error)]
-pub enum BuildError {
-    #[error("{origin}: {error}")]
-    Scheme { origin: String, error: SchemeError },
-    #[error("{origin}: scheme `{name}` is already declared by {first}")]
-    DuplicateScheme {
-        name: String,
-        origin: String,
-        first: String,
-    },
-    #[error("no scheme given")]
-    NoScheme,
-    #[error("no output directory given")]
-    NoOutDir,
-    #[error("{path}: {source}")]
-    Io {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-}
-
-/// One emitted file, path relative to the output directory.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct GeneratedFile {
-    pub path: String,
-    pub contents: Vec<u8>,
 }
 
 /// Everything a build produced.

@@ -12,6 +12,7 @@
 
 pub mod backend;
 pub mod builder;
+pub mod error;
 pub mod form;
 pub mod front;
 pub mod lower;

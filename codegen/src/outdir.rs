@@ -2,10 +2,17 @@
 //! them, byte for byte: what `Builder::write` and `tessgen generate [--check]`
 //! do, usable from build scripts and CI jobs without the CLI.
 
-use crate::builder::{BuildError, GeneratedFile};
+use crate::error::BuildError;
 use std::collections::BTreeSet;
 use std::io::ErrorKind;
 use std::path::{Path, PathBuf};
+
+/// One emitted file, path relative to the output directory.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GeneratedFile {
+    pub path: String,
+    pub contents: Vec<u8>,
+}
 
 /// One way a directory differs from the generated files. Paths are relative,
 /// `/`-separated, as in [`GeneratedFile::path`].

@@ -30,7 +30,7 @@
 use super::abi::{self, Binding, Kind};
 use super::binop;
 use super::{called, header_lines, resources_of};
-use crate::builder::GeneratedFile;
+use crate::outdir::GeneratedFile;
 use crate::plan::*;
 use std::collections::{BTreeMap, HashSet};
 

@@ -32,7 +32,7 @@
 use super::abi::{self, Binding, Kind};
 use super::binop;
 use super::{header_lines, resources_of};
-use crate::builder::GeneratedFile;
+use crate::outdir::GeneratedFile;
 use crate::plan::*;
 use std::cell::RefCell;
 use std::collections::{BTreeSet, HashSet};
