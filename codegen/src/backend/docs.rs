@@ -106,7 +106,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     );
     s.push_str("Read by `tessgen_edge_factor` in GLSL/HLSL builds with `-DTESSGEN_ADAPTIVE` (the control stage then sets one factor per edge from the edge's end points in canonical order; the evaluation stage reads the coordinate on the 2^-16 fixed-point grid). Metric: screen space by default, `-DTESSGEN_METRIC_DISTANCE`, or `-DTESSGEN_METRIC_BUFFER` (`edge_factors[face_edges[4f + k]]`, triangles `3f + k`, bindings 17 and 18). Partitioning: integer by default, `-DTESSGEN_FRACTIONAL_ODD` or `-DTESSGEN_FRACTIONAL_EVEN`. Quad and triangle schemes (triangles: outer factor k for the edge opposite corner k, the inside factor the largest of the three; the evaluation stage passes the barycentric point to `eval_domain` at level 2^16).\n\n");
     s.push_str("| floats | meaning |\n|---|---|\n");
-    for (first, count, doc) in abi::ADAPTIVE {
+    for (_, first, count, doc) in abi::ADAPTIVE {
         let _ = writeln!(s, "| {first}..{} | {doc} |", first + count);
     }
     s.push('\n');
