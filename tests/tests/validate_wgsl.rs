@@ -718,7 +718,11 @@ fn abi_entry_bindings_match_naga() {
         let info = Validator::new(ValidationFlags::all(), Capabilities::all())
             .validate(&module)
             .unwrap_or_else(|e| panic!("{path}: {e:?}"));
-        let names: BTreeSet<&str> = module.entry_points.iter().map(|e| e.name.as_str()).collect();
+        let names: BTreeSet<&str> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
         let declared: BTreeSet<&str> = abi::WGSL_ENTRIES.iter().map(|e| e.name).collect();
         assert_eq!(names, declared, "{path}: entry points");
         for (i, ep) in module.entry_points.iter().enumerate() {
@@ -735,6 +739,17 @@ fn abi_entry_bindings_match_naga() {
                     }
                     _ => Access::Read,
                 };
+                let decl = abi::BINDINGS
+                    .iter()
+                    .find(|x| x.binding == b.binding)
+                    .map(abi::wgsl_views)
+                    .unwrap_or_default();
+                let name = var.name.clone().unwrap_or_default();
+                assert!(
+                    decl.contains(&(name.clone(), access)),
+                    "{path}: binding {} declared as {name} {access:?}, the ABI says {decl:?}",
+                    b.binding
+                );
                 used.push((b.binding, access));
             }
             used.sort();
@@ -750,7 +765,11 @@ fn abi_entry_bindings_match_naga() {
             } else {
                 0
             };
-            assert_eq!(wg, e.workgroup_size, "{path}: workgroup size of {}", ep.name);
+            assert_eq!(
+                wg, e.workgroup_size,
+                "{path}: workgroup size of {}",
+                ep.name
+            );
             checked += 1;
         }
     }

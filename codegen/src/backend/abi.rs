@@ -355,6 +355,20 @@ pub const WGSL_ENTRIES: &[EntryPoint] = &[
     },
 ];
 
+/// The WGSL variables that declare binding `b`: `(name, access)`. A
+/// buffer one stage writes and later stages read (a Plan resource that is
+/// written: `vertex_out`, `control_points`) is declared twice, `read_write`
+/// under its name and `read` as `<name>_ro`, so the reading stages need no
+/// writable binding (WebGPU forbids writable storage in vertex shaders);
+/// other written buffers are `read_write` only.
+pub fn wgsl_views(b: &Binding) -> Vec<(String, Access)> {
+    match (b.written, b.resource.is_some()) {
+        (true, true) => vec![(b.name.to_string(), RW), (format!("{}_ro", b.name), R)],
+        (true, false) => vec![(b.name.to_string(), RW)],
+        _ => vec![(b.name.to_string(), R)],
+    }
+}
+
 /// The WGSL entry point called `name`.
 pub fn wgsl_entry(name: &str) -> Option<&'static EntryPoint> {
     WGSL_ENTRIES.iter().find(|e| e.name == name)
@@ -525,11 +539,9 @@ pub fn rust_module(plan: &Plan) -> String {
     }
     let _ = writeln!(w, "}}\n");
     let _ = writeln!(w, "/// How a WGSL entry point accesses a binding.\n#[derive(Clone, Copy, Debug, PartialEq, Eq)]\npub enum Access {{\n    Read,\n    ReadWrite,\n}}\n");
+    let _ = writeln!(w, "/// An entry's bindings: `(binding, access)` by binding number.\npub type Bindings = &'static [(u32, Access)];\n");
     let _ = writeln!(w, "/// Every WGSL entry point: `(name, workgroup size (0: not compute), bindings)`; `patch_main`'s are per scheme in [`PATCH_MAIN`].");
-    let _ = writeln!(
-        w,
-        "pub const WGSL_ENTRIES: &[(&str, u32, &[(u32, Access)])] = &["
-    );
+    let _ = writeln!(w, "pub const WGSL_ENTRIES: &[(&str, u32, Bindings)] = &[");
     let list = |b: &[(u32, Access)]| {
         b.iter()
             .map(|(n, a)| format!("({n}, Access::{a:?})"))
@@ -546,7 +558,10 @@ pub fn rust_module(plan: &Plan) -> String {
         );
     }
     let _ = writeln!(w, "];\n");
-    let _ = writeln!(w, "/// `patch_main`'s bindings per scheme.\npub const PATCH_MAIN: &[(&str, &[(u32, Access)])] = &[");
+    let _ = writeln!(
+        w,
+        "/// `patch_main`'s bindings per scheme.\npub const PATCH_MAIN: &[(&str, Bindings)] = &["
+    );
     for (m, e) in &plan.schemes {
         let _ = writeln!(
             w,
