@@ -598,7 +598,11 @@ impl Buf {
 /// host can tell an overflow from a full buffer. The domain point is
 /// barycentric `(x, y, z)` for triangles and `(u, v, 0)` for quads, so the
 /// host can evaluate the CPU surface at every captured vertex (parity).
-const CAPTURE_GEOMETRY_SHADER: &str = r#"#version 450
+///
+/// The binding and the vertex stride are filled in from
+/// [`binding::TRIANGLES`] and [`VERTEX_FLOATS`] (`capture_geometry_shader`),
+/// so the GLSL and the host's reading of the buffer cannot disagree.
+const CAPTURE_GEOMETRY_TEMPLATE: &str = r#"#version 450
 layout(triangles) in;
 layout(points, max_vertices = 1) out;
 
@@ -607,7 +611,7 @@ layout(location = 1) in vec3 te_position[];
 layout(location = 2) in vec3 te_domain[];
 layout(location = 3) flat in uint te_patch[];
 
-layout(std430, set = 0, binding = 20) buffer Capture {
+layout(std430, set = 0, binding = @TRIANGLES@) buffer Capture {
     uint triangles;
     uint capacity;
     uint pad0;
@@ -621,7 +625,7 @@ void main() {
         return;
     }
     for (uint k = 0u; k < 3u; k += 1u) {
-        uint o = (3u * t + k) * 10u;
+        uint o = (3u * t + k) * @VERTEX_FLOATS@u;
         data[o + 0u] = te_position[k].x;
         data[o + 1u] = te_position[k].y;
         data[o + 2u] = te_position[k].z;
@@ -635,6 +639,16 @@ void main() {
     }
 }
 "#;
+
+/// [`CAPTURE_GEOMETRY_TEMPLATE`] with the capture binding and stride.
+fn capture_geometry_shader() -> &'static str {
+    static SOURCE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    SOURCE.get_or_init(|| {
+        CAPTURE_GEOMETRY_TEMPLATE
+            .replace("@TRIANGLES@", &binding::TRIANGLES.to_string())
+            .replace("@VERTEX_FLOATS@", &VERTEX_FLOATS.to_string())
+    })
+}
 
 /// The adaptive buffers (bindings 17–19) for `face_edges` ids at
 /// `sides·f + k` over `edges` edges: the ids, the explicit factors, the
@@ -1379,7 +1393,7 @@ impl<'v> VkMesh<'v> {
         let (file, source, entry) = if stage == "geom" {
             (
                 "harness/capture_triangles.geom".to_string(),
-                CAPTURE_GEOMETRY_SHADER,
+                capture_geometry_shader(),
                 None,
             )
         } else {
@@ -1449,7 +1463,7 @@ impl<'v> VkMesh<'v> {
         let (tese, en) = self.module("tese")?;
         // Triangle schemes and adaptive draws: the harness's geometry
         // shader records the tessellator's output triangles (see
-        // CAPTURE_GEOMETRY_SHADER).
+        // CAPTURE_GEOMETRY_TEMPLATE).
         let geom = if self.scheme.sides == 3 || self.options.adaptive.is_some() {
             if !self.vk.geometry_shader {
                 return Err(VkError::NoGeometryShader);
