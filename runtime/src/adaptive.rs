@@ -31,8 +31,8 @@ impl Partitioning {
     pub fn define(self) -> Option<&'static str> {
         match self {
             Partitioning::Integer => None,
-            Partitioning::FractionalOdd => Some("TESSGEN_FRACTIONAL_ODD"),
-            Partitioning::FractionalEven => Some("TESSGEN_FRACTIONAL_EVEN"),
+            Partitioning::FractionalOdd => Some(crate::abi::define::FRACTIONAL_ODD),
+            Partitioning::FractionalEven => Some(crate::abi::define::FRACTIONAL_EVEN),
         }
     }
     pub fn parse(s: &str) -> Option<Self> {
@@ -78,10 +78,12 @@ pub struct Adaptive {
 impl Adaptive {
     /// The shader defines of this configuration.
     pub fn defines(&self) -> Vec<String> {
-        let mut d = vec!["TESSGEN_ADAPTIVE".to_string()];
+        let mut d = vec![crate::abi::define::ADAPTIVE.to_string()];
         match self.metric {
-            Metric::Buffer(_) | Metric::PerFaceEdge(_) => d.push("TESSGEN_METRIC_BUFFER".into()),
-            Metric::Distance { .. } => d.push("TESSGEN_METRIC_DISTANCE".into()),
+            Metric::Buffer(_) | Metric::PerFaceEdge(_) => {
+                d.push(crate::abi::define::METRIC_BUFFER.into())
+            }
+            Metric::Distance { .. } => d.push(crate::abi::define::METRIC_DISTANCE.into()),
             Metric::Screen { .. } => {}
         }
         if let Some(p) = self.partitioning.define() {
@@ -90,8 +92,9 @@ impl Adaptive {
         d
     }
 
-    /// The `adaptive` buffer (binding 19): 26 f32, layout `abi::ADAPTIVE`.
+    /// The `adaptive` buffer (`binding::ADAPTIVE`): ADAPTIVE_LEN f32, layout `abi::ADAPTIVE`.
     pub fn params(&self) -> Vec<f32> {
+        use crate::abi::adaptive as slot;
         let mut a = vec![0.0f32; ADAPTIVE_LEN];
         match &self.metric {
             Metric::Screen {
@@ -99,19 +102,20 @@ impl Adaptive {
                 viewport,
                 pixels_per_segment,
             } => {
-                a[..16].copy_from_slice(&view_proj.to_cols_array());
-                a[20] = viewport[0];
-                a[21] = viewport[1];
-                a[22] = *pixels_per_segment;
+                let vp = slot::VIEW_PROJ;
+                a[vp..vp + 16].copy_from_slice(&view_proj.to_cols_array());
+                a[slot::VIEWPORT] = viewport[0];
+                a[slot::VIEWPORT + 1] = viewport[1];
+                a[slot::PIXELS_PER_SEGMENT] = *pixels_per_segment;
             }
             Metric::Distance { eye, scale } => {
-                a[16..19].copy_from_slice(&eye.to_array());
-                a[19] = *scale;
+                a[slot::EYE..slot::EYE + 3].copy_from_slice(&eye.to_array());
+                a[slot::DISTANCE_SCALE] = *scale;
             }
             Metric::Buffer(_) | Metric::PerFaceEdge(_) => {}
         }
-        a[23] = self.min;
-        a[24] = self.max;
+        a[slot::MIN_FACTOR] = self.min;
+        a[slot::MAX_FACTOR] = self.max;
         // The metric of `tessgen_edge_factor_runtime` (WGSL, Rust); the
         // GLSL/HLSL control stages select theirs with a define instead.
         a[METRIC_SLOT] = match self.metric {
@@ -132,12 +136,12 @@ impl Adaptive {
     }
 }
 
-/// Floats in the `adaptive` buffer (`abi::ADAPTIVE_LEN`).
-pub const ADAPTIVE_LEN: usize = 26;
+/// Floats in the `adaptive` buffer (from the ABI).
+pub const ADAPTIVE_LEN: usize = crate::abi::ADAPTIVE_LEN;
 
 /// Float of the `adaptive` buffer selecting the metric at run time (0
 /// screen, 1 distance, 2 explicit buffer), `abi::ADAPTIVE`.
-pub const METRIC_SLOT: usize = 25;
+pub const METRIC_SLOT: usize = crate::abi::adaptive::METRIC;
 
 /// Global edge id of edge k (`v_k → v_{k+1}`, half-edge `face_offsets[f] + k`)
 /// of every face, at `4f + k` (`sides·f + k`): edges numbered in order of

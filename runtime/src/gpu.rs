@@ -14,17 +14,17 @@ use crate::mesh::topology::Topology;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 
+use crate::abi::{self, binding, PARAMS_SIZE};
 pub use crate::upload::ClassRange;
-use crate::upload::{binding, params_bytes, vec3_bytes, Upload, UploadError, PARAMS_SIZE};
+use crate::upload::{params_bytes, vec3_bytes, Upload, UploadError};
 use wgpu::naga;
 
 /// Bucket slots per class range of the GPU-driven adaptive buffers (slot
-/// `16r + j`: class range r, bucket `2^j`; `backend::wgsl::BUCKET_SLOTS`).
-pub(crate) const SLOTS: u32 = 16;
+/// `BUCKET_SLOTS·r + j`: class range r, bucket `2^j`; from the ABI).
+pub(crate) const SLOTS: u32 = abi::BUCKET_SLOTS;
 /// Patches per chunk of the GPU-driven bucket compaction (one workgroup
-/// each in `adaptive_count_main` / `adaptive_scatter_main`;
-/// `backend::wgsl::BUCKET_CHUNK`).
-pub(crate) const CHUNK: u32 = 256;
+/// each in `adaptive_count_main` / `adaptive_scatter_main`; from the ABI).
+pub(crate) const CHUNK: u32 = abi::BUCKET_CHUNK;
 
 /// How one compute run of a phase is dispatched: direct with x workgroups,
 /// or indirect from the byte offset of its slot's arguments.
@@ -521,8 +521,8 @@ impl<'g> GpuMesh<'g> {
         flags: u32,
     ) -> wgpu::Buffer {
         let mut bytes = params_bytes(view_proj, first, count, class, cp_base, level, out_base);
-        // `flags` follows out_base (abi::PARAMS, byte 88).
-        bytes[88..92].copy_from_slice(&flags.to_le_bytes());
+        let at = abi::params::FLAGS;
+        bytes[at..at + 4].copy_from_slice(&flags.to_le_bytes());
         self.params_buffer(&bytes)
     }
 
@@ -583,15 +583,18 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Per-face bucket levels, edge levels and sample offsets from the
-    /// classify output (`patch_levels`: 5 words per class-sorted patch, the
+    /// classify output (`patch_levels`: PATCH_LEVELS_WORDS per class-sorted patch, the
     /// edge levels then the bucket).
     fn face_levels(&self, words: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<usize>) {
         let (faces, sides) = (self.patch_faces.len(), self.scheme.sides as usize);
         let mut levels = vec![0u32; faces];
         let mut edge_levels = vec![0u32; sides * faces];
         for (p, &face) in self.patch_faces.iter().enumerate() {
-            let (w, face) = (&words[5 * p..5 * p + 5], face as usize);
-            levels[face] = w[4];
+            let (w, face) = (
+                &words[abi::LEVELS_LEN * p..][..abi::LEVELS_LEN],
+                face as usize,
+            );
+            levels[face] = w[abi::LEVELS_BUCKET];
             edge_levels[sides * face..sides * face + sides].copy_from_slice(&w[..sides]);
         }
         let mut offsets = Vec::with_capacity(faces + 1);
@@ -656,7 +659,7 @@ impl<'g> GpuMesh<'g> {
                 continue;
             }
             let resource = match b {
-                binding::TABLE => wgpu::BindingResource::TextureView(&self.table_view),
+                binding::STENCIL_TABLE => wgpu::BindingResource::TextureView(&self.table_view),
                 binding::DISPLACE_MAP => wgpu::BindingResource::TextureView(&self.displace_view),
                 binding::PARAMS => params.as_entire_binding(),
                 binding::SAMPLES => match samples {
@@ -682,9 +685,9 @@ impl<'g> GpuMesh<'g> {
             })
     }
 
-    /// Items per dispatch so that `items · per_item / 64` workgroups fit the limit.
+    /// Items per dispatch so that `items · per_item / WORKGROUP_SIZE` workgroups fit the limit.
     fn chunk(&self, per_item: u64) -> u64 {
-        let max_threads = self.limits.max_workgroups_per_dimension as u64 * 64;
+        let max_threads = self.limits.max_workgroups_per_dimension as u64 * abi::WORKGROUP;
         (max_threads / per_item.max(1)).max(1)
     }
 
@@ -705,7 +708,7 @@ impl<'g> GpuMesh<'g> {
                 groups.push((
                     0,
                     self.bind_group("vertex_stage_main", &layout, &p, None),
-                    count.div_ceil(64),
+                    count.div_ceil(abi::WORKGROUP_SIZE),
                 ));
                 first += count;
             }
@@ -727,7 +730,7 @@ impl<'g> GpuMesh<'g> {
                     groups.push((
                         1,
                         self.bind_group("patch_main", &layout, &p, None),
-                        count.div_ceil(64),
+                        count.div_ceil(abi::WORKGROUP_SIZE),
                     ));
                     k += count;
                 }
@@ -791,11 +794,12 @@ impl<'g> GpuMesh<'g> {
         let mut normals = vec![Vec3::ZERO; faces * spp as usize];
         // Patches per readback chunk: within the dispatch and binding limits.
         let by_dispatch = self.chunk(spp);
-        let by_binding = (self.limits.max_storage_buffer_binding_size / (spp * 24)).max(1);
-        if spp * 24 > self.limits.max_storage_buffer_binding_size {
+        let by_binding =
+            (self.limits.max_storage_buffer_binding_size / (spp * abi::SAMPLE_BYTES)).max(1);
+        if spp * abi::SAMPLE_BYTES > self.limits.max_storage_buffer_binding_size {
             return Err(GpuError::BufferTooLarge {
                 what: "samples of one patch",
-                needed: spp * 24,
+                needed: spp * abi::SAMPLE_BYTES,
                 max: self.limits.max_storage_buffer_binding_size,
             });
         }
@@ -805,7 +809,7 @@ impl<'g> GpuMesh<'g> {
             let mut k = 0;
             while k < c.count {
                 let count = chunk.min(c.count - k);
-                let bytes = count as u64 * spp * 24;
+                let bytes = count as u64 * spp * abi::SAMPLE_BYTES;
                 let samples = dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("samples"),
                     size: bytes,
@@ -840,13 +844,17 @@ impl<'g> GpuMesh<'g> {
                         });
                         pass.set_pipeline(&self.eval_pipeline);
                         pass.set_bind_group(0, &group, &[]);
-                        pass.dispatch_workgroups(((count as u64 * spp).div_ceil(64)) as u32, 1, 1);
+                        pass.dispatch_workgroups(
+                            ((count as u64 * spp).div_ceil(abi::WORKGROUP)) as u32,
+                            1,
+                            1,
+                        );
                     }
                     enc.copy_buffer_to_buffer(&samples, 0, &staging, 0, bytes);
                     self.gpu.queue.submit([enc.finish()]);
                 })?;
                 let floats = self.read(&staging)?;
-                for (i, s) in floats.chunks_exact(6).enumerate() {
+                for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
                     let patch = c.first + k + (i as u64 / spp) as u32;
                     let face = self.patch_faces[patch as usize] as usize;
                     let at = face * spp as usize + (i as u64 % spp) as usize;
@@ -908,7 +916,7 @@ impl<'g> GpuMesh<'g> {
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         use crate::upload::{f32_bytes, u32_bytes};
         let patches = self.patch_faces.len() as u64;
-        check(&self.limits, "patch_levels", patches * 20)?;
+        check(&self.limits, "patch_levels", patches * abi::LEVELS_BYTES)?;
         let face_edges = storage(
             "face_edges",
             &u32_bytes(&inp.face_edges),
@@ -942,7 +950,7 @@ impl<'g> GpuMesh<'g> {
         // 1. classify, then read the levels back.
         let staging = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("patch_levels readback"),
-            size: (patches * 20).max(16),
+            size: (patches * abi::LEVELS_BYTES).max(16),
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -965,7 +973,7 @@ impl<'g> GpuMesh<'g> {
                     let layout = classify.get_bind_group_layout(0);
                     groups.push((
                         self.bind_group_with("adaptive_classify_main", &layout, &p, None, &extra),
-                        count.div_ceil(64),
+                        count.div_ceil(abi::WORKGROUP_SIZE),
                     ));
                     k += count;
                 }
@@ -984,7 +992,7 @@ impl<'g> GpuMesh<'g> {
                     pass.dispatch_workgroups(*wgs, 1, 1);
                 }
             }
-            enc.copy_buffer_to_buffer(&levels_buf, 0, &staging, 0, patches * 20);
+            enc.copy_buffer_to_buffer(&levels_buf, 0, &staging, 0, patches * abi::LEVELS_BYTES);
             self.gpu.queue.submit([enc.finish()]);
         })?;
         let words = self.read_words(&staging)?;
@@ -996,19 +1004,19 @@ impl<'g> GpuMesh<'g> {
         for c in &self.classes {
             for k in 0..c.count {
                 let p = (c.first + k) as usize;
-                let w = &words[5 * p..5 * p + 5];
-                lists.entry((c.class, w[4])).or_default().extend([
-                    p as u32,
-                    c.cp_base + k * c.points,
-                    w[0],
-                    w[1],
-                    w[2],
-                    w[3],
-                ]);
+                let w = &words[abi::LEVELS_LEN * p..][..abi::LEVELS_LEN];
+                lists
+                    .entry((c.class, w[abi::LEVELS_BUCKET]))
+                    .or_default()
+                    .extend([p as u32, c.cp_base + k * c.points, w[0], w[1], w[2], w[3]]);
             }
         }
         let all: Vec<u32> = lists.values().flatten().copied().collect();
-        check(&self.limits, "bucket_patches", all.len() as u64 * 4)?;
+        check(
+            &self.limits,
+            "bucket_patches",
+            all.len() as u64 * abi::WORD_BYTES,
+        )?;
         let bucket_buf = storage(
             "bucket_patches",
             &u32_bytes(&all),
@@ -1020,21 +1028,22 @@ impl<'g> GpuMesh<'g> {
         let mut normals = vec![Vec3::ZERO; total];
         let mut start = 0u32;
         for (&(class, level), list) in &lists {
-            let n = (list.len() / 6) as u32;
+            let n = (list.len() / abi::ENTRY_LEN) as u32;
             let spp = (self.scheme.grid_len)(level) as u64;
-            if spp * 24 > self.limits.max_storage_buffer_binding_size {
+            if spp * abi::SAMPLE_BYTES > self.limits.max_storage_buffer_binding_size {
                 return Err(GpuError::BufferTooLarge {
                     what: "samples of one patch",
-                    needed: spp * 24,
+                    needed: spp * abi::SAMPLE_BYTES,
                     max: self.limits.max_storage_buffer_binding_size,
                 });
             }
-            let by_binding = (self.limits.max_storage_buffer_binding_size / (spp * 24)).max(1);
+            let by_binding =
+                (self.limits.max_storage_buffer_binding_size / (spp * abi::SAMPLE_BYTES)).max(1);
             let chunk = self.chunk(spp).min(by_binding) as u32;
             let mut k = 0;
             while k < n {
                 let count = chunk.min(n - k);
-                let bytes = count as u64 * spp * 24;
+                let bytes = count as u64 * spp * abi::SAMPLE_BYTES;
                 let samples = dev.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("samples"),
                     size: bytes,
@@ -1075,15 +1084,19 @@ impl<'g> GpuMesh<'g> {
                         });
                         pass.set_pipeline(&eval);
                         pass.set_bind_group(0, &group, &[]);
-                        pass.dispatch_workgroups(((count as u64 * spp).div_ceil(64)) as u32, 1, 1);
+                        pass.dispatch_workgroups(
+                            ((count as u64 * spp).div_ceil(abi::WORKGROUP)) as u32,
+                            1,
+                            1,
+                        );
                     }
                     enc.copy_buffer_to_buffer(&samples, 0, &staging, 0, bytes);
                     self.gpu.queue.submit([enc.finish()]);
                 })?;
                 let floats = self.read(&staging)?;
-                for (i, s) in floats.chunks_exact(6).enumerate() {
+                for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
                     let entry = (k as u64 + i as u64 / spp) as usize;
-                    let face = self.patch_faces[list[6 * entry] as usize] as usize;
+                    let face = self.patch_faces[list[abi::ENTRY_LEN * entry] as usize] as usize;
                     let at = offsets[face] + (i as u64 % spp) as usize;
                     positions[at] = Vec3::new(s[0], s[1], s[2]);
                     normals[at] = Vec3::new(s[3], s[4], s[5]);
@@ -1118,7 +1131,9 @@ impl<'g> GpuMesh<'g> {
         a: &crate::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
-        let bytes = self.patch_faces.len() as u64 * (self.scheme.grid_len)(max_level) as u64 * 24;
+        let bytes = self.patch_faces.len() as u64
+            * (self.scheme.grid_len)(max_level) as u64
+            * abi::SAMPLE_BYTES;
         if max_level.is_power_of_two()
             && max_level <= cpu::MAX_LEVEL
             && bytes <= self.limits.max_storage_buffer_binding_size
@@ -1169,7 +1184,7 @@ impl<'g> GpuMesh<'g> {
         let slots = b.slots;
         let patches = faces as u64;
         let max_spp = (self.scheme.grid_len)(max_level) as u64;
-        let sample_bytes = (patches * max_spp * 24).max(24);
+        let sample_bytes = (patches * max_spp * abi::SAMPLE_BYTES).max(abi::SAMPLE_BYTES);
         check(
             &self.limits,
             "samples (every patch at the largest level)",
@@ -1198,8 +1213,8 @@ impl<'g> GpuMesh<'g> {
                 mapped_at_creation: false,
             })
         };
-        let levels_read = staging("patch_levels readback", patches * 20);
-        let list_read = staging("bucket_list readback", b.list_words * 4);
+        let levels_read = staging("patch_levels readback", patches * abi::LEVELS_BYTES);
+        let list_read = staging("bucket_list readback", b.list_words * abi::WORD_BYTES);
         let mut phases = self.bucket_phases(max_level, slots);
         let mut evals = Vec::new();
         for (slot, class, level) in self.bucket_slots(max_level) {
@@ -1214,8 +1229,8 @@ impl<'g> GpuMesh<'g> {
                 label: Some("adaptive, GPU-driven"),
             });
             self.encode_phases(&mut enc, &phases, &b, Some(samples))?;
-            enc.copy_buffer_to_buffer(&b.levels, 0, &levels_read, 0, patches * 20);
-            enc.copy_buffer_to_buffer(&b.list, 0, &list_read, 0, b.list_words * 4);
+            enc.copy_buffer_to_buffer(&b.levels, 0, &levels_read, 0, patches * abi::LEVELS_BYTES);
+            enc.copy_buffer_to_buffer(&b.list, 0, &list_read, 0, b.list_words * abi::WORD_BYTES);
             self.gpu.queue.submit([enc.finish()]);
             Ok(())
         })??;
@@ -1228,17 +1243,17 @@ impl<'g> GpuMesh<'g> {
         let written: u64 = (0..slots as usize)
             .map(|b| {
                 let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as u64;
-                list[4 * b + 2] as u64 + list[4 * b] as u64 * spp
+                list[abi::HEADER_LEN * b + 2] as u64 + list[abi::HEADER_LEN * b] as u64 * spp
             })
             .max()
             .unwrap_or(0)
             .min(patches * max_spp);
-        let samples_read = staging("samples readback", written * 24);
+        let samples_read = staging("samples readback", written * abi::SAMPLE_BYTES);
         self.gpu.scoped(|| {
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("adaptive samples readback"),
             });
-            enc.copy_buffer_to_buffer(samples, 0, &samples_read, 0, written * 24);
+            enc.copy_buffer_to_buffer(samples, 0, &samples_read, 0, written * abi::SAMPLE_BYTES);
             self.gpu.queue.submit([enc.finish()]);
         })?;
         let floats = self.read(&samples_read)?;
@@ -1248,16 +1263,16 @@ impl<'g> GpuMesh<'g> {
         let mut normals = vec![Vec3::ZERO; total];
         for b in 0..slots as usize {
             let (n, first, sample) = (
-                list[4 * b] as usize,
-                list[4 * b + 1] as usize,
-                list[4 * b + 2] as usize,
+                list[abi::HEADER_LEN * b] as usize,
+                list[abi::HEADER_LEN * b + 1] as usize,
+                list[abi::HEADER_LEN * b + 2] as usize,
             );
             let spp = (self.scheme.grid_len)(1 << (b as u32 % SLOTS)) as usize;
             for m in 0..n {
-                let e = 4 * slots as usize + 6 * (first + m);
+                let e = abi::HEADER_LEN * slots as usize + abi::ENTRY_LEN * (first + m);
                 let face = self.patch_faces[list[e] as usize] as usize;
                 for s in 0..spp {
-                    let f = &floats[6 * (sample + m * spp + s)..][..6];
+                    let f = &floats[abi::SAMPLE_LEN * (sample + m * spp + s)..][..abi::SAMPLE_LEN];
                     positions[offsets[face] + s] = Vec3::new(f[0], f[1], f[2]);
                     normals[offsets[face] + s] = Vec3::new(f[3], f[4], f[5]);
                 }
@@ -1285,9 +1300,10 @@ impl<'g> GpuMesh<'g> {
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         let patches = self.patch_faces.len() as u64;
         let slots = SLOTS * self.classes.len() as u32;
-        let list_words = 4 * slots as u64 + 6 * patches;
-        check(&self.limits, "patch_levels", patches * 20)?;
-        check(&self.limits, "bucket_list", list_words * 4)?;
+        let list_words = abi::BUCKET_HEADER_WORDS as u64 * slots as u64
+            + abi::BUCKET_ENTRY_WORDS as u64 * patches;
+        check(&self.limits, "patch_levels", patches * abi::LEVELS_BYTES)?;
+        check(&self.limits, "bucket_list", list_words * abi::WORD_BYTES)?;
         let chunk_rows = self.chunk_rows();
         if chunk_rows > self.limits.max_workgroups_per_dimension as u64 {
             return Err(GpuError::TooManyChunks {
@@ -1297,8 +1313,8 @@ impl<'g> GpuMesh<'g> {
             });
         }
         let chunk_words = 2 * chunk_rows * slots as u64;
-        check(&self.limits, "bucket_chunks", chunk_words * 4)?;
-        let zeros = |words: u64| vec![0u8; words as usize * 4];
+        check(&self.limits, "bucket_chunks", chunk_words * abi::WORD_BYTES)?;
+        let zeros = |words: u64| vec![0u8; (words * abi::WORD_BYTES) as usize];
         Ok(Buckets {
             face_edges: storage(
                 "face_edges",
@@ -1317,7 +1333,7 @@ impl<'g> GpuMesh<'g> {
             ),
             levels: storage(
                 "patch_levels",
-                &zeros(5 * patches),
+                &zeros(abi::PATCH_LEVELS_WORDS as u64 * patches),
                 wgpu::BufferUsages::COPY_SRC,
             ),
             list: storage(
@@ -1327,12 +1343,12 @@ impl<'g> GpuMesh<'g> {
             ),
             dispatch: storage(
                 "bucket_dispatch",
-                &zeros(3 * slots as u64),
+                &zeros(abi::BUCKET_DISPATCH_WORDS as u64 * slots as u64),
                 wgpu::BufferUsages::INDIRECT,
             ),
             draw: storage(
                 "bucket_draw",
-                &zeros(5 * slots as u64),
+                &zeros(abi::BUCKET_DRAW_WORDS as u64 * slots as u64),
                 wgpu::BufferUsages::INDIRECT,
             ),
             chunks: storage(
@@ -1413,7 +1429,7 @@ impl<'g> GpuMesh<'g> {
                     max_level,
                     0,
                 );
-                classify.push((p, Run::Direct(count.div_ceil(64))));
+                classify.push((p, Run::Direct(count.div_ceil(abi::WORKGROUP_SIZE))));
                 k += count;
             }
         }

@@ -4,6 +4,7 @@
 //! normals — ordinary patches orange, extraordinary ones blue, as in the
 //! PCCM paper's figures. Renders offscreen and reads the image back.
 
+use crate::abi;
 use crate::gpu::{GpuError, GpuMesh};
 use crate::pattern;
 use glam::{Mat4, Vec3};
@@ -245,7 +246,8 @@ impl GpuMesh<'_> {
                             ),
                             pattern: level.trailing_zeros() as usize,
                             args: &b.draw,
-                            offset: 20 * slot as u64,
+                            offset: (abi::BUCKET_DRAW_WORDS * abi::ELEMENT_BYTES) as u64
+                                * slot as u64,
                         }
                     })
                     .collect();
@@ -406,7 +408,8 @@ impl GpuMesh<'_> {
                     }
                 }
             }
-            let row = (4 * w).div_ceil(256) * 256;
+            let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+            let row = (4 * w).div_ceil(align) * align;
             let readback = dev.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("image readback"),
                 size: (row * h) as u64,

@@ -10,56 +10,12 @@ use crate::kernels::common::SchemeKernels;
 use crate::mesh::topology::Topology;
 use glam::{Mat4, Vec3};
 
-/// Binding numbers (crate `tessgen-codegen`'s `backend::abi::BINDINGS`).
-pub mod binding {
-    pub const POSITIONS: u32 = 0;
-    pub const VALENCE: u32 = 1;
-    pub const RING_OFFSETS: u32 = 2;
-    pub const RING: u32 = 3;
-    pub const VERTEX_OUT_OFFSETS: u32 = 4;
-    pub const VERTEX_OUT: u32 = 5;
-    pub const CORNER_VERTEX: u32 = 6;
-    pub const CORNER_SECTOR: u32 = 7;
-    pub const CONTROL_POINTS: u32 = 8;
-    pub const TABLE: u32 = 9;
-    pub const PARAMS: u32 = 10;
-    pub const PATCH_FACES: u32 = 11;
-    pub const SAMPLES: u32 = 12;
-    pub const NORMALS: u32 = 13;
-    pub const TAGS: u32 = 14;
-    pub const CREASE: u32 = 15;
-    pub const CORNER_SIDE: u32 = 16;
-    pub const FACE_EDGES: u32 = 17;
-    pub const EDGE_FACTORS: u32 = 18;
-    pub const ADAPTIVE: u32 = 19;
-    /// Not an ABI binding: the Vulkan harness's geometry-shader triangle
-    /// capture of triangle schemes and adaptive draws (`runtime::vulkan`).
-    pub const TRIANGLES: u32 = 20;
-    /// Bindings 0 ..= TRIANGLES. The displacement bindings below are read by
-    /// `eval_displaced` (WGSL entries, GLSL compute evaluation) and by the
-    /// tessellation evaluation stages built with `TESSGEN_DISPLACE`; the
-    /// Vulkan harness lays out every binding through DISPLACE_MAP.
-    pub const COUNT: u32 = 21;
-    pub const TEXCOORDS: u32 = 21;
-    pub const OWNERS: u32 = 22;
-    pub const DISPLACE_INFO: u32 = 23;
-    /// The displacement map texture (not in [`Upload::buffers`]).
-    pub const DISPLACE_MAP: u32 = 24;
-    /// Adaptive classify output (WGSL instanced path): per-call buffers of
-    /// `gpu::GpuMesh::evaluate_adaptive`, not in [`Upload::buffers`].
-    pub const PATCH_LEVELS: u32 = 25;
-    /// Adaptive draw lists (WGSL instanced path), per call as well.
-    pub const BUCKET_PATCHES: u32 = 26;
-    /// GPU-driven adaptive buckets: the lists the GPU builds (bound again
-    /// as [`BUCKET_PATCHES`] for the evaluation) and the indirect dispatch
-    /// arguments; per call of `gpu::GpuMesh::evaluate_adaptive`.
-    pub const BUCKET_LIST: u32 = 27;
-    pub const BUCKET_DISPATCH: u32 = 28;
-    pub const BUCKET_DRAW: u32 = 29;
-    /// GPU-driven adaptive buckets: per-chunk slot counts, then offsets,
-    /// of the parallel compaction (per call as well).
-    pub const BUCKET_CHUNKS: u32 = 30;
-}
+/// Binding numbers, from the ABI (`tessgen-codegen`'s `backend::abi`,
+/// printed into [`crate::abi`] by build.rs); re-exported here for the
+/// callers that name `upload::binding`.
+pub use crate::abi::binding;
+/// Size of the Params uniform block in bytes (from the ABI).
+pub use crate::abi::PARAMS_SIZE;
 
 /// Errors building an [`Upload`].
 #[derive(Debug, thiserror::Error)]
@@ -113,11 +69,8 @@ pub struct Upload {
     pub displace_map: crate::displace::DisplaceMap,
 }
 
-/// Size of the Params uniform block in bytes (`abi::PARAMS_SIZE`).
-pub const PARAMS_SIZE: u64 = 96;
-
-/// The Params block (`abi::PARAMS`): the matrix, then
-/// `first, count, class, cp_base, level, out_base, flags, pad1`.
+/// The Params block (`abi::PARAMS`), each field at its generated offset
+/// ([`crate::abi::params`]); `flags` and the padding stay 0.
 #[allow(clippy::too_many_arguments)]
 pub fn params_bytes(
     view_proj: Mat4,
@@ -128,12 +81,21 @@ pub fn params_bytes(
     level: u32,
     out_base: u32,
 ) -> Vec<u8> {
-    let mut b = Vec::with_capacity(PARAMS_SIZE as usize);
-    for x in view_proj.to_cols_array() {
-        b.extend_from_slice(&x.to_le_bytes());
+    use crate::abi::params;
+    let mut b = vec![0u8; PARAMS_SIZE as usize];
+    for (i, x) in view_proj.to_cols_array().into_iter().enumerate() {
+        let at = params::VIEW_PROJ + 4 * i;
+        b[at..at + 4].copy_from_slice(&x.to_le_bytes());
     }
-    for x in [first, count, class, cp_base, level, out_base, 0, 0] {
-        b.extend_from_slice(&x.to_le_bytes());
+    for (at, x) in [
+        (params::FIRST, first),
+        (params::COUNT, count),
+        (params::CLASS, class),
+        (params::CP_BASE, cp_base),
+        (params::LEVEL, level),
+        (params::OUT_BASE, out_base),
+    ] {
+        b[at..at + 4].copy_from_slice(&x.to_le_bytes());
     }
     b
 }

@@ -24,14 +24,14 @@
 //! driver (`mesa-vulkan-drivers` for lavapipe) and `glslangValidator`
 //! (`glslang-tools`).
 
+use crate::abi::{self, binding, PARAMS_SIZE};
 use crate::adaptive::{self, Adaptive, Metric};
 use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::mesh::topology::Topology;
 use crate::upload::{
-    binding, f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
-    PARAMS_SIZE,
+    f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
 };
 use ash::vk;
 use glam::{Mat4, Vec3};
@@ -60,22 +60,23 @@ impl Language {
 
 /// Define that compiles the shared boundary path out of `eval` (a negative
 /// control: the watertightness check must then find cracks).
-pub const NO_BOUNDARY_PATH: &str = "TESSGEN_NO_BOUNDARY_PATH";
+pub const NO_BOUNDARY_PATH: &str = crate::abi::define::NO_BOUNDARY_PATH;
 /// Define that makes the shared edge evaluator form `l = 1 − r` in float
 /// (watertight.md Rule 2's forbidden form): a negative control that must
 /// open the weld at levels whose `i/level` is inexact.
-pub const ASYMMETRIC_EDGE_WEIGHTS: &str = "TESSGEN_ASYMMETRIC_EDGE_WEIGHTS";
+pub const ASYMMETRIC_EDGE_WEIGHTS: &str = crate::abi::define::ASYMMETRIC_EDGE_WEIGHTS;
 /// Define that makes the evaluation stage write its samples (always set by
 /// this harness).
-pub const CAPTURE: &str = "TESSGEN_CAPTURE";
+pub const CAPTURE: &str = crate::abi::define::CAPTURE;
 /// Define of the displacing evaluation stage (quad schemes; set by
 /// [`VkMesh::new_displaced`]): the harness then also runs the compute patch
 /// stage into the global control-point buffer before the draws, which the
 /// evaluation stage reads for the owner patch's normal.
-pub const DISPLACE: &str = "TESSGEN_DISPLACE";
+pub const DISPLACE: &str = crate::abi::define::DISPLACE;
 
 /// Descriptor bindings the harness lays out: every ABI binding up to the
-/// displacement map (24), the harness's triangle capture (20) included.
+/// displacement map, the harness's triangle capture (`binding::TRIANGLES`)
+/// included.
 const LAYOUT_BINDINGS: u32 = binding::DISPLACE_MAP + 1;
 
 /// A 2-D `R32_SFLOAT` image with its memory and view (the stencil table,
@@ -597,7 +598,11 @@ impl Buf {
 /// host can tell an overflow from a full buffer. The domain point is
 /// barycentric `(x, y, z)` for triangles and `(u, v, 0)` for quads, so the
 /// host can evaluate the CPU surface at every captured vertex (parity).
-const CAPTURE_GEOMETRY_SHADER: &str = r#"#version 450
+///
+/// The binding and the vertex stride are filled in from
+/// [`binding::TRIANGLES`] and [`VERTEX_FLOATS`] (`capture_geometry_shader`),
+/// so the GLSL and the host's reading of the buffer cannot disagree.
+const CAPTURE_GEOMETRY_TEMPLATE: &str = r#"#version 450
 layout(triangles) in;
 layout(points, max_vertices = 1) out;
 
@@ -606,7 +611,7 @@ layout(location = 1) in vec3 te_position[];
 layout(location = 2) in vec3 te_domain[];
 layout(location = 3) flat in uint te_patch[];
 
-layout(std430, set = 0, binding = 20) buffer Capture {
+layout(std430, set = 0, binding = @TRIANGLES@) buffer Capture {
     uint triangles;
     uint capacity;
     uint pad0;
@@ -620,7 +625,7 @@ void main() {
         return;
     }
     for (uint k = 0u; k < 3u; k += 1u) {
-        uint o = (3u * t + k) * 10u;
+        uint o = (3u * t + k) * @VERTEX_FLOATS@u;
         data[o + 0u] = te_position[k].x;
         data[o + 1u] = te_position[k].y;
         data[o + 2u] = te_position[k].z;
@@ -634,6 +639,16 @@ void main() {
     }
 }
 "#;
+
+/// [`CAPTURE_GEOMETRY_TEMPLATE`] with the capture binding and stride.
+fn capture_geometry_shader() -> &'static str {
+    static SOURCE: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    SOURCE.get_or_init(|| {
+        CAPTURE_GEOMETRY_TEMPLATE
+            .replace("@TRIANGLES@", &binding::TRIANGLES.to_string())
+            .replace("@VERTEX_FLOATS@", &VERTEX_FLOATS.to_string())
+    })
+}
 
 /// The adaptive buffers (bindings 17–19) for `face_edges` ids at
 /// `sides·f + k` over `edges` edges: the ids, the explicit factors, the
@@ -828,7 +843,7 @@ pub struct VkMesh<'v> {
     params: Option<Buf>,
     /// The stencil table (binding 9).
     table_img: Img,
-    /// The displacement map (binding 24; 1×1 zero unless displacing).
+    /// The displacement map (`binding::DISPLACE_MAP`; 1×1 zero unless displacing).
     map_img: Img,
     sampler: vk::Sampler,
     set_layout: vk::DescriptorSetLayout,
@@ -1193,7 +1208,7 @@ impl<'v> VkMesh<'v> {
         Ok(())
     }
 
-    /// The displacement map (binding 24) as an `R32_SFLOAT` image; a 1×1
+    /// The displacement map (`binding::DISPLACE_MAP`) as an `R32_SFLOAT` image; a 1×1
     /// zero map while displacement is off. Read with exact texel fetches.
     fn map(&mut self) -> Result<(), VkError> {
         let m = self.displace_map.clone();
@@ -1214,10 +1229,10 @@ impl<'v> VkMesh<'v> {
     /// `Texture2D`s (`.Load`).
     fn descriptor_type(&self, b: u32) -> vk::DescriptorType {
         match (b, self.options.language) {
-            (binding::TABLE | binding::DISPLACE_MAP, Language::Glsl) => {
+            (binding::STENCIL_TABLE | binding::DISPLACE_MAP, Language::Glsl) => {
                 vk::DescriptorType::COMBINED_IMAGE_SAMPLER
             }
-            (binding::TABLE | binding::DISPLACE_MAP, Language::Hlsl) => {
+            (binding::STENCIL_TABLE | binding::DISPLACE_MAP, Language::Hlsl) => {
                 vk::DescriptorType::SAMPLED_IMAGE
             }
             (binding::PARAMS, _) => vk::DescriptorType::UNIFORM_BUFFER,
@@ -1254,7 +1269,7 @@ impl<'v> VkMesh<'v> {
                 descriptor_count: 1,
             },
             vk::DescriptorPoolSize {
-                ty: self.descriptor_type(binding::TABLE),
+                ty: self.descriptor_type(binding::STENCIL_TABLE),
                 // The stencil table and the displacement map.
                 descriptor_count: 2,
             },
@@ -1288,8 +1303,8 @@ impl<'v> VkMesh<'v> {
             if b == binding::SAMPLES {
                 continue;
             }
-            if b == binding::TABLE || b == binding::DISPLACE_MAP {
-                let view = if b == binding::TABLE {
+            if b == binding::STENCIL_TABLE || b == binding::DISPLACE_MAP {
+                let view = if b == binding::STENCIL_TABLE {
                     self.table_img.view
                 } else {
                     self.map_img.view
@@ -1378,7 +1393,7 @@ impl<'v> VkMesh<'v> {
         let (file, source, entry) = if stage == "geom" {
             (
                 "harness/capture_triangles.geom".to_string(),
-                CAPTURE_GEOMETRY_SHADER,
+                capture_geometry_shader(),
                 None,
             )
         } else {
@@ -1448,7 +1463,7 @@ impl<'v> VkMesh<'v> {
         let (tese, en) = self.module("tese")?;
         // Triangle schemes and adaptive draws: the harness's geometry
         // shader records the tessellator's output triangles (see
-        // CAPTURE_GEOMETRY_SHADER).
+        // CAPTURE_GEOMETRY_TEMPLATE).
         let geom = if self.scheme.sides == 3 || self.options.adaptive.is_some() {
             if !self.vk.geometry_shader {
                 return Err(VkError::NoGeometryShader);
@@ -1554,7 +1569,7 @@ impl<'v> VkMesh<'v> {
     /// The compute patch stage, class by class, into the global
     /// control-point buffer (binding 8).
     fn patch_stage(&self) -> Result<(), VkError> {
-        let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
+        let per = abi::WORKGROUP_SIZE * self.vk.limits.max_compute_work_group_count_x.max(1);
         for c in &self.classes {
             let mut done = 0;
             while done < c.count {
@@ -1578,7 +1593,7 @@ impl<'v> VkMesh<'v> {
                         &[set],
                         &[],
                     );
-                    d.cmd_dispatch(cb, count.div_ceil(64), 1, 1);
+                    d.cmd_dispatch(cb, count.div_ceil(abi::WORKGROUP_SIZE), 1, 1);
                 })?;
                 done += count;
             }
@@ -1588,7 +1603,7 @@ impl<'v> VkMesh<'v> {
 
     /// The vertex stage as a compute dispatch (quad schemes).
     fn vertex_stage(&self) -> Result<(), VkError> {
-        let per = 64 * self.vk.limits.max_compute_work_group_count_x.max(1);
+        let per = abi::WORKGROUP_SIZE * self.vk.limits.max_compute_work_group_count_x.max(1);
         let mut first = 0;
         while first < self.num_vertices {
             let count = per.min(self.num_vertices - first);
@@ -1604,7 +1619,7 @@ impl<'v> VkMesh<'v> {
                     &[set],
                     &[],
                 );
-                d.cmd_dispatch(cb, count.div_ceil(64), 1, 1);
+                d.cmd_dispatch(cb, count.div_ceil(abi::WORKGROUP_SIZE), 1, 1);
             })?;
             first += count;
         }
@@ -1649,9 +1664,10 @@ impl<'v> VkMesh<'v> {
         self.vertex_stage()?;
         self.patch_stage()?;
         let spp = (self.scheme.grid_len)(level) as u64;
-        // Invocations of one dispatch: 64 per workgroup (a level-64 quad
-        // patch has 4,225 samples, far below).
-        let per_dispatch = 64 * self.vk.limits.max_compute_work_group_count_x.max(1) as u64;
+        // Invocations of one dispatch: WORKGROUP_SIZE per workgroup (a
+        // level-64 quad patch has 4,225 samples, far below).
+        let per_dispatch =
+            abi::WORKGROUP * self.vk.limits.max_compute_work_group_count_x.max(1) as u64;
         self.with_samples(level, |p0, n| {
             for c in &self.classes {
                 let mut lo = (c.first as u64).max(p0);
@@ -1667,7 +1683,7 @@ impl<'v> VkMesh<'v> {
                         (lo - p0) as u32,
                     ]);
                     let (pipe, layout, set) = (self.eval_pipeline, self.layout, self.set);
-                    let groups = (count * spp).div_ceil(64) as u32;
+                    let groups = (count * spp).div_ceil(abi::WORKGROUP) as u32;
                     self.vk.submit(|d, cb| unsafe {
                         d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
                         d.cmd_bind_descriptor_sets(
@@ -1878,7 +1894,7 @@ impl<'v> VkMesh<'v> {
         run: impl Fn(u64, u64) -> Result<(), VkError>,
     ) -> Result<Tessellation, VkError> {
         let spp = (self.scheme.grid_len)(level) as u64;
-        let per_patch = spp * 24;
+        let per_patch = spp * abi::SAMPLE_BYTES;
         // Patches per readback chunk: within one storage binding and 256 MiB.
         let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20);
         if per_patch > cap {
@@ -1902,7 +1918,7 @@ impl<'v> VkMesh<'v> {
     }
 
     /// Bind `samples`, let `run(p0, n)` write patches `p0 .. p0 + n` at
-    /// `(patch − p0)·spp` samples of 6 floats, chunk by chunk, and gather
+    /// `(patch − p0)·spp` samples of SAMPLE_FLOATS floats, chunk by chunk, and gather
     /// them in face order.
     fn read_samples(
         &self,
@@ -1916,17 +1932,20 @@ impl<'v> VkMesh<'v> {
         let faces = self.patch_faces.len();
         let mut positions = vec![Vec3::ZERO; faces * spp as usize];
         let mut normals = vec![Vec3::ZERO; faces * spp as usize];
-        let nan: Vec<u8> = std::iter::repeat_n(f32::NAN.to_le_bytes(), (chunk * spp * 6) as usize)
-            .flatten()
-            .collect();
+        let nan: Vec<u8> = std::iter::repeat_n(
+            f32::NAN.to_le_bytes(),
+            (chunk * spp) as usize * abi::SAMPLE_LEN,
+        )
+        .flatten()
+        .collect();
         let mut p0 = 0u64;
         while p0 < faces as u64 {
             let n = chunk.min(faces as u64 - p0);
             // Unwritten samples stay NaN, so a missed write fails parity.
             samples.write(&nan);
             run(p0, n)?;
-            let floats = samples.read_f32((n * spp * 6) as usize);
-            for (i, s) in floats.chunks_exact(6).enumerate() {
+            let floats = samples.read_f32((n * spp) as usize * abi::SAMPLE_LEN);
+            for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
                 let patch = p0 + i as u64 / spp;
                 let face = self.patch_faces[patch as usize] as usize;
                 let at = face * spp as usize + (i as u64 % spp) as usize;

@@ -690,3 +690,88 @@ fn validation_rejects_broken_wgsl() {
     let e = check_limits("nine.wgsl", &m, &i).err().unwrap_or_default();
     assert!(e.contains("uses 9 storage buffers"), "{e}");
 }
+
+/// The ABI's per-entry binding lists (`abi::WGSL_ENTRIES`, with
+/// `patch_main` derived per scheme from the Plan) are exactly what naga
+/// reflects from every emitted module: the bindings each entry uses, the
+/// access of the variable it uses them through (bindings 5 and 8 are
+/// declared twice, `read_write` and `read`), and the workgroup size. A
+/// host that builds explicit bind group layouts from the lists (as
+/// `generated/README.md` tells it to) then matches the shaders.
+#[test]
+fn abi_entry_bindings_match_naga() {
+    use tessgen_codegen::backend::abi::{self, Access};
+    let out = Builder::new()
+        .builtin_schemes()
+        .target(Target::Wgsl)
+        .command("tessgen generate --out generated")
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut checked = 0;
+    for (m, entries) in &out.plan.schemes {
+        let path = format!("wgsl/{}.wgsl", m.name);
+        let file = out
+            .file(&path)
+            .unwrap_or_else(|| panic!("{path} not emitted"));
+        let src = text(file);
+        let module = naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{path}: {e}"));
+        let info = Validator::new(ValidationFlags::all(), Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{path}: {e:?}"));
+        let names: BTreeSet<&str> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        let declared: BTreeSet<&str> = abi::WGSL_ENTRIES.iter().map(|e| e.name).collect();
+        assert_eq!(names, declared, "{path}: entry points");
+        for (i, ep) in module.entry_points.iter().enumerate() {
+            let fi = info.get_entry_point(i);
+            let mut used = Vec::new();
+            for (h, var) in module.global_variables.iter() {
+                if fi[h].is_empty() {
+                    continue;
+                }
+                let Some(b) = &var.binding else { continue };
+                let access = match var.space {
+                    AddressSpace::Storage { access } if access.contains(StorageAccess::STORE) => {
+                        Access::ReadWrite
+                    }
+                    _ => Access::Read,
+                };
+                let decl = abi::BINDINGS
+                    .iter()
+                    .find(|x| x.binding == b.binding)
+                    .map(abi::wgsl_views)
+                    .unwrap_or_default();
+                let name = var.name.clone().unwrap_or_default();
+                assert!(
+                    decl.contains(&(name.clone(), access)),
+                    "{path}: binding {} declared as {name} {access:?}, the ABI says {decl:?}",
+                    b.binding
+                );
+                used.push((b.binding, access));
+            }
+            used.sort();
+            let e = abi::wgsl_entry(&ep.name).unwrap_or_else(|| panic!("{}", ep.name));
+            assert_eq!(
+                used,
+                abi::entry_bindings(&out.plan, m, entries, e),
+                "{path}: bindings of {}",
+                ep.name
+            );
+            let wg = if ep.stage == ShaderStage::Compute {
+                ep.workgroup_size[0]
+            } else {
+                0
+            };
+            assert_eq!(
+                wg, e.workgroup_size,
+                "{path}: workgroup size of {}",
+                ep.name
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 8 * abi::WGSL_ENTRIES.len());
+}

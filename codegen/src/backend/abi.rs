@@ -7,7 +7,7 @@
 //! point): WGSL/std430 `vec3` arrays would pad to 16 bytes, and packed floats
 //! are what engines already have in their vertex buffers.
 
-use crate::plan::Resource;
+use crate::plan::{Define, Entries, Module, Plan, Resource};
 
 /// What a binding holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -72,18 +72,19 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 30, name: "bucket_chunks", kind: Kind::U32Buffer, resource: None, written: true, doc: "GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused" },
 ];
 
-/// Layout of the `adaptive` buffer (binding 19): `(first float, count,
-/// meaning)`. A storage buffer rather than a second uniform block so every
-/// printer binds it like any other `f32` buffer.
-pub const ADAPTIVE: &[(u32, u32, &str)] = &[
-    (0, 16, "view_proj, column-major (element (row r, column c) at 4c + r): the screen-space metric projects both edge end points with it"),
-    (16, 3, "eye position (distance metric)"),
-    (19, 1, "distance metric scale k: factor = k · ‖b − a‖ / ‖(a + b)/2 − eye‖"),
-    (20, 2, "viewport width, height in pixels (screen-space metric)"),
-    (22, 1, "target pixels per segment (screen-space metric): factor = projected length / this"),
-    (23, 1, "smallest factor (clamp; NaN becomes this)"),
-    (24, 1, "largest factor (clamp; at most the device's maxTessellationGenerationLevel)"),
-    (25, 1, "metric of tessgen_edge_factor_runtime (WGSL, Rust: no preprocessor): 0 screen space, 1 distance, 2 edge_factors buffer"),
+/// Layout of the `adaptive` buffer (binding 19): `(name, first float,
+/// count, meaning)`; [`rust_module`] names the slots for the runtime. A
+/// storage buffer rather than a second uniform block so every printer binds
+/// it like any other `f32` buffer.
+pub const ADAPTIVE: &[(&str, u32, u32, &str)] = &[
+    ("VIEW_PROJ", 0, 16, "view_proj, column-major (element (row r, column c) at 4c + r): the screen-space metric projects both edge end points with it"),
+    ("EYE", 16, 3, "eye position (distance metric)"),
+    ("DISTANCE_SCALE", 19, 1, "distance metric scale k: factor = k · ‖b − a‖ / ‖(a + b)/2 − eye‖"),
+    ("VIEWPORT", 20, 2, "viewport width, height in pixels (screen-space metric)"),
+    ("PIXELS_PER_SEGMENT", 22, 1, "target pixels per segment (screen-space metric): factor = projected length / this"),
+    ("MIN_FACTOR", 23, 1, "smallest factor (clamp; NaN becomes this)"),
+    ("MAX_FACTOR", 24, 1, "largest factor (clamp; at most the device's maxTessellationGenerationLevel)"),
+    ("METRIC", 25, 1, "metric of tessgen_edge_factor_runtime (WGSL, Rust: no preprocessor): 0 screen space, 1 distance, 2 edge_factors buffer"),
 ];
 
 /// Floats in the `adaptive` buffer.
@@ -146,6 +147,9 @@ pub const WORKGROUP_SIZE: u32 = 64;
 pub const SAMPLE_FLOATS: u32 = 6;
 /// `u32` per patch in `patch_levels` (binding 25): the levels of edges 0–3, then the bucket.
 pub const PATCH_LEVELS_WORDS: u32 = 5;
+/// The word of a `patch_levels` record holding the patch's bucket (the
+/// largest of its edge levels); the edge levels come first.
+pub const PATCH_LEVELS_BUCKET: u32 = 4;
 /// `u32` per entry of `bucket_patches` / `bucket_list` (bindings 26, 27): patch,
 /// first control point, the levels of edges 0–3.
 pub const BUCKET_ENTRY_WORDS: u32 = 6;
@@ -180,4 +184,429 @@ pub mod entry {
     pub const PATCH_STAGE: &str = "patch_main";
     /// Compute: evaluate `(level+1)²` samples of each patch into `samples`.
     pub const EVAL: &str = "eval_main";
+}
+
+/// Binding of the Vulkan harness's own geometry-shader triangle capture
+/// (the runtime writes that GLSL, no emitted shader declares it). Declared
+/// here, outside [`BINDINGS`], so that no ABI binding is ever given its
+/// number: the harness binds it next to the ABI's bindings in one set.
+pub const HARNESS_TRIANGLES: u32 = 20;
+
+/// Element type of a binding as the runtime and a host see it (the
+/// element stride of a buffer is 4 bytes for every kind: `vec3` buffers are
+/// packed `f32` triples).
+pub const ELEMENT_BYTES: u32 = 4;
+
+/// Texture format of every texture binding (the stencil table and the
+/// displacement map): one 32-bit float channel, read with exact texel
+/// loads. Not filterable in WebGPU, so a bind group layout declares it
+/// `sampleType: "unfilterable-float"`.
+pub const TEXTURE_FORMAT: &str = "R32Float";
+
+/// How an entry point accesses a binding: the WGSL variable it uses is
+/// declared `read` or `read_write` (an explicit bind group layout must
+/// say the same: `read-only-storage` or `storage`). Bindings 5 and 8 are
+/// declared twice in WGSL, `read_write` for the stage that writes them and
+/// `read` (`vertex_out_ro`, `control_points_ro`) for the stages after it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Access {
+    /// Read-only storage, the uniform block or a texture.
+    Read,
+    /// Read-write storage.
+    ReadWrite,
+}
+
+/// Pipeline stage of an entry point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Compute,
+    Vertex,
+    Fragment,
+}
+
+impl Stage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Compute => "compute",
+            Stage::Vertex => "vertex",
+            Stage::Fragment => "fragment",
+        }
+    }
+}
+
+/// One WGSL entry point: its stage, workgroup size, the bindings it uses
+/// (exactly those: with `layout: "auto"` a bind group must hold these and no
+/// others) and how invocations map onto work items.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EntryPoint {
+    pub name: &'static str,
+    pub stage: Stage,
+    /// `@workgroup_size(x)` of a compute entry (0 for vertex/fragment).
+    pub workgroup_size: u32,
+    /// `(binding, access)`, by binding number. For `patch_main` these are
+    /// only the bindings every scheme's patch stage uses; the scheme's own
+    /// come from [`patch_main_bindings`].
+    pub bindings: &'static [(u32, Access)],
+    /// The invocation → work-item mapping and the dispatch/draw size.
+    pub invocation: &'static str,
+}
+
+const R: Access = Access::Read;
+const RW: Access = Access::ReadWrite;
+
+/// The displacement bindings `eval_displaced` reads: bound by every
+/// evaluation entry even with displacement off (scale 0 in `displace_info`).
+const DISPLACE: [(u32, Access); 4] = [(21, R), (22, R), (23, R), (24, R)];
+
+/// Every WGSL entry point, in the order the printer emits them. Checked
+/// against naga's reflection of every emitted module by the tests
+/// (`tests/tests/validate_wgsl.rs`), so this cannot drift from the shaders.
+pub const WGSL_ENTRIES: &[EntryPoint] = &[
+    EntryPoint {
+        name: entry::VERTEX_STAGE,
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(0, R), (1, R), (2, R), (3, R), (4, R), (5, RW), (9, R), (10, R)],
+        invocation: "invocation `k = global_invocation_id.x` runs vertex `params.first + k` for `k < params.count` (valence 0: skipped); dispatch x = ⌈count / WORKGROUP_SIZE⌉",
+    },
+    EntryPoint {
+        name: entry::PATCH_STAGE,
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(10, R), (11, R)],
+        invocation: "invocation `k = global_invocation_id.x` builds patch `params.first + k` (index into `patch_faces`) of class `params.class` for `k < params.count`, its control points at `params.cp_base + k·CONTROL_POINTS[class]`; dispatch x = ⌈count / WORKGROUP_SIZE⌉",
+    },
+    EntryPoint {
+        name: entry::EVAL,
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(8, R), (10, R), (11, R), (12, RW), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3]],
+        invocation: "invocation `k = global_invocation_id.x` < `params.count · spp` (spp = `grid_len(params.level)` samples per patch) evaluates sample `s = k % spp` (domain point `grid_iu(s)`, `grid_iv(s)`) of patch `params.first + k / spp`, whose control points start at `params.cp_base + (k / spp)·CONTROL_POINTS[class]`, into `samples[SAMPLE_FLOATS·(params.out_base + k) ..]`; dispatch x = ⌈count·spp / WORKGROUP_SIZE⌉",
+    },
+    EntryPoint {
+        name: "eval_vs",
+        stage: Stage::Vertex,
+        workgroup_size: 0,
+        bindings: &[(8, R), (10, R), (11, R), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3]],
+        invocation: "vertex index = sample `s` of the grid, instance `i` = patch `params.first + i`, control points at `params.cp_base + i·CONTROL_POINTS[class]`; draw `params.count` instances",
+    },
+    EntryPoint {
+        name: "shade_fs",
+        stage: Stage::Fragment,
+        workgroup_size: 0,
+        bindings: &[(10, R)],
+        invocation: "fragment shader for `eval_vs` and the adaptive vertex shaders",
+    },
+    EntryPoint {
+        name: "adaptive_classify_main",
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(6, R), (8, R), (10, R), (11, R), (17, R), (18, R), (19, R), (25, RW)],
+        invocation: "invocation `k` classifies patch `p = params.first + k` (`k < params.count`) into `patch_levels[PATCH_LEVELS_WORDS·p ..]`",
+    },
+    EntryPoint {
+        name: "eval_adaptive_main",
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(8, R), (10, R), (11, R), (12, RW), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3], (26, R)],
+        invocation: "as `eval_main`, patch `k / spp` of the dispatch being entry `params.first + k / spp` of `bucket_patches`",
+    },
+    EntryPoint {
+        name: "eval_adaptive_vs",
+        stage: Stage::Vertex,
+        workgroup_size: 0,
+        bindings: &[(8, R), (10, R), (11, R), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3], (26, R)],
+        invocation: "as `eval_vs`, instance `i` being entry `params.first + i` of `bucket_patches`",
+    },
+    EntryPoint {
+        name: "adaptive_count_main",
+        stage: Stage::Compute,
+        workgroup_size: BUCKET_CHUNK,
+        bindings: &[(10, R), (25, RW), (30, RW)],
+        invocation: "workgroup `c` counts the patches of chunk `c` (BUCKET_CHUNK patches) per bucket slot",
+    },
+    EntryPoint {
+        name: "adaptive_plan_main",
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(10, R), (27, RW), (28, RW), (29, RW), (30, RW)],
+        invocation: "one workgroup: the bucket headers, offsets and indirect arguments",
+    },
+    EntryPoint {
+        name: "adaptive_scatter_main",
+        stage: Stage::Compute,
+        workgroup_size: BUCKET_CHUNK,
+        bindings: &[(10, R), (25, RW), (27, RW), (30, RW)],
+        invocation: "workgroup `c` writes the entries of chunk `c`'s patches into `bucket_list`",
+    },
+    EntryPoint {
+        name: "eval_adaptive_indirect_main",
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(8, R), (10, R), (11, R), (12, RW), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3], (26, R)],
+        invocation: "`dispatch_workgroups_indirect` from `bucket_dispatch` slot `params.first`; `bucket_list` bound at binding 26",
+    },
+    EntryPoint {
+        name: "eval_adaptive_indirect_vs",
+        stage: Stage::Vertex,
+        workgroup_size: 0,
+        bindings: &[(8, R), (10, R), (11, R), DISPLACE[0], DISPLACE[1], DISPLACE[2], DISPLACE[3], (26, R)],
+        invocation: "`draw_indexed_indirect` from `bucket_draw` slot `params.first`; `bucket_list` bound at binding 26",
+    },
+];
+
+/// The WGSL variables that declare binding `b`: `(name, access)`. A
+/// buffer one stage writes and later stages read (a Plan resource that is
+/// written: `vertex_out`, `control_points`) is declared twice, `read_write`
+/// under its name and `read` as `<name>_ro`, so the reading stages need no
+/// writable binding (WebGPU forbids writable storage in vertex shaders);
+/// other written buffers are `read_write` only.
+pub fn wgsl_views(b: &Binding) -> Vec<(String, Access)> {
+    match (b.written, b.resource.is_some()) {
+        (true, true) => vec![(b.name.to_string(), RW), (format!("{}_ro", b.name), R)],
+        (true, false) => vec![(b.name.to_string(), RW)],
+        _ => vec![(b.name.to_string(), R)],
+    }
+}
+
+/// The WGSL entry point called `name`.
+pub fn wgsl_entry(name: &str) -> Option<&'static EntryPoint> {
+    WGSL_ENTRIES.iter().find(|e| e.name == name)
+}
+
+/// Every binding `patch_main` of this scheme uses: [`WGSL_ENTRIES`]'
+/// fixed part (Params, `patch_faces`) plus what the scheme's patch
+/// functions read and write, derived from the Plan (the same
+/// [`super::resources_of`] the printers declare from), and the stencil
+/// table when a patch function reads per-valence constants.
+pub fn patch_main_bindings(plan: &Plan, module: &Module, entries: &Entries) -> Vec<(u32, Access)> {
+    let mut out: Vec<(u32, Access)> = wgsl_entry(entry::PATCH_STAGE)
+        .map(|e| e.bindings.to_vec())
+        .unwrap_or_default();
+    let mut add = |b: u32, a: Access| {
+        if let Some(x) = out.iter_mut().find(|x| x.0 == b) {
+            x.1 = x.1.max(a);
+        } else {
+            out.push((b, a));
+        }
+    };
+    for p in &entries.patches {
+        let (res, table) = super::resources_of(plan, module, &module.functions[p.function]);
+        for (r, written) in res {
+            add(binding_of(r).binding, if written { RW } else { R });
+        }
+        if table {
+            add(binding_number("stencil_table"), R);
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The bindings of WGSL entry `e` for the scheme of `module`.
+pub fn entry_bindings(
+    plan: &Plan,
+    module: &Module,
+    entries: &Entries,
+    e: &EntryPoint,
+) -> Vec<(u32, Access)> {
+    if e.name == entry::PATCH_STAGE {
+        patch_main_bindings(plan, module, entries)
+    } else {
+        e.bindings.to_vec()
+    }
+}
+
+/// Number of the binding called `name` (0 for an unknown name: the
+/// callers here pass names of [`BINDINGS`]).
+pub fn binding_number(name: &str) -> u32 {
+    BINDINGS
+        .iter()
+        .find(|b| b.name == name)
+        .map_or(0, |b| b.binding)
+}
+
+/// Every preprocessor define the GLSL/HLSL builds understand.
+pub const DEFINES: &[Define] = &[
+    Define::NoBoundaryPath,
+    Define::AsymmetricEdgeWeights,
+    Define::Capture,
+    Define::Adaptive,
+    Define::MetricBuffer,
+    Define::MetricDistance,
+    Define::FractionalOdd,
+    Define::FractionalEven,
+    Define::Displace,
+];
+
+/// Largest workgroup count per dispatch dimension that WebGPU guarantees
+/// (`maxComputeWorkgroupsPerDimension`): a dispatch needing more is split
+/// (see `generated/README.md`).
+pub const WEBGPU_MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
+
+/// The ABI as a Rust module, for a runtime's `build.rs` to write into
+/// `OUT_DIR` and `include!`: binding numbers by name, the Params layout, the
+/// strides, workgroup sizes, bucket constants, the `adaptive` slots, the
+/// define names and every WGSL entry's binding list (per scheme for
+/// `patch_main`). A runtime that names these instead of typing numbers
+/// fails to compile when the ABI changes under it (a renamed or removed
+/// binding, field or slot), and follows a renumbering without an edit.
+pub fn rust_module(plan: &Plan) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let w = &mut s;
+    let _ = writeln!(
+        w,
+        "// The GPU ABI, printed by tessgen_codegen::backend::abi::rust_module. Do not edit.\n"
+    );
+    let _ = writeln!(
+        w,
+        "/// Binding numbers (group/set 0) by name.\npub mod binding {{"
+    );
+    for b in BINDINGS {
+        let _ = writeln!(
+            w,
+            "    /// {}\n    pub const {}: u32 = {};",
+            b.doc,
+            b.name.to_uppercase(),
+            b.binding
+        );
+    }
+    let _ = writeln!(w, "    /// Not an ABI binding: the Vulkan harness's own geometry-shader triangle capture.\n    pub const TRIANGLES: u32 = {HARNESS_TRIANGLES};");
+    let _ = writeln!(w, "}}\n");
+    let _ = writeln!(w, "/// Size of the Params uniform block in bytes.\npub const PARAMS_SIZE: u64 = {PARAMS_SIZE};");
+    let _ = writeln!(
+        w,
+        "/// Byte offsets of the Params fields (`u32` but the matrix).\npub mod params {{"
+    );
+    for (name, doc) in PARAMS {
+        let _ = writeln!(
+            w,
+            "    /// {doc}\n    pub const {}: usize = {};",
+            name.to_uppercase(),
+            params_offset(name)
+        );
+    }
+    let _ = writeln!(w, "}}\n");
+    let consts: &[(&str, &str, u32)] = &[
+        ("WORKGROUP_SIZE", "Workgroup size of the compute entry points (but the bucket compaction passes: BUCKET_CHUNK).", WORKGROUP_SIZE),
+        ("SAMPLE_FLOATS", "`f32` per evaluated sample: position xyz, normal xyz.", SAMPLE_FLOATS),
+        ("PATCH_LEVELS_WORDS", "`u32` per patch in `patch_levels`.", PATCH_LEVELS_WORDS),
+        ("PATCH_LEVELS_BUCKET", "The word of a `patch_levels` record holding the patch's bucket.", PATCH_LEVELS_BUCKET),
+        ("BUCKET_ENTRY_WORDS", "`u32` per entry of `bucket_patches` / `bucket_list`.", BUCKET_ENTRY_WORDS),
+        ("BUCKET_HEADER_WORDS", "`u32` per bucket slot in the header of `bucket_list`.", BUCKET_HEADER_WORDS),
+        ("BUCKET_DISPATCH_WORDS", "`u32` per bucket slot in `bucket_dispatch`.", BUCKET_DISPATCH_WORDS),
+        ("BUCKET_DRAW_WORDS", "`u32` per bucket slot in `bucket_draw`.", BUCKET_DRAW_WORDS),
+        ("BUCKET_SLOTS", "Bucket slots per class range of the GPU-driven buckets.", BUCKET_SLOTS),
+        ("INDIRECT_X", "Largest x workgroup count of one GPU-driven evaluation dispatch.", INDIRECT_X),
+        ("BUCKET_CHUNK", "Patches per chunk (and workgroup size) of the bucket compaction.", BUCKET_CHUNK),
+        ("ELEMENT_BYTES", "Bytes per buffer element (`u32`, `f32`; vec3 buffers are packed f32 triples).", ELEMENT_BYTES),
+    ];
+    for (name, doc, v) in consts {
+        let _ = writeln!(w, "/// {doc}\npub const {name}: u32 = {v};");
+    }
+    let _ = writeln!(
+        w,
+        "/// Bytes per evaluated sample.\npub const SAMPLE_BYTES: u64 = {};",
+        SAMPLE_FLOATS * ELEMENT_BYTES
+    );
+    let _ = writeln!(
+        w,
+        "/// Floats in the `adaptive` buffer.\npub const ADAPTIVE_LEN: usize = {ADAPTIVE_LEN};"
+    );
+    let _ = writeln!(
+        w,
+        "/// First float of each slot of the `adaptive` buffer.\npub mod adaptive {{"
+    );
+    for (name, first, count, doc) in ADAPTIVE {
+        let _ = writeln!(
+            w,
+            "    /// {doc} ({count} f32)\n    pub const {name}: usize = {first};"
+        );
+    }
+    let _ = writeln!(w, "}}\n");
+    let _ = writeln!(
+        w,
+        "/// Preprocessor defines of the GLSL/HLSL builds.\npub mod define {{"
+    );
+    for d in DEFINES {
+        let name = d.name();
+        let _ = writeln!(
+            w,
+            "    pub const {}: &str = {name:?};",
+            name.trim_start_matches("TESSGEN_")
+        );
+    }
+    let _ = writeln!(w, "}}\n");
+    let _ = writeln!(w, "/// How a WGSL entry point accesses a binding.\n#[derive(Clone, Copy, Debug, PartialEq, Eq)]\npub enum Access {{\n    Read,\n    ReadWrite,\n}}\n");
+    let _ = writeln!(w, "/// An entry's bindings: `(binding, access)` by binding number.\npub type Bindings = &'static [(u32, Access)];\n");
+    let _ = writeln!(w, "/// Every WGSL entry point: `(name, workgroup size (0: not compute), bindings)`; `patch_main`'s are per scheme in [`PATCH_MAIN`].");
+    let _ = writeln!(w, "pub const WGSL_ENTRIES: &[(&str, u32, Bindings)] = &[");
+    let list = |b: &[(u32, Access)]| {
+        b.iter()
+            .map(|(n, a)| format!("({n}, Access::{a:?})"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    for e in WGSL_ENTRIES {
+        let _ = writeln!(
+            w,
+            "    ({:?}, {}, &[{}]),",
+            e.name,
+            e.workgroup_size,
+            list(e.bindings)
+        );
+    }
+    let _ = writeln!(w, "];\n");
+    let _ = writeln!(
+        w,
+        "/// `patch_main`'s bindings per scheme.\npub const PATCH_MAIN: &[(&str, Bindings)] = &["
+    );
+    for (m, e) in &plan.schemes {
+        let _ = writeln!(
+            w,
+            "    ({:?}, &[{}]),",
+            m.name,
+            list(&patch_main_bindings(plan, m, e))
+        );
+    }
+    let _ = writeln!(w, "];");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No two ABI bindings share a number, and none takes the harness's.
+    #[test]
+    fn binding_numbers_are_unique() {
+        let mut seen: Vec<u32> = BINDINGS.iter().map(|b| b.binding).collect();
+        seen.push(HARNESS_TRIANGLES);
+        let n = seen.len();
+        seen.sort_unstable();
+        seen.dedup();
+        assert_eq!(seen.len(), n);
+    }
+
+    /// Every entry list names ABI bindings only, in binding order.
+    #[test]
+    fn entry_lists_name_abi_bindings() {
+        for e in WGSL_ENTRIES {
+            for (b, _) in e.bindings {
+                assert!(BINDINGS.iter().any(|x| x.binding == *b), "{}: {b}", e.name);
+            }
+            assert!(e.bindings.windows(2).all(|w| w[0].0 < w[1].0), "{}", e.name);
+        }
+    }
+
+    /// Params offsets are consecutive u32s after the matrix and fill PARAMS_SIZE.
+    #[test]
+    fn params_layout() {
+        let last = PARAMS[PARAMS.len() - 1].0;
+        assert_eq!(params_offset(last) + 4, PARAMS_SIZE);
+        let mut slots: Vec<(u32, u32)> = ADAPTIVE.iter().map(|a| (a.1, a.2)).collect();
+        slots.sort_unstable();
+        assert_eq!(slots.last().map(|(f, c)| f + c), Some(ADAPTIVE_LEN));
+    }
 }

@@ -2,37 +2,67 @@
 //! generated shaders, printed from the same ABI table and Plan the printers
 //! use, so it cannot drift from the code.
 
-use super::abi::{self, Kind, BINDINGS, PARAMS};
-use super::{header_lines, hlsl, wgsl};
+use super::abi::{self, Access, Kind, BINDINGS, PARAMS};
+use super::{header_lines, hlsl};
 use crate::plan::{ConstValue, Plan};
 use crate::table::StencilTable;
 use std::fmt::Write;
 
-fn kind_text(k: Kind) -> (&'static str, &'static str, &'static str) {
-    // (WGSL, GLSL, HLSL)
-    match k {
-        Kind::U32Buffer => ("array<u32>", "uint[] (std430)", "StructuredBuffer<uint>"),
-        Kind::Vec3Buffer => (
-            "array<f32> (xyz triples)",
-            "float[] (std430, xyz triples)",
-            "StructuredBuffer<float> (xyz triples)",
-        ),
-        Kind::F32Buffer => (
-            "array<f32>",
-            "float[] (std430)",
-            "RWStructuredBuffer<float>",
-        ),
+/// The WGSL, GLSL and HLSL declarations of binding `b`, one per view
+/// (bindings 5 and 8 have a `read_write` and a `read` view in WGSL and
+/// HLSL; GLSL files declare the one view they use).
+fn decl_text(b: &abi::Binding) -> (String, String, String) {
+    let views = abi::wgsl_views(b);
+    let wgsl = views
+        .iter()
+        .map(|(name, access)| match b.kind {
+            Kind::Table => format!("`{name}`: texture_2d<f32>"),
+            Kind::Uniform => format!("`{name}`: var<uniform> Params"),
+            Kind::U32Buffer | Kind::F32Buffer | Kind::Vec3Buffer => {
+                let elem = if b.kind == Kind::U32Buffer {
+                    "u32"
+                } else {
+                    "f32"
+                };
+                let acc = match access {
+                    Access::Read => "read",
+                    Access::ReadWrite => "read_write",
+                };
+                format!("`{name}`: var<storage, {acc}> array<{elem}>")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("<br>");
+    let (g_elem, h_elem) = match b.kind {
+        Kind::U32Buffer => ("uint", "uint"),
+        _ => ("float", "float"),
+    };
+    let (glsl, hlsl) = match b.kind {
         Kind::Table => (
-            "texture_2d<f32>",
-            "sampler2D (texelFetch)",
-            "Texture2D<float> (Load)",
+            "sampler2D (texelFetch)".to_string(),
+            "Texture2D<float> (Load)".to_string(),
         ),
         Kind::Uniform => (
-            "var<uniform> Params",
-            "uniform Params (std140)",
-            "cbuffer Params",
+            "uniform Params (std140)".to_string(),
+            "cbuffer Params".to_string(),
         ),
-    }
+        _ if b.written && b.resource.is_some() => (
+            format!("{g_elem}[] (std430; readonly where only read)"),
+            format!(
+                "StructuredBuffer<{h_elem}> `{0}`<br>RWStructuredBuffer<{h_elem}> `{0}_rw`",
+                b.name
+            ),
+        ),
+        _ if b.written => (
+            format!("{g_elem}[] (std430)"),
+            format!("RWStructuredBuffer<{h_elem}>"),
+        ),
+        _ => (
+            format!("readonly {g_elem}[] (std430)"),
+            format!("StructuredBuffer<{h_elem}>"),
+        ),
+    };
+    (wgsl, glsl, hlsl)
 }
 
 /// The README text.
@@ -74,11 +104,12 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
          dispatch or draw per class, with `params.class`, `params.first` (first patch in `patch_faces`), \
          `params.count` and `params.cp_base` (first control point of the class).\n\n",
     );
+    s.push_str(INPUTS);
     s.push_str("## Bindings (descriptor set / bind group 0)\n\n");
     s.push_str("HLSL: register `tN` for read-only, `uN` for written (`[[vk::binding(N, 0)]]` as well), `b10` for Params.\n\n");
     s.push_str("| binding | name | WGSL | GLSL | HLSL | contents |\n|---|---|---|---|---|---|\n");
     for b in BINDINGS {
-        let (w, g, h) = kind_text(b.kind);
+        let (w, g, h) = decl_text(b);
         let _ = writeln!(
             s,
             "| {} | `{}` | {w} | {g} | {h} | {}{} |",
@@ -88,6 +119,12 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
             if b.written { " (written)" } else { "" }
         );
     }
+    let _ = writeln!(
+        s,
+        "\nBinding {} is never declared by the emitted shaders: the runtime's Vulkan harness uses it for its own \
+         geometry-shader capture.",
+        abi::HARNESS_TRIANGLES
+    );
     s.push_str("\nvec3 buffers are tightly packed f32 triples: element `i` is floats `3i, 3i+1, 3i+2` (12 bytes, no padding).\n\n");
     let _ = writeln!(
         s,
@@ -106,7 +143,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     );
     s.push_str("Read by `tessgen_edge_factor` in GLSL/HLSL builds with `-DTESSGEN_ADAPTIVE` (the control stage then sets one factor per edge from the edge's end points in canonical order; the evaluation stage reads the coordinate on the 2^-16 fixed-point grid). Metric: screen space by default, `-DTESSGEN_METRIC_DISTANCE`, or `-DTESSGEN_METRIC_BUFFER` (`edge_factors[face_edges[4f + k]]`, triangles `3f + k`, bindings 17 and 18). Partitioning: integer by default, `-DTESSGEN_FRACTIONAL_ODD` or `-DTESSGEN_FRACTIONAL_EVEN`. Quad and triangle schemes (triangles: outer factor k for the edge opposite corner k, the inside factor the largest of the three; the evaluation stage passes the barycentric point to `eval_domain` at level 2^16).\n\n");
     s.push_str("| floats | meaning |\n|---|---|\n");
-    for (first, count, doc) in abi::ADAPTIVE {
+    for (_, first, count, doc) in abi::ADAPTIVE {
         let _ = writeln!(s, "| {first}..{} | {doc} |", first + count);
     }
     s.push('\n');
@@ -118,7 +155,9 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
         "`R32Float`, width {} (= 2·MAX_VALENCE + 1 ring slots, MAX_VALENCE = {}), height {} rows. \
          Texel (x = ring slot, y = row); read with `textureLoad`/`texelFetch`/`Load`, never filtered. \
          Rows per scheme and valence: `ROW_BASE[n]` in each scheme's code and `schemes[].valence_row_base` \
-         in `table/stencils.json`; per-valence constants at row `CONST_ROW_BASE + n − 3`.\n",
+         in `table/stencils.json`; per-valence constants at row `CONST_ROW_BASE + n − 3`. \
+         Upload `table/stencils.f32` as it is (`writeTexture` with `bytesPerRow` = 4·width; width and height are also \
+         in `table/stencils.json`) and bind it at `stencil_table` (binding 9).\n",
         table.width,
         table.max_valence,
         table.height()
@@ -171,15 +210,19 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
                 p.control_points
             );
         }
-        s.push('\n');
+        let _ = writeln!(
+            s,
+            "\n`patch_main` of `{}` uses bindings {}.\n",
+            m.name,
+            binding_list(&abi::patch_main_bindings(plan, m, e))
+        );
     }
     s.push_str("## Conventions\n\n");
     s.push_str(
         "* **Faces and (u, v)**: corners `v0..v3` counter-clockwise seen from outside; `(u, v) = (0, 0)` at \
          `v0`, `u` along `v0 → v1`, `v` along `v0 → v3`; `∂S/∂u × ∂S/∂v` points outward.\n\
-         * **Rings**: `ring[ring_offsets[p]..]` = `[p, p_0 … p_{2n−1}]`, counter-clockwise, even slots edge \
-         neighbours, odd slots the diagonal vertex of each sector; stored once per vertex with a canonical \
-         start. `corner_sector[4f + i]` = `j` with `p_{2j} = v_{i+1}` in corner i's ring.\n\
+         * **Rings, sectors and corners**: see *Building the inputs* above (`ring`, `corner_sector` are defined \
+         there by half-edges, never by searching vertex ids).\n\
          * **Tessellation factors**: every edge factor and both inside factors equal `params.level` \
          (integer partitioning), a per-edge value computed from the edge alone, so both patches of an edge \
          agree. `(level + 1)²` samples per patch.\n\
@@ -192,13 +235,130 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
          * **WGSL instanced drawing**: draw an index buffer over the `(level+1)²` grid (vertex id \
          `iv·(level+1) + iu`, counter-clockwise triangles) with one instance per patch of the class.\n\n",
     );
-    s.push_str("## Entry points\n\n| target | entry | stage |\n|---|---|---|\n");
-    for (n, st) in wgsl::ENTRY_POINTS {
-        let _ = writeln!(s, "| WGSL | `{n}` | {st} |");
-    }
+    s.push_str(&entry_sections());
+    s.push_str("\n### Other targets\n\n| target | entry | stage |\n|---|---|---|\n");
     for (n, st) in hlsl::ENTRY_POINTS {
         let _ = writeln!(s, "| HLSL | `{n}` | {st} |");
     }
     s.push_str("| GLSL | `main` of each file | by extension: `.vert .tesc .tese .comp` |\n");
+    s
+}
+
+/// `5 (rw)`-style list of `(binding, access)`.
+fn binding_list(b: &[(u32, Access)]) -> String {
+    b.iter()
+        .map(|(n, a)| match a {
+            Access::Read => format!("{n}"),
+            Access::ReadWrite => format!("**{n} (read_write)**"),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// How a foreign host builds every input buffer from an OBJ quad mesh: the
+/// topology rules the runtime's `topology` module implements, written out
+/// so a host can reproduce its bits (tests/tests/foreign_host.rs does,
+/// from this text alone).
+const INPUTS: &str = "## Building the inputs (quad schemes)\n\n\
+The control mesh must be closed, manifold and consistently oriented (every edge shared by exactly two \
+faces that run it in opposite directions), every face a quad, every used vertex of valence 3..=MAX_VALENCE. \
+Vertices are numbered in file order from 0; a vertex no face uses has valence 0 (it keeps its number).\n\n\
+* **Half-edges.** Faces are numbered in file order; corner `i` of face `f` (corners `v0..v3` in file order, \
+counter-clockwise seen from outside) is half-edge `h = 4f + i`, running `v_i → v_{i+1 mod 4}`. \
+`next(h)` is corner `i+1 mod 4` of the same face, `prev(h)` corner `i−1 mod 4`; `twin(h)` is the half-edge of the \
+other face that runs the same edge the other way.\n\
+* **Valence** `n` of vertex `p`: its number of outgoing half-edges (= faces around it). `valence[p]` (binding 1).\n\
+* **Sectors and the canonical start.** Sector 0 of `p` is its outgoing half-edge with the **smallest id** `h`; \
+sector `j + 1` is `twin(prev(s_j))` (counter-clockwise around `p`); this visits all `n` outgoing half-edges.\n\
+* **Ring.** For sector `j` with half-edge `s_j` in face `(p, a, b, c)` (from `s_j` on, in the face's own order): \
+`p_{2j} = a` (the edge neighbour, `dest(s_j)`) and `p_{2j+1} = b` (the diagonal vertex). The ring of `p` is \
+`[p, p_0, p_1, …, p_{2n−1}]` (2n + 1 entries), stored once in `ring` (binding 3), vertex after vertex in vertex \
+order; `ring_offsets` (binding 2) has one entry per vertex plus a final one: `ring_offsets[p]` is where `p`'s \
+ring starts, `ring_offsets[p + 1]` where it ends (an unused vertex has an empty ring).\n\
+* **Vertex-stage outputs.** `vertex_out_offsets[p]` (binding 4, one per vertex plus a final total) are the \
+running sums of `ROWS_PER_N·n + ROWS_FIXED` points (0 for an unused vertex; the numbers per scheme below); \
+`vertex_out` (binding 5) holds 3 f32 per point, any contents before the vertex stage.\n\
+* **Corners.** `corner_vertex[4f + i] = v_i` (binding 6) and `corner_sector[4f + i] = j` (binding 7), the sector \
+of `v_i` whose half-edge `s_j` **is** half-edge `4f + i` (by half-edge identity: on small meshes a vertex can \
+occur twice in one ring, so searching the ring for `v_{i+1}` can pick the wrong sector).\n\
+* **Classes and patch order.** A face is `ordinary` (class 0) when its four corners all have valence 4, \
+`extraordinary` (class 1) otherwise (a scheme with one class, like `regular`, refuses other faces). `patch_faces` \
+(binding 11) lists the faces of class 0 in face order, then those of class 1; class `c` starts at \
+`first = ` the number of patches of the classes before it, and its control points at `cp_base = Σ` over \
+those classes of `count · CONTROL_POINTS[class]` (points; 3 f32 each in `control_points`, binding 8).\n\
+* **Positions** (binding 0): 3 f32 per vertex, in vertex order.\n\
+* **Displacement off**: `eval_main` and `eval_vs` still use bindings 21–24. Bind `displace_info` = \
+`[0, 1, 1, 0]` (scale 0: the sample is `eval`'s, bit for bit), any 4-byte buffers at 21 and 22, and a 1×1 \
+`R32Float` texture at 24.\n\n\
+Triangle schemes (`facet tri`): `corner_vertex[3f + i]`, positions, unit normals (binding 13), \
+one class; no vertex stage, no rings.\n\n";
+
+/// The WGSL entry points: bindings per entry, workgroup sizes, invocation
+/// mapping, explicit layouts and split dispatches.
+fn entry_sections() -> String {
+    let mut s = String::new();
+    s.push_str("## WGSL entry points\n\n");
+    s.push_str(
+        "Each entry uses exactly the bindings listed (`read_write` in bold; every other binding read-only \
+         storage, the uniform block or a texture). With `layout: \"auto\"` a bind group must hold exactly \
+         these bindings; with an explicit layout (below) declare these and bind them. `patch_main`'s list \
+         depends on the scheme (given per scheme above); the two bindings listed are common to all.\n\n",
+    );
+    s.push_str(
+        "| entry | stage | workgroup size | bindings | invocations |\n|---|---|---|---|---|\n",
+    );
+    for e in abi::WGSL_ENTRIES {
+        let wg = if e.workgroup_size == 0 {
+            "—".to_string()
+        } else {
+            e.workgroup_size.to_string()
+        };
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {wg} | {} | {} |",
+            e.name,
+            e.stage.name(),
+            binding_list(e.bindings),
+            e.invocation
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nWORKGROUP_SIZE = {}, SAMPLE_FLOATS = {}, `grid_len(level)` = `(level + 1)²` for quad schemes \
+         (sample `s` = `iv·(level + 1) + iu`; the WGSL's `grid_len`, `grid_iu`, `grid_iv` define it for every scheme).\n",
+        abi::WORKGROUP_SIZE,
+        abi::SAMPLE_FLOATS
+    );
+    s.push_str("### Explicit bind group layouts\n\n");
+    s.push_str(
+        "Group 0, one entry per binding of the entry's list: read-only storage → `buffer: { type: \"read-only-storage\" }`, \
+         `read_write` → `buffer: { type: \"storage\" }`, `params` (10) → `buffer: { type: \"uniform\" }` \
+         (at least `Params`' size), textures (9, 24) → `texture: { sampleType: \"unfilterable-float\", \
+         viewDimension: \"2d\" }` (`R32Float` is not filterable; the shaders only `textureLoad`). Visibility: \
+         `COMPUTE` for compute entries, `VERTEX` for `eval_vs` (`shade_fs`: `FRAGMENT`). Buffers are runtime-sized \
+         arrays: bind at least 4 bytes (an empty array as one element).\n\n",
+    );
+    s.push_str("### Dispatching, and the per-dimension limit\n\n");
+    let _ = writeln!(
+        s,
+        "A compute entry needs x = ⌈items / workgroup size⌉ workgroups (items: vertices, patches, or patches × \
+         `grid_len(level)` samples for `eval_main`), y = z = 1. WebGPU guarantees only \
+         `maxComputeWorkgroupsPerDimension` = {} workgroups per dimension (and 128 MiB per storage binding), so \
+         a larger run is split into several dispatches, each with its own `Params` (a uniform buffer per \
+         dispatch, or one with dynamic offsets), each covering `count` items so that ⌈count · per item / \
+         WORKGROUP_SIZE⌉ stays within the limit:\n",
+        abi::WEBGPU_MAX_WORKGROUPS_PER_DIMENSION
+    );
+    s.push_str(
+        "* `vertex_stage_main`: `first` = the first vertex of the split, `count` its vertices.\n\
+         * `patch_main`, per class: the split's patches are `k .. k + count` of the class: `first = class first + k`, \
+         `cp_base = class cp_base + k · CONTROL_POINTS[class]`, `class` and `count` as named.\n\
+         * `eval_main`, per class, likewise `first`, `cp_base`, `count`, plus `level` and `out_base`: sample `s` of \
+         the split's patch `q` (0-based within the split) is written at sample index `out_base + q·grid_len(level) + s` \
+         (floats `SAMPLE_FLOATS·` that index). Into one `samples` buffer in `patch_faces` order: \
+         `out_base = (class first + k) · grid_len(level)`; into a buffer per split: `out_base = 0`.\n\
+         * `eval_vs` draws `count` instances with `first`/`cp_base` as `patch_main`; the index buffer covers the \
+         `(level + 1)²` grid (vertex id = sample `s`).\n\n",
+    );
     s
 }
