@@ -452,11 +452,17 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                     xs.iter_mut().for_each(|x| expr(x, map));
                 }
                 Stmt::Output(_, e) => expr(e, map),
-                Stmt::Comment(_) => {}
+                Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
                 Stmt::StorePatchSlot(a, b, v) => {
                     expr(a, map);
                     expr(b, map);
                     expr(v, map);
+                }
+                Stmt::ForStep(_, a, b, step, body) => {
+                    expr(a, map);
+                    expr(b, map);
+                    expr(step, map);
+                    stmts(body, map);
                 }
             }
         }

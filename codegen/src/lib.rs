@@ -15,6 +15,7 @@ pub mod backend;
 pub mod builder;
 pub mod displace;
 pub mod dsl;
+pub mod entries;
 pub mod form;
 pub mod lower;
 pub mod outdir;

@@ -603,11 +603,15 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         },
         compute_vertex: Function::new("", ""),
         compute_eval: Function::new("", ""),
+        compute_patch: Function::new("", ""),
+        instanced: Vec::new(),
     };
     // The hardware tessellation stages' bodies call the functions above.
     entries.tess = crate::tess::stages(&entries, curve_const);
     entries.compute_vertex = crate::tess::compute_vertex(&entries);
     entries.compute_eval = crate::tess::compute_eval(&entries);
+    entries.compute_patch = crate::entries::patch_main(&entries);
+    entries.instanced = crate::entries::instanced(&entries);
     (m, entries)
 }
 

@@ -91,6 +91,22 @@ pub enum Resource {
     /// written by the evaluation stage of capture builds
     /// ([`Define::Capture`], [`TessStages`]).
     Samples,
+    /// `u32` adaptive classify output, `abi::PATCH_LEVELS_WORDS` per patch
+    /// (the WGSL instanced entries, [`Entries::instanced`]).
+    PatchLevels,
+    /// `u32` adaptive draw lists, `abi::BUCKET_ENTRY_WORDS` per entry.
+    BucketPatches,
+    /// `u32` GPU-driven bucket header and entries (written on the GPU).
+    BucketList,
+    /// `u32` GPU-driven indirect dispatch arguments.
+    BucketDispatch,
+    /// `u32` GPU-driven indexed indirect draw arguments.
+    BucketDraw,
+    /// `u32` GPU-driven per-chunk slot counts and offsets.
+    BucketChunks,
+    /// `u32` workgroup-shared array of one chunk's bucket levels (declared
+    /// by [`EntryItem::Workgroup`]; no binding).
+    BucketTile,
 }
 
 impl Resource {
@@ -137,6 +153,13 @@ impl Resource {
             Resource::DisplaceMap => "displace_map",
             Resource::PatchFaces => "patch_faces",
             Resource::Samples => "samples",
+            Resource::PatchLevels => "patch_levels",
+            Resource::BucketPatches => "bucket_patches",
+            Resource::BucketList => "bucket_list",
+            Resource::BucketDispatch => "bucket_dispatch",
+            Resource::BucketDraw => "bucket_draw",
+            Resource::BucketChunks => "bucket_chunks",
+            Resource::BucketTile => "tessgen_bucket_tile",
         }
     }
     pub const ALL: [Resource; 20] = [
@@ -178,6 +201,10 @@ pub enum BinOp {
     Ge,
     And,
     Or,
+    /// `u32` left shift.
+    Shl,
+    /// `u32` bitwise and.
+    BitAnd,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -204,8 +231,21 @@ pub enum Builtin {
     /// The larger of two f32 (inside tessellation factors; never NaN there:
     /// the factor functions clamp).
     Max,
-    /// Component 0, 1 or 2 (`.x`, `.y`, `.z`) of a `vec3`.
+    /// Component 0, 1 or 2 (`.x`, `.y`, `.z`) of a `vec3` (or `vec2`).
     Component(u8),
+    /// Trailing zero bits of a `u32` (32 for 0): the WGSL bucket passes.
+    CountTrailingZeros,
+    /// Unit vector of a `vec3` (the built-in, unguarded; the fragment entry).
+    Normalize,
+    /// Absolute value of an f32.
+    Abs,
+    /// The smaller of two f32.
+    Min,
+    /// Screen-space derivative width of an f32 (fragment entries only).
+    Fwidth,
+    /// A `vec2` from two f32: only as a stage output ([`StageOut::Uv`]),
+    /// never a local's type.
+    Vec2,
 }
 
 /// A value only the hardware tessellation stages have: [`Expr::Stage`] in
@@ -230,6 +270,18 @@ pub enum StageIn {
     /// `u32` index of the compute invocation (`x` of the global invocation
     /// id): the compute entry bodies ([`Entries::compute_vertex`]).
     GlobalId,
+    /// `u32` `y` of the global invocation id (two-row indirect dispatches).
+    GlobalIdY,
+    /// `u32` `x` of the workgroup id.
+    WorkgroupId,
+    /// `u32` index of the invocation within its workgroup.
+    LocalIndex,
+    /// `u32` vertex index of a vertex entry.
+    VertexIndex,
+    /// `u32` instance index of a vertex entry.
+    InstanceIndex,
+    /// A fragment entry's interpolated input: the vertex entry's output.
+    Varying(StageOut),
 }
 
 /// An output of a hardware tessellation stage: [`Stmt::Output`] in the
@@ -255,6 +307,12 @@ pub enum StageOut {
     /// Evaluation stage, capture builds that record triangles: the `u32`
     /// patch (index into `patch_faces`) of the vertex.
     Patch,
+    /// Instanced vertex entry: the `u32` patch class (flat).
+    PatchClass,
+    /// Instanced vertex entry: the `vec2` domain point `(u, v)`.
+    Uv,
+    /// Fragment entry: the `vec3` colour (opaque).
+    Color,
 }
 
 /// The bodies of the hardware tessellation stages (GLSL `.tesc`/`.tese`
@@ -402,6 +460,23 @@ pub enum Stmt {
     /// `slot`, `comp`, value: write [`Expr::PatchSlot`]
     /// ([`TessStages::store_cp`] only).
     StorePatchSlot(Expr, Expr, Expr),
+    /// Return from a function (an entry point) without a value.
+    ReturnVoid,
+    /// `for local = start; local < end; local += step` over u32: the strided
+    /// loops of the workgroup passes (invocation `l` takes items `l`, `l +
+    /// 64`, …). Printers spell the increment without parentheses.
+    ForStep(LocalId, Expr, Expr, Expr, Vec<Stmt>),
+    /// A barrier of the workgroup's invocations.
+    Barrier(Barrier),
+}
+
+/// What a [`Stmt::Barrier`] orders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Barrier {
+    /// Workgroup-shared memory ([`Resource::BucketTile`]).
+    Workgroup,
+    /// Storage buffers, between the invocations of one workgroup.
+    Storage,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -454,104 +529,116 @@ impl Function {
     /// Resources this function reads (`false`) or writes (`true`).
     pub fn resources(&self) -> Vec<(Resource, bool)> {
         let mut out = Vec::new();
-        fn add(out: &mut Vec<(Resource, bool)>, r: Resource, w: bool) {
+        let mut add = |r: Resource, w: bool| {
             if !out.contains(&(r, w)) {
                 out.push((r, w));
             }
-        }
-        fn expr(e: &Expr, out: &mut Vec<(Resource, bool)>) {
-            match e {
-                Expr::Fetch(r, i) => {
-                    add(out, *r, false);
-                    expr(i, out);
-                }
-                Expr::Texel(r, x, y) => {
-                    add(out, *r, false);
-                    expr(x, out);
-                    expr(y, out);
-                }
-                Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
-                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::PatchSlot(a, b) => {
-                    expr(a, out);
-                    expr(b, out);
-                }
-                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
-                    xs.iter().for_each(|x| expr(x, out))
-                }
-                Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
-            }
-        }
-        fn stmts(s: &[Stmt], out: &mut Vec<(Resource, bool)>) {
-            for s in s {
-                match s {
-                    Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => {
-                        expr(e, out)
-                    }
-                    Stmt::AssignField(_, _, e) => expr(e, out),
-                    Stmt::Store(r, i, v) => {
-                        add(out, *r, true);
-                        expr(i, out);
-                        expr(v, out);
-                    }
-                    Stmt::If(c, a, b) => {
-                        expr(c, out);
-                        stmts(a, out);
-                        stmts(b, out);
-                    }
-                    Stmt::IfDef(_, a, b) => {
-                        stmts(a, out);
-                        stmts(b, out);
-                    }
-                    Stmt::For(_, a, b, body) => {
-                        expr(a, out);
-                        expr(b, out);
-                        stmts(body, out);
-                    }
-                    Stmt::Call(_, xs) => xs.iter().for_each(|x| expr(x, out)),
-                    Stmt::Output(_, e) => expr(e, out),
-                    Stmt::Comment(_) => {}
-                    Stmt::StorePatchSlot(a, b, v) => {
-                        expr(a, out);
-                        expr(b, out);
-                        expr(v, out);
-                    }
-                }
-            }
-        }
-        stmts(&self.body, &mut out);
+        };
+        walk(&self.body, &mut |n| match n {
+            Node::Expr(Expr::Fetch(r, _) | Expr::Texel(r, ..)) => add(*r, false),
+            Node::Stmt(Stmt::Store(r, ..)) => add(*r, true),
+            _ => {}
+        });
         out.sort();
         out
     }
     /// Whether the function reads the stencil table.
     pub fn reads_table(&self) -> bool {
-        fn expr(e: &Expr) -> bool {
-            match e {
-                Expr::TableWeight(..) => true,
-                Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
-                    expr(a)
+        let mut table = false;
+        walk(&self.body, &mut |n| {
+            table |= matches!(n, Node::Expr(Expr::TableWeight(..)));
+        });
+        table
+    }
+    /// Functions this function calls, in order of first call.
+    pub fn called(&self) -> Vec<FnRef> {
+        let mut out = Vec::new();
+        walk(&self.body, &mut |n| {
+            if let Node::Expr(Expr::CallFn(r, _)) | Node::Stmt(Stmt::Call(r, _)) = n {
+                if !out.contains(r) {
+                    out.push(*r);
                 }
-                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) | Expr::PatchSlot(a, b) => {
-                    expr(a) || expr(b)
-                }
-                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
-                _ => false,
             }
+        });
+        out
+    }
+}
+
+/// A statement or an expression met by [`walk`].
+#[derive(Clone, Copy, Debug)]
+pub enum Node<'a> {
+    Stmt(&'a Stmt),
+    Expr(&'a Expr),
+}
+
+/// The one traversal of Plan code: every statement of `body` (nested
+/// blocks too), then each of its expressions and their subexpressions, in
+/// source order, parents before children. Analyses that need "every fetch",
+/// "every call" and the like are a match over [`Node`] instead of another
+/// hand-written recursion over every variant.
+pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
+    for s in body {
+        f(Node::Stmt(s));
+        match s {
+            Stmt::Let(_, e)
+            | Stmt::Var(_, e)
+            | Stmt::Assign(_, e)
+            | Stmt::Return(e)
+            | Stmt::AssignField(_, _, e)
+            | Stmt::Output(_, e) => walk_expr(e, f),
+            Stmt::Store(_, i, v) => {
+                walk_expr(i, f);
+                walk_expr(v, f);
+            }
+            Stmt::If(c, a, b) => {
+                walk_expr(c, f);
+                walk(a, f);
+                walk(b, f);
+            }
+            Stmt::IfDef(_, a, b) => {
+                walk(a, f);
+                walk(b, f);
+            }
+            Stmt::For(_, a, b, body) => {
+                walk_expr(a, f);
+                walk_expr(b, f);
+                walk(body, f);
+            }
+            Stmt::ForStep(_, a, b, step, body) => {
+                walk_expr(a, f);
+                walk_expr(b, f);
+                walk_expr(step, f);
+                walk(body, f);
+            }
+            Stmt::Call(_, xs) => xs.iter().for_each(|x| walk_expr(x, f)),
+            Stmt::StorePatchSlot(a, b, v) => {
+                walk_expr(a, f);
+                walk_expr(b, f);
+                walk_expr(v, f);
+            }
+            Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
         }
-        fn stmts(s: &[Stmt]) -> bool {
-            s.iter().any(|s| match s {
-                Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => expr(e),
-                Stmt::AssignField(_, _, e) => expr(e),
-                Stmt::Store(_, i, v) => expr(i) || expr(v),
-                Stmt::If(c, a, b) => expr(c) || stmts(a) || stmts(b),
-                Stmt::IfDef(_, a, b) => stmts(a) || stmts(b),
-                Stmt::For(_, a, b, body) => expr(a) || expr(b) || stmts(body),
-                Stmt::Call(_, xs) => xs.iter().any(expr),
-                Stmt::Output(_, e) => expr(e),
-                Stmt::Comment(_) => false,
-                Stmt::StorePatchSlot(a, b, v) => expr(a) || expr(b) || expr(v),
-            })
+    }
+}
+
+/// [`walk`] over one expression.
+pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
+    f(Node::Expr(e));
+    match e {
+        Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
+            walk_expr(a, f)
         }
-        stmts(&self.body)
+        Expr::Binary(_, a, b)
+        | Expr::TableWeight(a, b)
+        | Expr::Texel(_, a, b)
+        | Expr::PatchSlot(a, b) => {
+            walk_expr(a, f);
+            walk_expr(b, f);
+        }
+        Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
+            xs.iter().for_each(|x| walk_expr(x, f))
+        }
+        Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
     }
 }
 
@@ -652,6 +739,55 @@ pub struct Entries {
     /// through `eval_displaced_global` into `samples` (see
     /// `crate::tess::compute_eval`).
     pub compute_eval: Function,
+    /// The body of the compute entry `patch_main` (WGSL, GLSL): the class's
+    /// patch function for patch `params.first + k`, control points from
+    /// `params.cp_base + k·points` (see `crate::entries::patch_main`).
+    pub compute_patch: Function,
+    /// The WGSL module's entry points and the declarations between them,
+    /// in order (targets without a tessellator: compute construction,
+    /// instanced evaluation, adaptive buckets; see `crate::entries`).
+    pub instanced: Vec<EntryItem>,
+}
+
+/// How an entry point is invoked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryKind {
+    /// A compute entry with a one-dimensional workgroup of this size.
+    Compute { workgroup_size: u32 },
+    /// A vertex entry whose outputs are [`EntryPoint::outputs`].
+    Vertex,
+    /// A fragment entry reading the vertex outputs ([`StageIn::Varying`]).
+    Fragment,
+}
+
+/// An entry point: its kind, the builtin inputs it declares (in parameter
+/// order; [`StageIn::GlobalId`] stands for the whole global invocation id,
+/// whose `y` is [`StageIn::GlobalIdY`]), its body (name and doc are the
+/// entry's) and, for vertex and fragment entries, its stage outputs,
+/// written after the body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EntryPoint {
+    pub kind: EntryKind,
+    pub inputs: Vec<StageIn>,
+    pub body: Function,
+    pub outputs: Vec<(StageOut, Expr)>,
+}
+
+/// One module-scope item of [`Entries::instanced`], in print order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EntryItem {
+    Entry(EntryPoint),
+    /// A workgroup-shared `u32` array of `len` elements.
+    Workgroup {
+        resource: Resource,
+        len: u32,
+        doc: String,
+    },
+    /// The declaration of the vertex entries' outputs (and the fragment
+    /// entry's inputs): position, normal, patch class, uv.
+    VertexOutput {
+        doc: String,
+    },
 }
 
 /// The per-scheme functions of adaptive tessellation on the instanced path.

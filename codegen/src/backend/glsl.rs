@@ -368,10 +368,6 @@ impl<'a> Writer<'a> {
         }
     }
 
-    fn fn_name(&self, r: FnRef) -> String {
-        ident(&self.function(r).1.name)
-    }
-
     fn ty(&self, t: &Ty) -> String {
         match t {
             Ty::F32 => "float".into(),
@@ -837,19 +833,7 @@ impl<'a> Writer<'a> {
         }
     }
 
-    /// Call of the class's patch function: `if (class == 0) {…} else …`,
-    /// the last class unconditional (like `eval`'s dispatch).
-    fn class_chain(&mut self, body: &dyn Fn(&Self, &PatchEntry) -> String) {
-        let stmts: Vec<String> = self.entries.patches.iter().map(|p| body(self, p)).collect();
-        for line in super::class_chain_lines(&param("class"), &stmts) {
-            self.line(&line);
-        }
-    }
-
     fn main(&mut self) {
-        let first = param("first");
-        let count = param("count");
-        let cp_base = param("cp_base");
         self.line("void main() {");
         self.indent += 1;
         match self.stage {
@@ -873,19 +857,9 @@ impl<'a> Writer<'a> {
                 self.stmts(self.module, body, &body.body);
             }
             Stage::CompPatch => {
-                self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("if (k >= {count}) {{"));
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!("uint p = ({first} + k);"));
-                self.line("uint face = patch_faces[p];");
-                self.class_chain(&|w, p| {
-                    format!(
-                        "{}(face, ({cp_base} + (k * {}u)));",
-                        w.fn_name(FnRef::Local(p.function)),
-                        p.control_points
-                    )
-                });
+                let body = &self.entries.compute_patch;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
             Stage::CompEval => {
                 let body = &self.entries.compute_eval;
@@ -1029,6 +1003,27 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::ReturnVoid => self.line("return;"),
+                Stmt::Barrier(Barrier::Workgroup) => self.line("barrier();"),
+                Stmt::Barrier(Barrier::Storage) => {
+                    self.line("memoryBarrierBuffer();");
+                    self.line("barrier();");
+                }
+                Stmt::ForStep(id, a, b, step, body) => {
+                    let v = self.locals[id.0].clone();
+                    let s = format!(
+                        "for ({} = {}; {v} < {}; {v} = {v} + {}) {{",
+                        self.decl(f, *id),
+                        self.expr(m, f, a),
+                        self.expr(m, f, b),
+                        self.expr(m, f, step)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(m, f, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
                 Stmt::StorePatchSlot(a, b, v) => {
                     let s = format!(
                         "tcs_cp[{}][{}] = {};",
@@ -1064,6 +1059,11 @@ impl<'a> Writer<'a> {
                         StageOut::Normal => self.line(&format!("te_normal = {v};")),
                         StageOut::Domain => self.line(&format!("te_domain = {v};")),
                         StageOut::Patch => self.line(&format!("te_patch = {v};")),
+                        StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
+                            unreachable!(
+                                "an output of the instanced entries in a tessellation stage"
+                            )
+                        }
                     }
                 }
             }
@@ -1112,6 +1112,13 @@ impl<'a> Writer<'a> {
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
                     Builtin::Max => format!("max({}, {})", a[0], a[1]),
                     Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
+                    // findLSB(0) is -1: clamp to WGSL's 32.
+                    Builtin::CountTrailingZeros => format!("min(uint(findLSB({})), 32u)", a[0]),
+                    Builtin::Normalize => format!("normalize({})", a[0]),
+                    Builtin::Abs => format!("abs({})", a[0]),
+                    Builtin::Min => format!("min({}, {})", a[0], a[1]),
+                    Builtin::Fwidth => format!("fwidth({})", a[0]),
+                    Builtin::Vec2 => format!("vec2({}, {})", a[0], a[1]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -1161,6 +1168,14 @@ impl<'a> Writer<'a> {
             }
             Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
             Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
+            Expr::Stage(StageIn::GlobalIdY) => "gl_GlobalInvocationID.y".into(),
+            Expr::Stage(StageIn::WorkgroupId) => "gl_WorkGroupID.x".into(),
+            Expr::Stage(StageIn::LocalIndex) => "gl_LocalInvocationIndex".into(),
+            Expr::Stage(StageIn::VertexIndex) => "uint(gl_VertexIndex)".into(),
+            Expr::Stage(StageIn::InstanceIndex) => "uint(gl_InstanceIndex)".into(),
+            Expr::Stage(StageIn::Varying(_)) => {
+                unreachable!("fragment input outside Entries::instanced")
+            }
             Expr::PatchSlot(a, b) => {
                 format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
             }

@@ -712,6 +712,26 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::ReturnVoid => self.line("return;"),
+                Stmt::Barrier(Barrier::Workgroup) => {
+                    self.line("GroupMemoryBarrierWithGroupSync();")
+                }
+                Stmt::Barrier(Barrier::Storage) => self.line("DeviceMemoryBarrierWithGroupSync();"),
+                Stmt::ForStep(id, a, b, step, body) => {
+                    let v = cx.names[id.0].clone();
+                    let s = format!(
+                        "for ({} = {}; {v} < {}; {v} += {}) {{",
+                        self.decl(cx, id),
+                        self.expr(cx, a),
+                        self.expr(cx, b),
+                        self.expr(cx, step)
+                    );
+                    self.line(&s);
+                    self.indent += 1;
+                    self.stmts(cx, body);
+                    self.indent -= 1;
+                    self.line("}");
+                }
                 Stmt::StorePatchSlot(a, b, v) => {
                     let s = format!(
                         "c.cp[{}][{}] = {};",
@@ -750,6 +770,11 @@ impl<'a> Writer<'a> {
                         StageOut::Normal => self.line(&format!("o.normal = {v};")),
                         StageOut::Domain => self.line(&format!("o.domain = {v};")),
                         StageOut::Patch => self.line(&format!("o.patch_index = {v};")),
+                        StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
+                            unreachable!(
+                                "an output of the instanced entries in a tessellation stage"
+                            )
+                        }
                     }
                 }
             }
@@ -805,6 +830,13 @@ impl<'a> Writer<'a> {
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
                     Builtin::Max => format!("max({}, {})", a[0], a[1]),
                     Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
+                    // firstbitlow(0) is 0xffffffff: clamp to WGSL's 32.
+                    Builtin::CountTrailingZeros => format!("min(firstbitlow({}), 32u)", a[0]),
+                    Builtin::Normalize => format!("normalize({})", a[0]),
+                    Builtin::Abs => format!("abs({})", a[0]),
+                    Builtin::Min => format!("min({}, {})", a[0], a[1]),
+                    Builtin::Fwidth => format!("fwidth({})", a[0]),
+                    Builtin::Vec2 => format!("float2({}, {})", a[0], a[1]),
                 }
             }
             Expr::CallFn(r, xs) => {
@@ -848,6 +880,15 @@ impl<'a> Writer<'a> {
             Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
             Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
             Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
+            Expr::Stage(StageIn::GlobalIdY) => "global_id.y".into(),
+            // The HLSL entries declare only SV_DispatchThreadID.
+            Expr::Stage(
+                StageIn::WorkgroupId
+                | StageIn::LocalIndex
+                | StageIn::VertexIndex
+                | StageIn::InstanceIndex
+                | StageIn::Varying(_),
+            ) => unreachable!("entry input outside Entries::instanced"),
             Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
             Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
             Expr::Texel(r, x, y) => format!(

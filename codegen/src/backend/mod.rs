@@ -66,75 +66,25 @@ pub fn resources_of(plan: &Plan, module: &Module, f: &Function) -> (Vec<(Resourc
     (res, table)
 }
 
-/// Functions called by `f`.
+/// The ABI binding of `r`; `None` for workgroup memory. The bucket
+/// buffers back no Plan resource in `abi::BINDINGS` (`resource: None`), so
+/// they are found by name, like `abi::binding_of` finds `patch_faces`.
+pub fn binding(r: Resource) -> Option<&'static abi::Binding> {
+    match r {
+        Resource::BucketTile => None,
+        Resource::PatchLevels
+        | Resource::BucketPatches
+        | Resource::BucketList
+        | Resource::BucketDispatch
+        | Resource::BucketDraw
+        | Resource::BucketChunks => abi::BINDINGS.iter().find(|b| b.name == r.name()),
+        r => Some(abi::binding_of(r)),
+    }
+}
+
+/// Functions called by `f` ([`Function::called`]).
 pub fn called(f: &Function) -> Vec<FnRef> {
-    use crate::plan::{Expr, Stmt};
-    fn expr(e: &Expr, out: &mut Vec<FnRef>) {
-        match e {
-            Expr::CallFn(r, xs) => {
-                if !out.contains(r) {
-                    out.push(*r);
-                }
-                xs.iter().for_each(|x| expr(x, out));
-            }
-            Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter().for_each(|x| expr(x, out)),
-            Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
-                expr(a, out)
-            }
-            Expr::Binary(_, a, b)
-            | Expr::TableWeight(a, b)
-            | Expr::Texel(_, a, b)
-            | Expr::PatchSlot(a, b) => {
-                expr(a, out);
-                expr(b, out);
-            }
-            _ => {}
-        }
-    }
-    fn stmts(s: &[Stmt], out: &mut Vec<FnRef>) {
-        for s in s {
-            match s {
-                Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => {
-                    expr(e, out)
-                }
-                Stmt::AssignField(_, _, e) => expr(e, out),
-                Stmt::Store(_, i, v) => {
-                    expr(i, out);
-                    expr(v, out);
-                }
-                Stmt::If(c, a, b) => {
-                    expr(c, out);
-                    stmts(a, out);
-                    stmts(b, out);
-                }
-                Stmt::IfDef(_, a, b) => {
-                    stmts(a, out);
-                    stmts(b, out);
-                }
-                Stmt::For(_, a, b, body) => {
-                    expr(a, out);
-                    expr(b, out);
-                    stmts(body, out);
-                }
-                Stmt::Call(r, xs) => {
-                    if !out.contains(r) {
-                        out.push(*r);
-                    }
-                    xs.iter().for_each(|x| expr(x, out));
-                }
-                Stmt::Output(_, e) => expr(e, out),
-                Stmt::Comment(_) => {}
-                Stmt::StorePatchSlot(a, b, v) => {
-                    expr(a, out);
-                    expr(b, out);
-                    expr(v, out);
-                }
-            }
-        }
-    }
-    let mut out = Vec::new();
-    stmts(&f.body, &mut out);
-    out
+    f.called()
 }
 
 /// Operator spelling: identical in Rust, WGSL, GLSL and HLSL (all C-family).
@@ -154,6 +104,8 @@ pub fn binop(op: crate::plan::BinOp) -> &'static str {
         BinOp::Ge => ">=",
         BinOp::And => "&&",
         BinOp::Or => "||",
+        BinOp::Shl => "<<",
+        BinOp::BitAnd => "&",
     }
 }
 
@@ -167,30 +119,6 @@ pub fn max_of_factors(edges: &[usize]) -> String {
         s = format!("max({s}, f[{e}])");
     }
     s
-}
-
-/// Lines of a dispatch over a scheme's patch classes, in C-family syntax
-/// (WGSL, GLSL, HLSL): `if (class == 0u) { s0 } else if … else { sN }`, the
-/// last class unconditional, like the Plan's own `eval` dispatch. One
-/// statement per class; a single class needs no test.
-pub fn class_chain_lines(class: &str, stmts: &[String]) -> Vec<String> {
-    let mut out = Vec::new();
-    for (k, s) in stmts.iter().enumerate() {
-        if stmts.len() == 1 {
-            out.push(s.clone());
-        } else if k == 0 {
-            out.push(format!("if ({class} == {k}u) {{"));
-            out.push(format!("    {s}"));
-        } else if k + 1 < stmts.len() {
-            out.push(format!("}} else if ({class} == {k}u) {{"));
-            out.push(format!("    {s}"));
-        } else {
-            out.push("} else {".into());
-            out.push(format!("    {s}"));
-            out.push("}".into());
-        }
-    }
-    out
 }
 
 /// The header every generated file starts with (after the target's comment

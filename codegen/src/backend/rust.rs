@@ -439,6 +439,10 @@ pub struct SchemeKernels {
                 | Stmt::StorePatchSlot(..) => {
                     unreachable!("tessellation-stage statement outside Entries::tess")
                 }
+                // Only in the GPU entry points (`Entries::instanced`).
+                Stmt::ReturnVoid | Stmt::ForStep(..) | Stmt::Barrier(_) => {
+                    unreachable!("a statement of the GPU entry points outside Entries::instanced")
+                }
                 // No preprocessor: always the default branch.
                 Stmt::IfDef(_, _, b) => self.stmts(m, f, b),
                 Stmt::For(id, a, b, body) => {
@@ -506,6 +510,14 @@ pub struct SchemeKernels {
                     Builtin::U32FromF32 | Builtin::U32FromBool => format!("({} as u32)", a[0]),
                     Builtin::Max => format!("{}.max({})", a[0], a[1]),
                     Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
+                    Builtin::CountTrailingZeros => format!("{}.trailing_zeros()", a[0]),
+                    Builtin::Normalize => format!("{}.normalize()", a[0]),
+                    Builtin::Abs => format!("{}.abs()", a[0]),
+                    Builtin::Min => format!("{}.min({})", a[0], a[1]),
+                    // Only in the GPU entry points (`Entries::instanced`).
+                    Builtin::Fwidth | Builtin::Vec2 => {
+                        unreachable!("a shader builtin outside Entries::instanced")
+                    }
                 }
             }
             Expr::CallFn(r, xs) => {

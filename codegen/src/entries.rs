@@ -1,0 +1,1006 @@
+//! The entry points of targets without a hardware tessellator (WGSL), and
+//! the compute `patch_main` body, built once as Plan functions
+//! ([`Entries::instanced`], [`Entries::compute_patch`]).
+//!
+//! Every index formula, loop and dispatch of these entries is decided
+//! here: which invocation takes which vertex, patch or sample, the strides
+//! of `samples`, `patch_levels` and the bucket buffers (`backend::abi`), the
+//! GPU-driven bucket compaction (count, plan, scatter) and its indirect
+//! arguments. A printer only declares the entry (attributes, builtin
+//! parameters, the vertex-output struct) and spells the statements.
+
+use crate::backend::abi::{
+    self, BUCKET_CHUNK, BUCKET_DISPATCH_WORDS, BUCKET_DRAW_WORDS, BUCKET_ENTRY_WORDS,
+    BUCKET_HEADER_WORDS, BUCKET_SLOTS, INDIRECT_X, PATCH_LEVELS_WORDS, SAMPLE_FLOATS,
+    WORKGROUP_SIZE,
+};
+use crate::lower::common_fn;
+use crate::plan::build::*;
+use crate::plan::*;
+
+fn param(name: &'static str) -> Expr {
+    Expr::Stage(StageIn::Param(name))
+}
+
+fn stage(s: StageIn) -> Expr {
+    Expr::Stage(s)
+}
+
+fn lt(a: Expr, b: Expr) -> Expr {
+    bin(BinOp::Lt, a, b)
+}
+
+fn eq(a: Expr, b: Expr) -> Expr {
+    bin(BinOp::Eq, a, b)
+}
+
+fn shl(a: Expr, b: Expr) -> Expr {
+    bin(BinOp::Shl, a, b)
+}
+
+fn rem(a: Expr, b: Expr) -> Expr {
+    bin(BinOp::Rem, a, b)
+}
+
+/// `if cond { return; }`.
+fn return_if(cond: Expr) -> Stmt {
+    Stmt::If(cond, vec![Stmt::ReturnVoid], vec![])
+}
+
+fn fetch_at(r: Resource, base: Expr, k: u32) -> Expr {
+    fetch(r, add(base, u(k)))
+}
+
+/// `if (class == 0) {…} else if … else {…}` over the scheme's patch
+/// classes, the last one unconditional (like `eval`'s dispatch); one class
+/// needs no test.
+pub fn class_chain(entries: &Entries, body: impl Fn(&PatchEntry) -> Stmt) -> Vec<Stmt> {
+    let mut chain: Vec<Stmt> = Vec::new();
+    for (c, p) in entries.patches.iter().enumerate().rev() {
+        let s = body(p);
+        chain = if chain.is_empty() {
+            vec![s]
+        } else {
+            vec![Stmt::If(eq(param("class"), u(c as u32)), vec![s], chain)]
+        };
+    }
+    chain
+}
+
+/// `var points = 0; <class chain: points = CONTROL_POINTS>`.
+fn points_of_class(f: &mut Function, entries: &Entries) -> (LocalId, Vec<Stmt>) {
+    let points = f.local("points", Ty::U32);
+    let mut out = vec![Stmt::Var(points, u(0))];
+    out.extend(class_chain(entries, |p| {
+        Stmt::Assign(points, u(p.control_points))
+    }));
+    (points, out)
+}
+
+/// `samples[o + i] = result.<position|normal>.<x|y|z>`, the 6 floats of a
+/// sample ([`SAMPLE_FLOATS`]), the layout the runtime reads back.
+fn store_sample(o: LocalId, result: LocalId) -> Vec<Stmt> {
+    debug_assert_eq!(SAMPLE_FLOATS, 6);
+    (0..SAMPLE_FLOATS)
+        .map(|i| {
+            Stmt::Store(
+                Resource::Samples,
+                add(l(o), u(i)),
+                Expr::Call(
+                    Builtin::Component((i % 3) as u8),
+                    vec![Expr::Field(Box::new(l(result)), (i / 3) as usize)],
+                ),
+            )
+        })
+        .collect()
+}
+
+fn compute(name: &str, doc: &str) -> Function {
+    Function::new(name, doc)
+}
+
+fn entry(kind: EntryKind, inputs: Vec<StageIn>, body: Function) -> EntryItem {
+    EntryItem::Entry(EntryPoint {
+        kind,
+        inputs,
+        body,
+        outputs: vec![],
+    })
+}
+
+const COMPUTE: EntryKind = EntryKind::Compute {
+    workgroup_size: WORKGROUP_SIZE,
+};
+
+/// The outputs of an instanced vertex entry from its `result` sample and
+/// integer domain point: position (the printer adds the clip position),
+/// normal, class, `(iu, iv) / level`.
+fn vertex_outputs(result: LocalId, iu: LocalId, iv: LocalId) -> Vec<(StageOut, Expr)> {
+    vec![
+        (StageOut::Position, Expr::Field(Box::new(l(result)), 0)),
+        (StageOut::Normal, Expr::Field(Box::new(l(result)), 1)),
+        (StageOut::PatchClass, param("class")),
+        (
+            StageOut::Uv,
+            div(
+                Expr::Call(Builtin::Vec2, vec![to_f32(l(iu)), to_f32(l(iv))]),
+                to_f32(param("level")),
+            ),
+        ),
+    ]
+}
+
+/// The body of `patch_main` (WGSL, GLSL): invocation k builds patch
+/// `params.first + k` with its class's patch function, its control points
+/// from `params.cp_base + k·points`.
+pub fn patch_main(entries: &Entries) -> Function {
+    let mut f = compute(
+        abi::entry::PATCH_STAGE,
+        "Patch stage of the dispatch's class for patches first .. first + count; patch k\n\
+         of the dispatch writes its control points from cp_base + k·(points per patch).",
+    );
+    let k = f.local("k", Ty::U32);
+    let p = f.local("p", Ty::U32);
+    let face = f.local("face", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        return_if(bin(BinOp::Ge, l(k), param("count"))),
+        Stmt::Let(p, add(param("first"), l(k))),
+        Stmt::Let(face, fetch(Resource::PatchFaces, l(p))),
+    ];
+    f.body.extend(class_chain(entries, |pe| {
+        Stmt::Call(
+            FnRef::Local(pe.function),
+            vec![
+                l(face),
+                add(param("cp_base"), mul(l(k), u(pe.control_points))),
+            ],
+        )
+    }));
+    f
+}
+
+/// Every WGSL entry point, in print order.
+pub fn instanced(entries: &Entries) -> Vec<EntryItem> {
+    let mut out = uniform(entries);
+    out.extend(adaptive(entries));
+    out.extend(gpu_driven(entries));
+    out
+}
+
+/// The sample function of the uniform entries and whether it takes the
+/// face: quad schemes evaluate through the displacement step (a no-op, bit
+/// for bit, while displace_info[0] == 0).
+fn uniform_eval(entries: &Entries) -> (usize, bool) {
+    match entries.eval_displaced {
+        Some(d) => (d, true),
+        None => (entries.eval, false),
+    }
+}
+
+fn uniform(entries: &Entries) -> Vec<EntryItem> {
+    let [grid_len, grid_iu, grid_iv] = entries.grid.map(FnRef::Local);
+    let mut items = Vec::new();
+
+    let mut f = compute(
+        abi::entry::VERTEX_STAGE,
+        "Vertex stage for vertices first .. first + count (valence 0: unused vertex).",
+    );
+    let k = f.local("k", Ty::U32);
+    let vertex = f.local("vertex", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        return_if(bin(BinOp::Ge, l(k), param("count"))),
+        Stmt::Let(vertex, add(param("first"), l(k))),
+        return_if(eq(fetch(Resource::Valence, l(vertex)), u(0))),
+        Stmt::Call(
+            FnRef::Local(entries.vertex_stage),
+            vec![l(vertex), fetch(Resource::VertexOutOffsets, l(vertex))],
+        ),
+    ];
+    items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
+    items.push(entry(
+        COMPUTE,
+        vec![StageIn::GlobalId],
+        entries.compute_patch.clone(),
+    ));
+
+    let mut f = compute(
+        abi::entry::EVAL,
+        "grid_len(level) samples of each patch of the dispatch, sample s at the domain point\n\
+         (grid_iu(s), grid_iv(s)), into samples[(out_base + k)·6 ..]: position xyz, normal xyz.",
+    );
+    let (k, spp, patch, s, iu, iv) = grid_locals(&mut f);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::Let(spp, call(grid_len, vec![param("level")])),
+        return_if(bin(BinOp::Ge, l(k), mul(param("count"), l(spp)))),
+    ];
+    f.body
+        .extend(split_sample(k, spp, patch, s, iu, iv, grid_iu, grid_iv));
+    let (result, body) = sample_at(&mut f, entries, l(patch), iu, iv);
+    f.body.extend(body);
+    let out = sample_out(&mut f, add(param("out_base"), l(k)), result);
+    f.body.extend(out);
+    items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
+
+    items.push(EntryItem::VertexOutput {
+        doc: "Output of the instanced evaluation.".into(),
+    });
+
+    let mut f = Function::new(
+        "eval_vs",
+        "Instanced tessellation: an index buffer over the grid_len(level) grid vertices, shared\n\
+         by all patches (vertex index vi = sample vi of grid_iu/grid_iv), one instance per patch of the\n\
+         draw's class: instance inst is patch inst of the draw, its control points from\n\
+         cp_base + inst·(points per patch). Draw instances 0 .. count.",
+    );
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    f.body = vec![
+        Stmt::Let(
+            iu,
+            call(grid_iu, vec![stage(StageIn::VertexIndex), param("level")]),
+        ),
+        Stmt::Let(
+            iv,
+            call(grid_iv, vec![stage(StageIn::VertexIndex), param("level")]),
+        ),
+    ];
+    let inst = stage(StageIn::InstanceIndex);
+    let (result, body) = sample_at(&mut f, entries, inst, iu, iv);
+    f.body.extend(body);
+    items.push(EntryItem::Entry(EntryPoint {
+        kind: EntryKind::Vertex,
+        inputs: vec![StageIn::VertexIndex, StageIn::InstanceIndex],
+        body: f,
+        outputs: vertex_outputs(result, iu, iv),
+    }));
+
+    items.push(shade_fs(entries));
+    items
+}
+
+/// The sample of patch `index` of the draw at `(iu, iv)`: its class's
+/// control-point count, its face where the evaluator takes one, `result`.
+fn sample_at(
+    f: &mut Function,
+    entries: &Entries,
+    index: Expr,
+    iu: LocalId,
+    iv: LocalId,
+) -> (LocalId, Vec<Stmt>) {
+    let (eval, takes_face) = uniform_eval(entries);
+    let (points, mut body) = points_of_class(f, entries);
+    let mut args = vec![];
+    if takes_face {
+        let face = f.local("face", Ty::U32);
+        body.push(Stmt::Let(
+            face,
+            fetch(Resource::PatchFaces, add(param("first"), index.clone())),
+        ));
+        args.push(l(face));
+    }
+    args.extend([
+        param("class"),
+        add(param("cp_base"), mul(index, l(points))),
+        l(iu),
+        l(iv),
+        param("level"),
+    ]);
+    let result = f.local("result", Ty::Struct(common::SAMPLE));
+    body.push(Stmt::Let(result, call(FnRef::Local(eval), args)));
+    (result, body)
+}
+
+/// `k`, `spp`, `patch_index`, `s`, `iu`, `iv` of an evaluation dispatch.
+fn grid_locals(f: &mut Function) -> (LocalId, LocalId, LocalId, LocalId, LocalId, LocalId) {
+    (
+        f.local("k", Ty::U32),
+        f.local("spp", Ty::U32),
+        f.local("patch_index", Ty::U32),
+        f.local("s", Ty::U32),
+        f.local("iu", Ty::U32),
+        f.local("iv", Ty::U32),
+    )
+}
+
+/// Invocation k of an evaluation dispatch is sample `k mod spp` of patch
+/// `k / spp` of the dispatch, at `(grid_iu(s), grid_iv(s))`.
+#[allow(clippy::too_many_arguments)]
+fn split_sample(
+    k: LocalId,
+    spp: LocalId,
+    patch: LocalId,
+    s: LocalId,
+    iu: LocalId,
+    iv: LocalId,
+    grid_iu: FnRef,
+    grid_iv: FnRef,
+) -> Vec<Stmt> {
+    vec![
+        Stmt::Let(patch, div(l(k), l(spp))),
+        Stmt::Let(s, rem(l(k), l(spp))),
+        Stmt::Let(iu, call(grid_iu, vec![l(s), param("level")])),
+        Stmt::Let(iv, call(grid_iv, vec![l(s), param("level")])),
+    ]
+}
+
+/// `o = sample · SAMPLE_FLOATS`, then the sample's floats from `o`.
+fn sample_out(f: &mut Function, sample: Expr, result: LocalId) -> Vec<Stmt> {
+    let o = f.local("o", Ty::U32);
+    let mut out = vec![Stmt::Let(o, mul(sample, u(SAMPLE_FLOATS)))];
+    out.extend(store_sample(o, result));
+    out
+}
+
+/// Base colours of the rendering entry point.
+const ORDINARY_RGB: [f32; 3] = [1.0, 0.55, 0.1];
+const EXTRAORDINARY_RGB: [f32; 3] = [0.2, 0.4, 1.0];
+
+fn rgb(c: [f32; 3]) -> Expr {
+    Expr::Call(Builtin::Vec3, c.map(f).to_vec())
+}
+
+fn shade_fs(entries: &Entries) -> EntryItem {
+    let mut fs = Function::new(
+        "shade_fs",
+        "Two-sided Lambert under a fixed light; ordinary classes orange, the others blue.",
+    );
+    let base = fs.local("base", Ty::Vec3);
+    let n = fs.local("n", Ty::Vec3);
+    let light = fs.local("light", Ty::Vec3);
+    let lambert = fs.local("lambert", Ty::F32);
+    let color = fs.local("color", Ty::Vec3);
+    let edge = fs.local("edge", Ty::F32);
+    let varying = |o: StageOut| stage(StageIn::Varying(o));
+    let uv = |c: u8| Expr::Call(Builtin::Component(c), vec![varying(StageOut::Uv)]);
+    let min = |a: Expr, b: Expr| Expr::Call(Builtin::Min, vec![a, b]);
+    fs.body.push(Stmt::Var(base, rgb(EXTRAORDINARY_RGB)));
+    for (k, p) in entries.patches.iter().enumerate() {
+        if p.class.name() == "ordinary" {
+            fs.body.push(Stmt::If(
+                eq(varying(StageOut::PatchClass), u(k as u32)),
+                vec![Stmt::Assign(base, rgb(ORDINARY_RGB))],
+                vec![],
+            ));
+        }
+    }
+    fs.body.extend([
+        Stmt::Let(
+            n,
+            call(
+                FnRef::Common(common_fn::NORMALIZE),
+                vec![varying(StageOut::Normal)],
+            ),
+        ),
+        Stmt::Let(
+            light,
+            Expr::Call(Builtin::Normalize, vec![rgb([0.3, 0.5, 0.8])]),
+        ),
+        Stmt::Let(
+            lambert,
+            Expr::Call(
+                Builtin::Abs,
+                vec![Expr::Call(Builtin::Dot, vec![l(n), l(light)])],
+            ),
+        ),
+        Stmt::Var(color, mul(l(base), add(f(0.2), mul(f(0.8), l(lambert))))),
+        Stmt::Comment("Wireframe overlay of patch boundaries (params.flags bit 0).".into()),
+        Stmt::If(
+            bin(BinOp::Ne, bin(BinOp::BitAnd, param("flags"), u(1)), u(0)),
+            vec![
+                Stmt::Let(
+                    edge,
+                    min(
+                        min(uv(0), sub(f(1.0), uv(0))),
+                        min(uv(1), sub(f(1.0), uv(1))),
+                    ),
+                ),
+                Stmt::If(
+                    lt(
+                        l(edge),
+                        mul(f(1.5), Expr::Call(Builtin::Fwidth, vec![l(edge)])),
+                    ),
+                    vec![Stmt::Assign(color, mul(l(color), f(0.15)))],
+                    vec![],
+                ),
+            ],
+            vec![],
+        ),
+    ]);
+    EntryItem::Entry(EntryPoint {
+        kind: EntryKind::Fragment,
+        inputs: vec![],
+        body: fs,
+        outputs: vec![(StageOut::Color, l(color))],
+    })
+}
+
+/// Word `k` of entry `e` of `bucket_patches`.
+fn entry_word(e: LocalId, k: u32) -> Expr {
+    if k == 0 {
+        fetch(Resource::BucketPatches, l(e))
+    } else {
+        fetch_at(Resource::BucketPatches, l(e), k)
+    }
+}
+
+/// From entry offset `e` of `bucket_patches`: `cp`, `face` and the snapped,
+/// displaced sample `result` through `eval_adaptive_displaced` with the
+/// entry's four edge levels.
+fn adaptive_sample(
+    f: &mut Function,
+    entries: &Entries,
+    e: LocalId,
+    iu: LocalId,
+    iv: LocalId,
+) -> (LocalId, Vec<Stmt>) {
+    let cp = f.local("cp", Ty::U32);
+    let face = f.local("face", Ty::U32);
+    let result = f.local("result", Ty::Struct(common::SAMPLE));
+    let mut args = vec![l(face), param("class"), l(cp), l(iu), l(iv), param("level")];
+    args.extend((2..BUCKET_ENTRY_WORDS).map(|k| entry_word(e, k)));
+    let body = vec![
+        Stmt::Let(cp, entry_word(e, 1)),
+        Stmt::Let(face, fetch(Resource::PatchFaces, entry_word(e, 0))),
+        Stmt::Let(
+            result,
+            call(FnRef::Local(entries.adaptive.eval_displaced), args),
+        ),
+    ];
+    (result, body)
+}
+
+/// Adaptive tessellation (quad and triangle schemes): a classify pass
+/// writing every patch's edge levels and bucket, then one dispatch
+/// (`eval_adaptive_main`) or instanced draw (`eval_adaptive_vs`) per
+/// (class, bucket) over the bucket's entries in `bucket_patches`. The
+/// semantics are the Plan's `patch_edge_level`, `tessgen_bucket_level` and
+/// `eval_adaptive`; these entries only index buffers.
+fn adaptive(entries: &Entries) -> Vec<EntryItem> {
+    let a = entries.adaptive;
+    let [grid_len, grid_iu, grid_iv] = entries.grid.map(FnRef::Local);
+    let mut items = Vec::new();
+
+    let mut f = compute(
+        "adaptive_classify_main",
+        "Adaptive classify: for patches first .. first + count of the dispatch's class, the\n\
+         power-of-two level of each edge (patch_edge_level, largest level = params.level) and the\n\
+         patch's bucket into patch_levels[5p ..] (p = first + k, the class-sorted patch index).",
+    );
+    let k = f.local("k", Ty::U32);
+    let p = f.local("p", Ty::U32);
+    let face = f.local("face", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        return_if(bin(BinOp::Ge, l(k), param("count"))),
+        Stmt::Let(p, add(param("first"), l(k))),
+        Stmt::Let(face, fetch(Resource::PatchFaces, l(p))),
+    ];
+    let (points, chain) = points_of_class(&mut f, entries);
+    f.body.extend(chain);
+    let cp = f.local("cp", Ty::U32);
+    f.body
+        .push(Stmt::Let(cp, add(param("cp_base"), mul(l(k), l(points)))));
+    let levels: Vec<LocalId> = (0..4).map(|e| f.local(format!("l{e}"), Ty::U32)).collect();
+    for (e, le) in levels.iter().enumerate() {
+        f.body.push(Stmt::Let(
+            *le,
+            call(
+                FnRef::Local(a.edge_level),
+                vec![l(face), param("class"), l(cp), u(e as u32), param("level")],
+            ),
+        ));
+    }
+    let record = || mul(u(PATCH_LEVELS_WORDS), l(p));
+    for (e, le) in levels.iter().enumerate() {
+        f.body.push(Stmt::Store(
+            Resource::PatchLevels,
+            add(record(), u(e as u32)),
+            l(*le),
+        ));
+    }
+    f.body.push(Stmt::Store(
+        Resource::PatchLevels,
+        add(record(), u(4)),
+        call(
+            FnRef::Common(common_fn::BUCKET_LEVEL),
+            levels.iter().map(|x| l(*x)).collect(),
+        ),
+    ));
+    items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
+
+    let mut f = compute(
+        "eval_adaptive_main",
+        "One bucket of one class at its level params.level: grid_len(level) samples of each of\n\
+         the entries first .. first + count of bucket_patches, snapped and displaced by\n\
+         eval_adaptive_displaced (displacement off: eval_adaptive bit for bit), into\n\
+         samples[(out_base + k)·6 ..]: position xyz, normal xyz.",
+    );
+    let (k, spp, patch, s, iu, iv) = grid_locals(&mut f);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::Let(spp, call(grid_len, vec![param("level")])),
+        return_if(bin(BinOp::Ge, l(k), mul(param("count"), l(spp)))),
+    ];
+    f.body
+        .extend(split_sample(k, spp, patch, s, iu, iv, grid_iu, grid_iv));
+    let e = f.local("e", Ty::U32);
+    f.body.push(Stmt::Let(
+        e,
+        mul(u(BUCKET_ENTRY_WORDS), add(param("first"), l(patch))),
+    ));
+    let (result, body) = adaptive_sample(&mut f, entries, e, iu, iv);
+    f.body.extend(body);
+    let out = sample_out(&mut f, add(param("out_base"), l(k)), result);
+    f.body.extend(out);
+    items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
+
+    let mut f = Function::new(
+        "eval_adaptive_vs",
+        "Instanced adaptive draw of one bucket of one class: the level-params.level grid index\n\
+         buffer, instance inst = entry first + inst of bucket_patches, through eval_adaptive_displaced.",
+    );
+    let (iu, iv, e) = vs_head(&mut f, grid_iu, grid_iv);
+    f.body.push(Stmt::Let(
+        e,
+        mul(
+            u(BUCKET_ENTRY_WORDS),
+            add(param("first"), stage(StageIn::InstanceIndex)),
+        ),
+    ));
+    items.push(adaptive_vs(f, entries, iu, iv, e));
+    items
+}
+
+/// `iu`, `iv` of vertex `vi` of the level's grid, and the entry offset `e`
+/// (declared, not yet bound).
+fn vs_head(f: &mut Function, grid_iu: FnRef, grid_iv: FnRef) -> (LocalId, LocalId, LocalId) {
+    let iu = f.local("iu", Ty::U32);
+    let iv = f.local("iv", Ty::U32);
+    let e = f.local("e", Ty::U32);
+    f.body.push(Stmt::Let(
+        iu,
+        call(grid_iu, vec![stage(StageIn::VertexIndex), param("level")]),
+    ));
+    f.body.push(Stmt::Let(
+        iv,
+        call(grid_iv, vec![stage(StageIn::VertexIndex), param("level")]),
+    ));
+    (iu, iv, e)
+}
+
+/// The rest of an adaptive vertex entry after `iu`, `iv` and the entry
+/// offset `e`: the snapped, displaced sample and the outputs of `eval_vs`.
+fn adaptive_vs(
+    mut f: Function,
+    entries: &Entries,
+    iu: LocalId,
+    iv: LocalId,
+    e: LocalId,
+) -> EntryItem {
+    let (result, body) = adaptive_sample(&mut f, entries, e, iu, iv);
+    f.body.extend(body);
+    EntryItem::Entry(EntryPoint {
+        kind: EntryKind::Vertex,
+        inputs: vec![StageIn::VertexIndex, StageIn::InstanceIndex],
+        body: f,
+        outputs: vertex_outputs(result, iu, iv),
+    })
+}
+
+/// Head of a chunk pass (`adaptive_count_main`, `adaptive_scatter_main`): a
+/// workgroup of [`BUCKET_CHUNK`] invocations per chunk of the class range
+/// `first .. first + count`; invocation l loads patch `p = BUCKET_CHUNK·c +
+/// l`'s bucket level into the shared tile (0 outside the range), then the
+/// workgroup synchronises. Returns `c`, `p`, `lv`.
+fn chunk_head(f: &mut Function) -> (LocalId, LocalId, LocalId) {
+    let c = f.local("c", Ty::U32);
+    let p = f.local("p", Ty::U32);
+    let lv = f.local("lv", Ty::U32);
+    let li = stage(StageIn::LocalIndex);
+    f.body = vec![
+        Stmt::Let(
+            c,
+            add(
+                div(param("first"), u(BUCKET_CHUNK)),
+                stage(StageIn::WorkgroupId),
+            ),
+        ),
+        Stmt::Let(p, add(mul(u(BUCKET_CHUNK), l(c)), li.clone())),
+        Stmt::Var(lv, u(0)),
+        Stmt::If(
+            bin(
+                BinOp::And,
+                bin(BinOp::Ge, l(p), param("first")),
+                lt(l(p), add(param("first"), param("count"))),
+            ),
+            vec![Stmt::Assign(
+                lv,
+                fetch_at(
+                    Resource::PatchLevels,
+                    mul(u(PATCH_LEVELS_WORDS), l(p)),
+                    PATCH_LEVELS_WORDS - 1,
+                ),
+            )],
+            vec![],
+        ),
+        Stmt::Store(Resource::BucketTile, li, l(lv)),
+        Stmt::Barrier(Barrier::Workgroup),
+    ];
+    (c, p, lv)
+}
+
+const CHUNK_PASS: EntryKind = EntryKind::Compute {
+    workgroup_size: BUCKET_CHUNK,
+};
+
+/// GPU-driven buckets: the lists of `bucket_patches` and the indirect
+/// dispatch arguments built on the GPU from `patch_levels`, so nothing is
+/// read back before the evaluation. Per class range r (slots `16r + j`,
+/// bucket `2^j`), a stable parallel compaction over chunks of
+/// [`BUCKET_CHUNK`] patches (chunk c = patches `256c ..`, a workgroup
+/// each): `adaptive_count_main` counts each chunk's patches per bucket into
+/// `bucket_chunks`, `adaptive_plan_main` (one workgroup) turns the chunk
+/// counts into each chunk's offset within its slot (one invocation per
+/// slot, a scan over the chunks), then prefix-sums the slots into first
+/// entry and first sample and writes the indirect arguments, and
+/// `adaptive_scatter_main` writes every patch at the sum of its slot's
+/// first entry, its chunk's offset and its rank among the chunk's earlier
+/// patches of the same bucket. The entries come out in patch order — the
+/// order the host lists have — without atomics, and no invocation loops
+/// over more than one chunk's patches (the plan's scan: over the chunks).
+/// `eval_adaptive_indirect_main` runs one indirect dispatch per slot.
+/// `bucket_list` (written here) is bound as `bucket_patches` for the
+/// evaluation: a header of 4 u32 per slot (count, first entry, first
+/// sample, x workgroups), then the entries.
+fn gpu_driven(entries: &Entries) -> Vec<EntryItem> {
+    let [grid_len, grid_iu, grid_iv] = entries.grid.map(FnRef::Local);
+    let (slots, chunk) = (BUCKET_SLOTS, BUCKET_CHUNK);
+    let li = || stage(StageIn::LocalIndex);
+    let tile = |i: Expr| fetch(Resource::BucketTile, i);
+    let mut items = vec![EntryItem::Workgroup {
+        resource: Resource::BucketTile,
+        len: chunk,
+        doc: "One chunk's bucket levels (0 = no patch of the dispatch's class range), shared by the\n\
+              workgroup of adaptive_count_main / adaptive_scatter_main."
+            .into(),
+    }];
+
+    let mut f = compute(
+        "adaptive_count_main",
+        &format!(
+            "GPU-driven buckets 1: for the class range of patches first .. first + count, workgroup w is\n\
+             chunk c = first / {chunk} + w (patches {chunk}c ..); invocation l < {slots} counts the chunk's patches of\n\
+             the range whose bucket (patch_levels[5p + 4]) is 2^l into bucket_chunks[2c·level + out_base + l]\n\
+             (level = the number of slots; row c: the counts, then the offsets)."
+        ),
+    );
+    let (c, _, _) = chunk_head(&mut f);
+    let n = f.local("n", Ty::U32);
+    let m = f.local("m", Ty::U32);
+    f.body.push(Stmt::If(
+        lt(li(), u(slots)),
+        vec![
+            Stmt::Var(n, u(0)),
+            Stmt::ForStep(
+                m,
+                u(0),
+                u(chunk),
+                u(1),
+                vec![Stmt::If(
+                    eq(tile(l(m)), shl(u(1), li())),
+                    vec![Stmt::Assign(n, add(l(n), u(1)))],
+                    vec![],
+                )],
+            ),
+            Stmt::Store(
+                Resource::BucketChunks,
+                add(
+                    mul(mul(u(2), l(c)), param("level")),
+                    add(param("out_base"), li()),
+                ),
+                l(n),
+            ),
+        ],
+        vec![],
+    ));
+    items.push(entry(
+        CHUNK_PASS,
+        vec![StageIn::WorkgroupId, StageIn::LocalIndex],
+        f,
+    ));
+
+    items.push(entry(
+        COMPUTE,
+        vec![StageIn::LocalIndex],
+        plan_pass(entries, grid_len),
+    ));
+
+    let mut f = compute(
+        "adaptive_scatter_main",
+        "GPU-driven buckets 3: for the class range of patches first .. first + count, chunk c as in 1;\n\
+         the chunk's patch p of bucket 2^j goes to entry (first entry of slot out_base + j) + (the chunk's\n\
+         offset in bucket_chunks) + (its rank among the chunk's earlier patches of bucket 2^j), at\n\
+         bucket_list[4·level + 6·entry ..] (level = the number of slots, the header's length / 4):\n\
+         patch, first control point, edge levels.",
+    );
+    let (c, p, lv) = chunk_head(&mut f);
+    let j = f.local("j", Ty::U32);
+    f.body.push(Stmt::Let(
+        j,
+        Expr::Call(Builtin::CountTrailingZeros, vec![l(lv)]),
+    ));
+    let (points, mut inner) = points_of_class(&mut f, entries);
+    let rank = f.local("rank", Ty::U32);
+    let m = f.local("m", Ty::U32);
+    let slot = f.local("slot", Ty::U32);
+    let at = f.local("at", Ty::U32);
+    let header = |k: u32| {
+        fetch_at(
+            Resource::BucketList,
+            mul(u(BUCKET_HEADER_WORDS), l(slot)),
+            k,
+        )
+    };
+    inner.extend([
+        Stmt::Var(rank, u(0)),
+        Stmt::ForStep(
+            m,
+            u(0),
+            li(),
+            u(1),
+            vec![Stmt::If(
+                eq(tile(l(m)), l(lv)),
+                vec![Stmt::Assign(rank, add(l(rank), u(1)))],
+                vec![],
+            )],
+        ),
+        Stmt::Let(slot, add(param("out_base"), l(j))),
+        Stmt::Let(
+            at,
+            add(
+                mul(u(BUCKET_HEADER_WORDS), param("level")),
+                mul(
+                    u(BUCKET_ENTRY_WORDS),
+                    add(
+                        add(
+                            header(1),
+                            fetch(
+                                Resource::BucketChunks,
+                                add(mul(add(mul(u(2), l(c)), u(1)), param("level")), l(slot)),
+                            ),
+                        ),
+                        l(rank),
+                    ),
+                ),
+            ),
+        ),
+        Stmt::Store(Resource::BucketList, l(at), l(p)),
+        Stmt::Store(
+            Resource::BucketList,
+            add(l(at), u(1)),
+            add(param("cp_base"), mul(sub(l(p), param("first")), l(points))),
+        ),
+    ]);
+    for e in 0..4 {
+        inner.push(Stmt::Store(
+            Resource::BucketList,
+            add(l(at), u(e + 2)),
+            fetch_at(Resource::PatchLevels, mul(u(PATCH_LEVELS_WORDS), l(p)), e),
+        ));
+    }
+    f.body.push(Stmt::If(
+        bin(BinOp::And, lt(l(j), u(slots)), eq(l(lv), shl(u(1), l(j)))),
+        inner,
+        vec![],
+    ));
+    items.push(entry(
+        CHUNK_PASS,
+        vec![StageIn::WorkgroupId, StageIn::LocalIndex],
+        f,
+    ));
+
+    let mut f = compute(
+        "eval_adaptive_indirect_main",
+        "GPU-driven buckets 4, one indirect dispatch per slot out_base (class, level = its bucket):\n\
+         the slot's header in bucket_patches (count, first entry, first sample, x workgroups),\n\
+         entries after the header (first = the number of slots), samples from the slot's first sample.",
+    );
+    let h = f.local("h", Ty::U32);
+    let (k, spp, patch, s, iu, iv) = grid_locals(&mut f);
+    let head = |k: u32| {
+        if k == 0 {
+            fetch(Resource::BucketPatches, l(h))
+        } else {
+            fetch_at(Resource::BucketPatches, l(h), k)
+        }
+    };
+    f.body = vec![
+        Stmt::Let(h, mul(u(BUCKET_HEADER_WORDS), param("out_base"))),
+        Stmt::Let(
+            k,
+            add(
+                stage(StageIn::GlobalId),
+                mul(mul(stage(StageIn::GlobalIdY), head(3)), u(WORKGROUP_SIZE)),
+            ),
+        ),
+        Stmt::Let(spp, call(grid_len, vec![param("level")])),
+        return_if(bin(BinOp::Ge, l(k), mul(head(0), l(spp)))),
+    ];
+    f.body
+        .extend(split_sample(k, spp, patch, s, iu, iv, grid_iu, grid_iv));
+    let e = f.local("e", Ty::U32);
+    f.body.push(Stmt::Let(
+        e,
+        add(
+            mul(u(BUCKET_HEADER_WORDS), param("first")),
+            mul(u(BUCKET_ENTRY_WORDS), add(head(1), l(patch))),
+        ),
+    ));
+    let (result, body) = adaptive_sample(&mut f, entries, e, iu, iv);
+    f.body.extend(body);
+    let out = sample_out(&mut f, add(head(2), l(k)), result);
+    f.body.extend(out);
+    items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
+
+    let mut f = Function::new(
+        "eval_adaptive_indirect_vs",
+        "GPU-driven buckets 4, drawn: one draw_indexed_indirect per slot out_base (bucket_draw's\n\
+         arguments) of the slot's level grid, instance inst = entry inst of the slot (header in\n\
+         bucket_patches, entries after it: first = the number of slots).",
+    );
+    let h = f.local("h", Ty::U32);
+    f.body
+        .push(Stmt::Let(h, mul(u(BUCKET_HEADER_WORDS), param("out_base"))));
+    let (iu, iv, e) = vs_head(&mut f, grid_iu, grid_iv);
+    f.body.push(Stmt::Let(
+        e,
+        add(
+            mul(u(BUCKET_HEADER_WORDS), param("first")),
+            mul(
+                u(BUCKET_ENTRY_WORDS),
+                add(
+                    fetch_at(Resource::BucketPatches, l(h), 1),
+                    stage(StageIn::InstanceIndex),
+                ),
+            ),
+        ),
+    ));
+    items.push(adaptive_vs(f, entries, iu, iv, e));
+    items
+}
+
+/// `adaptive_plan_main` (one workgroup): the chunk scan per slot, then the
+/// slots' first entries, first samples and indirect arguments.
+fn plan_pass(entries: &Entries, grid_len: FnRef) -> Function {
+    let slots = BUCKET_SLOTS;
+    let wg = WORKGROUP_SIZE;
+    let mut f = compute(
+        "adaptive_plan_main",
+        &format!(
+            "GPU-driven buckets 2 (one workgroup): invocation s (and s + 64, …) < count scans slot s's\n\
+             chunk counts (bucket_chunks[2c·count + s], chunk rows c < first) into each chunk's offset within\n\
+             the slot (exclusive prefix, at 2c·count + count + s) and the total into the slot's header; then\n\
+             invocation 0, for slots 0 .. count, writes the first entry and first sample (prefix sums of\n\
+             count and count·grid_len(2^(slot % 16))), the indirect dispatch arguments\n\
+             (y = ⌈workgroups / {INDIRECT_X}⌉ rows of x = ⌈workgroups / y⌉) and the indexed indirect draw arguments\n\
+             (the level's grid, one instance per patch) into bucket_list, bucket_dispatch and bucket_draw."
+        ),
+    );
+    let s = f.local("s", Ty::U32);
+    // One `n` per loop: each loop body declares it afresh.
+    let n = f.local("n", Ty::U32);
+    let c = f.local("c", Ty::U32);
+    let at = f.local("at", Ty::U32);
+    let entry = f.local("entry", Ty::U32);
+    let first_sample = f.local("first_sample", Ty::U32);
+    let b = f.local("b", Ty::U32);
+    let spp = f.local("spp", Ty::U32);
+    let groups = f.local("groups", Ty::U32);
+    let y = f.local("y", Ty::U32);
+    let x = f.local("x", Ty::U32);
+    let lb = f.local("lb", Ty::U32);
+    let li = stage(StageIn::LocalIndex);
+    let bucket = || rem(l(b), u(slots));
+    // The level's grid: 2·L² (quads) or L² (triangles) triangles.
+    let per_cell = if entries.sides == 4 { 6 } else { 3 };
+    let at_b = |stride: u32, k: u32| {
+        let base = mul(u(stride), l(b));
+        if k == 0 {
+            base
+        } else {
+            add(base, u(k))
+        }
+    };
+    let mut per_slot = vec![
+        Stmt::Let(n, fetch(Resource::BucketList, at_b(BUCKET_HEADER_WORDS, 0))),
+        Stmt::Let(spp, call(grid_len, vec![shl(u(1), bucket())])),
+        Stmt::Let(groups, div(add(mul(l(n), l(spp)), u(wg - 1)), u(wg))),
+        // As few rows y as the x limit allows, then the narrowest x for
+        // them: fewer than y idle workgroups (x = min(groups, limit) would
+        // leave up to limit − 1 of them in the last row).
+        Stmt::Let(y, div(add(l(groups), u(INDIRECT_X - 1)), u(INDIRECT_X))),
+        Stmt::Var(x, u(0)),
+        Stmt::If(
+            bin(BinOp::Gt, l(y), u(0)),
+            vec![Stmt::Assign(x, div(add(l(groups), sub(l(y), u(1))), l(y)))],
+            vec![],
+        ),
+        Stmt::Store(Resource::BucketList, at_b(BUCKET_HEADER_WORDS, 1), l(entry)),
+        Stmt::Store(
+            Resource::BucketList,
+            at_b(BUCKET_HEADER_WORDS, 2),
+            l(first_sample),
+        ),
+        Stmt::Store(Resource::BucketList, at_b(BUCKET_HEADER_WORDS, 3), l(x)),
+        Stmt::Store(
+            Resource::BucketDispatch,
+            at_b(BUCKET_DISPATCH_WORDS, 0),
+            l(x),
+        ),
+        Stmt::Store(
+            Resource::BucketDispatch,
+            at_b(BUCKET_DISPATCH_WORDS, 1),
+            l(y),
+        ),
+        Stmt::Store(
+            Resource::BucketDispatch,
+            at_b(BUCKET_DISPATCH_WORDS, 2),
+            u(1),
+        ),
+        Stmt::Let(lb, shl(u(1), bucket())),
+        Stmt::Store(
+            Resource::BucketDraw,
+            at_b(BUCKET_DRAW_WORDS, 0),
+            mul(u(per_cell), mul(l(lb), l(lb))),
+        ),
+        Stmt::Store(Resource::BucketDraw, at_b(BUCKET_DRAW_WORDS, 1), l(n)),
+    ];
+    for k in 2..BUCKET_DRAW_WORDS {
+        per_slot.push(Stmt::Store(
+            Resource::BucketDraw,
+            at_b(BUCKET_DRAW_WORDS, k),
+            u(0),
+        ));
+    }
+    per_slot.extend([
+        Stmt::Assign(entry, add(l(entry), l(n))),
+        Stmt::Assign(first_sample, add(l(first_sample), mul(l(n), l(spp)))),
+    ]);
+    let chunk_row = |s: Expr| add(mul(mul(u(2), l(c)), param("count")), s);
+    f.body = vec![
+        Stmt::ForStep(
+            s,
+            li.clone(),
+            param("count"),
+            u(wg),
+            vec![
+                Stmt::Var(n, u(0)),
+                Stmt::ForStep(
+                    c,
+                    u(0),
+                    param("first"),
+                    u(1),
+                    vec![
+                        Stmt::Let(at, chunk_row(l(s))),
+                        Stmt::Store(Resource::BucketChunks, add(l(at), param("count")), l(n)),
+                        Stmt::Assign(n, add(l(n), fetch(Resource::BucketChunks, l(at)))),
+                    ],
+                ),
+                Stmt::Store(
+                    Resource::BucketList,
+                    mul(u(BUCKET_HEADER_WORDS), l(s)),
+                    l(n),
+                ),
+            ],
+        ),
+        Stmt::Barrier(Barrier::Storage),
+        return_if(bin(BinOp::Ne, li, u(0))),
+        Stmt::Var(entry, u(0)),
+        Stmt::Var(first_sample, u(0)),
+        Stmt::ForStep(b, u(0), param("count"), u(1), per_slot),
+    ];
+    f
+}
