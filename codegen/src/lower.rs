@@ -600,6 +600,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             evaluation: Function::new("", ""),
             store_cp: Function::new("", ""),
             load_cp: Function::new("", ""),
+            points: 0,
+            slots: 0,
         },
         compute_vertex: Function::new("", ""),
         compute_eval: Function::new("", ""),

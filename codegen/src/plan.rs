@@ -337,6 +337,11 @@ pub struct TessStages {
     pub store_cp: Function,
     /// `load_patch_cp(j) -> vec3`: the inverse of [`TessStages::store_cp`].
     pub load_cp: Function,
+    /// `KMAX`: control points of the largest class (at least 1), the
+    /// length of the per-patch control-point arrays.
+    pub points: u32,
+    /// `KMAX4`: `vec4` slots of the packed per-patch storage, ⌈3·KMAX / 4⌉.
+    pub slots: u32,
 }
 
 /// Index of a local in [`Function::locals`].

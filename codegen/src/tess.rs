@@ -58,11 +58,34 @@ fn level_stmt(level: LocalId, adaptive_doc: &str) -> Stmt {
 /// Both stage bodies of a scheme. `curve_const` is the scheme's
 /// `EDGE_CURVE` constant.
 pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
+    let points = entries
+        .patches
+        .iter()
+        .map(|p| p.control_points)
+        .max()
+        .unwrap_or(1)
+        .max(1);
     TessStages {
         control: control(entries, curve_const),
         evaluation: evaluation(entries),
         store_cp: store_cp(),
         load_cp: load_cp(),
+        points,
+        slots: (3 * points).div_ceil(4),
+    }
+}
+
+/// The index of factor output `o` in an API's outer (edge factors) or
+/// inner (inside factors) array, `first_is_u` as in
+/// [`crate::lower::hw_factor_edges`] (HLSL: true, GLSL: false); `None` for
+/// an output that is not a factor. Every factor has a slot (the test
+/// below), so printers only spell the index.
+pub fn factor_slot(sides: u32, o: StageOut, first_is_u: bool) -> Option<usize> {
+    let (outer, inner) = crate::lower::hw_factor_edges(sides, first_is_u);
+    match o {
+        StageOut::EdgeFactor(k) => outer.iter().position(|&x| x == k as usize),
+        StageOut::InsideFactor(d) => inner.iter().position(|x| *x == inside_edges(sides, d)),
+        _ => None,
     }
 }
 
@@ -579,6 +602,12 @@ mod tests {
                         inner.contains(&inside_edges(sides, d)),
                         "sides {sides} d {d}"
                     );
+                    let o = StageOut::InsideFactor(d);
+                    assert!(factor_slot(sides, o, first_is_u).is_some());
+                }
+                for k in 0..sides as u8 {
+                    let o = StageOut::EdgeFactor(k);
+                    assert!(factor_slot(sides, o, first_is_u).is_some());
                 }
             }
         }

@@ -539,17 +539,6 @@ impl<'a> Writer<'a> {
         Some((extra, fns))
     }
 
-    /// Largest control-point count over the scheme's classes.
-    fn kmax(&self) -> u32 {
-        self.entries
-            .patches
-            .iter()
-            .map(|p| p.control_points)
-            .max()
-            .unwrap_or(1)
-            .max(1)
-    }
-
     fn file(&mut self, command: &str) {
         for h in header_lines(command) {
             self.line(&format!("// {h}"));
@@ -652,11 +641,8 @@ impl<'a> Writer<'a> {
                 "// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),",
             );
             self.line("// so KMAX vec3 would take KMAX locations.");
-            self.line(&format!("const uint KMAX = {}u;", self.kmax()));
-            self.line(&format!(
-                "const uint KMAX4 = {}u;",
-                (3 * self.kmax()).div_ceil(4)
-            ));
+            self.line(&format!("const uint KMAX = {}u;", self.entries.tess.points));
+            self.line(&format!("const uint KMAX4 = {}u;", self.entries.tess.slots));
             self.line(&format!(
                 "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));
@@ -1035,18 +1021,15 @@ impl<'a> Writer<'a> {
                 }
                 Stmt::Output(o, e) => {
                     let v = self.expr(m, f, e);
-                    let sides = self.entries.sides;
                     // GLSL's quad domain is (u, v) = (y, x): its slots are
                     // `hw_factor_edges(sides, false)`.
-                    let (outer, inner) = crate::lower::hw_factor_edges(sides, false);
+                    let slot = crate::tess::factor_slot(self.entries.sides, *o, false);
+                    let slot = slot.unwrap_or_default();
                     match o {
-                        StageOut::EdgeFactor(k) => {
-                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
+                        StageOut::EdgeFactor(_) => {
                             self.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
                         }
-                        StageOut::InsideFactor(d) => {
-                            let edges = crate::tess::inside_edges(sides, *d);
-                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
+                        StageOut::InsideFactor(_) => {
                             self.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
                         }
                         StageOut::Position => {

@@ -207,8 +207,6 @@ pub struct Writer<'a> {
     indent: usize,
     /// Global names a local must not shadow.
     globals: HashSet<String>,
-    /// Most control points of any class of this scheme.
-    kmax: u32,
 }
 
 impl<'a> Writer<'a> {
@@ -253,13 +251,6 @@ impl<'a> Writer<'a> {
                 globals.insert(format!("make_{}", s.name));
             }
         }
-        let kmax = entries
-            .patches
-            .iter()
-            .map(|p| p.control_points)
-            .max()
-            .unwrap_or(1)
-            .max(1);
         Writer {
             plan,
             module,
@@ -267,7 +258,6 @@ impl<'a> Writer<'a> {
             out: String::new(),
             indent: 0,
             globals,
-            kmax,
         }
     }
 
@@ -400,14 +390,17 @@ impl<'a> Writer<'a> {
         }
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
-        self.line(&format!("static const uint KMAX = {}u;", self.kmax));
+        self.line(&format!(
+            "static const uint KMAX = {}u;",
+            self.entries.tess.points
+        ));
         self.line(
             "// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch",
         );
         self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
         self.line(&format!(
             "static const uint KMAX4 = {}u;",
-            (3 * self.kmax).div_ceil(4)
+            self.entries.tess.slots
         ));
         self.line("// Control points per patch of each class (index = Params.class).");
         let ks: Vec<String> = self
@@ -746,15 +739,12 @@ impl<'a> Writer<'a> {
                     let sides = self.entries.sides;
                     // HLSL's quad domain is (u, v) = (x, y): its slots are
                     // `hw_factor_edges(sides, true)`.
-                    let (outer, inner) = crate::lower::hw_factor_edges(sides, true);
+                    let slot = crate::tess::factor_slot(sides, *o, true).unwrap_or_default();
                     match o {
-                        StageOut::EdgeFactor(k) => {
-                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
+                        StageOut::EdgeFactor(_) => {
                             self.line(&format!("c.edges[{slot}] = {v};"));
                         }
-                        StageOut::InsideFactor(d) => {
-                            let edges = crate::tess::inside_edges(sides, *d);
-                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
+                        StageOut::InsideFactor(_) => {
                             if sides == 3 {
                                 self.line(&format!("c.inside = {v};"));
                             } else {
