@@ -406,7 +406,9 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 xs.iter_mut().for_each(|x| expr(x, map));
             }
             Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
-            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, map),
+            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) | Expr::Float(_, a) => {
+                expr(a, map)
+            }
             Expr::Binary(_, a, b)
             | Expr::TableWeight(a, b)
             | Expr::Texel(_, a, b)
@@ -425,7 +427,7 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 | Stmt::Assign(_, e)
                 | Stmt::Return(e)
                 | Stmt::AssignField(_, _, e) => expr(e, map),
-                Stmt::Store(_, i, v) => {
+                Stmt::Store(_, i, v) | Stmt::StoreFloat(_, i, v) => {
                     expr(i, map);
                     expr(v, map);
                 }

@@ -1004,3 +1004,60 @@ fn plan_pass(entries: &Entries, grid_len: FnRef) -> Function {
     ];
     f
 }
+
+/// How a packed accessor forms the float offsets of element `i`: bound
+/// once to a local (`let o = 3·i`, the WGSL helpers) or spelled in every
+/// index (`3·i`, `3·i + 1`, …; the GLSL and HLSL helpers). The same floats;
+/// two forms because the emitted text of both targets is kept as it was.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Offsets {
+    Bound,
+    Inline,
+}
+
+/// The offsets of the three floats of element `i`, and the statements
+/// that bind them.
+fn packed_offsets(f: &mut Function, i: LocalId, offsets: Offsets) -> (Vec<Stmt>, [Expr; 3]) {
+    let base = mul(u(3), l(i));
+    let (pre, base) = match offsets {
+        Offsets::Bound => {
+            let o = f.local("o", Ty::U32);
+            (vec![Stmt::Let(o, base)], l(o))
+        }
+        Offsets::Inline => (vec![], base),
+    };
+    let at = [base.clone(), add(base.clone(), u(1)), add(base, u(2))];
+    (pre, at)
+}
+
+/// `name(i) -> vec3`: element `i` of the packed `vec3` resource `r`, the
+/// floats `3i .. 3i + 2` (`abi`: packed triples, 12 bytes per point).
+pub fn packed_load(r: Resource, name: &str, doc: &str, offsets: Offsets) -> Function {
+    let mut f = Function::new(name, doc);
+    let i = f.param("i", Ty::U32);
+    f.ret = Some(Ty::Vec3);
+    let (mut body, at) = packed_offsets(&mut f, i, offsets);
+    body.push(Stmt::Return(Expr::Call(
+        Builtin::Vec3,
+        at.map(|k| Expr::Float(r, Box::new(k))).to_vec(),
+    )));
+    f.body = body;
+    f
+}
+
+/// `name(i, v)`: element `i` of the packed `vec3` resource `r` = `v`.
+pub fn packed_store(r: Resource, name: &str, doc: &str, offsets: Offsets) -> Function {
+    let mut f = Function::new(name, doc);
+    let i = f.param("i", Ty::U32);
+    let v = f.param("v", Ty::Vec3);
+    let (mut body, at) = packed_offsets(&mut f, i, offsets);
+    for (c, k) in at.into_iter().enumerate() {
+        body.push(Stmt::StoreFloat(
+            r,
+            k,
+            Expr::Call(Builtin::Component(c as u8), vec![l(v)]),
+        ));
+    }
+    f.body = body;
+    f
+}

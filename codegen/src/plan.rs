@@ -377,6 +377,9 @@ pub enum Expr {
     /// control points, the per-patch storage between the tessellation
     /// stages ([`TessStages::load_cp`] only).
     PatchSlot(Box<Expr>, Box<Expr>),
+    /// `f32` number `k` of the packed storage of a `vec3` resource (3 per
+    /// element): the packed accessors only (`crate::entries::packed_load`).
+    Float(Resource, Box<Expr>),
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -473,6 +476,9 @@ pub enum Stmt {
     ForStep(LocalId, Expr, Expr, Expr, Vec<Stmt>),
     /// A barrier of the workgroup's invocations.
     Barrier(Barrier),
+    /// Write [`Expr::Float`] `k` of a packed `vec3` resource
+    /// (`crate::entries::packed_store` only).
+    StoreFloat(Resource, Expr, Expr),
 }
 
 /// What a [`Stmt::Barrier`] orders.
@@ -540,8 +546,10 @@ impl Function {
             }
         };
         walk(&self.body, &mut |n| match n {
-            Node::Expr(Expr::Fetch(r, _) | Expr::Texel(r, ..)) => add(*r, false),
-            Node::Stmt(Stmt::Store(r, ..)) => add(*r, true),
+            Node::Expr(Expr::Fetch(r, _) | Expr::Texel(r, ..) | Expr::Float(r, _)) => {
+                add(*r, false)
+            }
+            Node::Stmt(Stmt::Store(r, ..) | Stmt::StoreFloat(r, ..)) => add(*r, true),
             _ => {}
         });
         out.sort();
@@ -591,7 +599,7 @@ pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
             | Stmt::Return(e)
             | Stmt::AssignField(_, _, e)
             | Stmt::Output(_, e) => walk_expr(e, f),
-            Stmt::Store(_, i, v) => {
+            Stmt::Store(_, i, v) | Stmt::StoreFloat(_, i, v) => {
                 walk_expr(i, f);
                 walk_expr(v, f);
             }
@@ -630,9 +638,11 @@ pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
 pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
     f(Node::Expr(e));
     match e {
-        Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
-            walk_expr(a, f)
-        }
+        Expr::Fetch(_, a)
+        | Expr::Float(_, a)
+        | Expr::ConstIndex(_, a)
+        | Expr::Neg(a)
+        | Expr::Field(a, _) => walk_expr(a, f),
         Expr::Binary(_, a, b)
         | Expr::TableWeight(a, b)
         | Expr::Texel(_, a, b)

@@ -31,6 +31,7 @@ use super::abi::{self, Binding, Kind};
 use super::binop;
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
+use crate::entries::Offsets;
 use crate::plan::*;
 use std::collections::{BTreeMap, HashSet};
 
@@ -799,21 +800,18 @@ impl<'a> Writer<'a> {
             let Some(&(read, written)) = need.get(&b.binding) else {
                 continue;
             };
-            let n = b.name;
+            let (n, Some(r)) = (b.name, b.resource) else {
+                continue;
+            };
+            let module = self.module;
             if read {
-                self.line(&format!("vec3 load_{n}(uint i) {{"));
-                self.line(&format!(
-                    "    return vec3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
-                ));
-                self.line("}");
+                let f = crate::entries::packed_load(r, &format!("load_{n}"), "", Offsets::Inline);
+                self.plan_function(module, &f);
                 self.line("");
             }
             if written {
-                self.line(&format!("void store_{n}(uint i, vec3 v) {{"));
-                self.line(&format!("    {n}[(3u * i)] = v.x;"));
-                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
-                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
-                self.line("}");
+                let f = crate::entries::packed_store(r, &format!("store_{n}"), "", Offsets::Inline);
+                self.plan_function(module, &f);
                 self.line("");
             }
         }
@@ -989,6 +987,15 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::StoreFloat(r, i, v) => {
+                    let s = format!(
+                        "{}[{}] = {};",
+                        r.name(),
+                        self.expr(m, f, i),
+                        self.expr(m, f, v)
+                    );
+                    self.line(&s);
+                }
                 Stmt::ReturnVoid => self.line("return;"),
                 Stmt::Barrier(Barrier::Workgroup) => self.line("barrier();"),
                 Stmt::Barrier(Barrier::Storage) => {
@@ -1150,6 +1157,7 @@ impl<'a> Writer<'a> {
                 format!("gl_TessCoord.{}", axes[*k as usize])
             }
             Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
+            Expr::Float(r, i) => format!("{}[{}]", r.name(), self.expr(m, f, i)),
             Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
             Expr::Stage(StageIn::GlobalIdY) => "gl_GlobalInvocationID.y".into(),
             Expr::Stage(StageIn::WorkgroupId) => "gl_WorkGroupID.x".into(),

@@ -41,6 +41,7 @@ use super::abi::{self, Kind};
 use super::binop;
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
+use crate::entries::Offsets;
 use crate::plan::*;
 use std::collections::HashSet;
 
@@ -426,21 +427,21 @@ impl<'a> Writer<'a> {
             "// ---- vec3 buffers: packed float triples, point i at floats 3i, 3i+1, 3i+2 ----",
         );
         for b in abi::BINDINGS.iter().filter(|b| b.kind == Kind::Vec3Buffer) {
-            if let Some(n) = read_view(b) {
+            let Some(r) = b.resource else {
+                continue;
+            };
+            let module = self.module;
+            if read_view(b).is_some() {
                 self.line("");
-                self.line(&format!("float3 fetch_{}(uint i) {{", b.name));
-                self.line(&format!(
-                    "    return float3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
-                ));
-                self.line("}");
+                let name = format!("fetch_{}", b.name);
+                let f = crate::entries::packed_load(r, &name, "", Offsets::Inline);
+                self.function_with(module, &f, Cp::None);
             }
-            if let Some(n) = write_view(b) {
+            if write_view(b).is_some() {
                 self.line("");
-                self.line(&format!("void store_{}(uint i, float3 v) {{", b.name));
-                self.line(&format!("    {n}[(3u * i)] = v.x;"));
-                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
-                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
-                self.line("}");
+                let name = format!("store_{}", b.name);
+                let f = crate::entries::packed_store(r, &name, "", Offsets::Inline);
+                self.function_with(module, &f, Cp::None);
             }
         }
     }
@@ -576,12 +577,18 @@ impl<'a> Writer<'a> {
     }
 
     fn function(&mut self, m: &Module, f: &Function) {
+        self.function_with(m, f, self.cp_of(m, f))
+    }
+
+    /// `f`, reaching the control points as `cp` says (the packed accessors
+    /// read the buffer itself: [`Cp::None`]).
+    fn function_with(&mut self, m: &Module, f: &Function, cp: Cp) {
         self.doc(&f.doc);
         let cx = Ctx {
             m,
             f,
             names: self.local_names(f),
-            cp: self.cp_of(m, f),
+            cp,
             patch: "patch_id",
         };
         let mut args = Vec::new();
@@ -705,6 +712,16 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::StoreFloat(r, i, v) => {
+                    let b = abi::binding_of(*r);
+                    let s = format!(
+                        "{}[{}] = {};",
+                        write_view(b).unwrap_or_else(|| r.name().to_string()),
+                        self.expr(cx, i),
+                        self.expr(cx, v)
+                    );
+                    self.line(&s);
+                }
                 Stmt::ReturnVoid => self.line("return;"),
                 Stmt::Barrier(Barrier::Workgroup) => {
                     self.line("GroupMemoryBarrierWithGroupSync();")
@@ -869,6 +886,11 @@ impl<'a> Writer<'a> {
             // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
             Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
             Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
+            Expr::Float(r, i) => format!(
+                "{}[{}]",
+                read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string()),
+                self.expr(cx, i)
+            ),
             Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
             Expr::Stage(StageIn::GlobalIdY) => "global_id.y".into(),
             // The HLSL entries declare only SV_DispatchThreadID.

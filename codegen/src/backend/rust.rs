@@ -439,8 +439,9 @@ pub struct SchemeKernels {
                 | Stmt::StorePatchSlot(..) => {
                     unreachable!("tessellation-stage statement outside Entries::tess")
                 }
-                // Only in the GPU entry points (`Entries::instanced`).
-                Stmt::ReturnVoid | Stmt::ForStep(..) | Stmt::Barrier(_) => {
+                // Only in the GPU entry points (`Entries::instanced`) and
+                // the packed accessors of the shader printers.
+                Stmt::ReturnVoid | Stmt::ForStep(..) | Stmt::Barrier(_) | Stmt::StoreFloat(..) => {
                     unreachable!("a statement of the GPU entry points outside Entries::instanced")
                 }
                 // No preprocessor: always the default branch.
@@ -562,6 +563,8 @@ pub struct SchemeKernels {
             Expr::Stage(_) | Expr::PatchSlot(..) => {
                 unreachable!("tessellation-stage input outside Entries::tess")
             }
+            // Only in the packed accessors of the shader printers.
+            Expr::Float(..) => unreachable!("packed float outside the shader accessors"),
             Expr::Texel(r, x, y) => format!(
                 "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",
                 r.name(),

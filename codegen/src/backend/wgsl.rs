@@ -151,7 +151,7 @@ pub struct Writer<'a> {
     /// Names of the locals of the function being printed.
     locals: Vec<String>,
     /// `(variable, store)` of the `load_*` / `store_*` helpers in use.
-    accessors: RefCell<BTreeSet<(String, bool)>>,
+    accessors: RefCell<BTreeSet<(String, bool, Resource)>>,
 }
 
 impl<'a> Writer<'a> {
@@ -304,27 +304,31 @@ impl<'a> Writer<'a> {
         }
     }
 
-    /// The `load_*` / `store_*` helpers of the packed `vec3` buffers in use.
+    /// The `load_*` / `store_*` helpers of the packed `vec3` buffers in
+    /// use: the Plan's packed accessors ([`crate::entries::packed_load`]),
+    /// named after the variable they go through (`NAME` or `NAME_ro`).
     fn accessor_fns(&mut self) {
-        let used: Vec<(String, bool)> = self.accessors.borrow().iter().cloned().collect();
-        for (var, store) in used {
+        use crate::entries::{packed_load, packed_store, Offsets};
+        let used: Vec<(String, bool, Resource)> = self.accessors.borrow().iter().cloned().collect();
+        let module = self.module;
+        for (var, store, r) in used {
             self.line("");
-            if store {
-                self.line(&format!("// {var}[i] = v: the packed f32 triple at 3i."));
-                self.line(&format!("fn store_{var}(i: u32, v: vec3<f32>) {{"));
-                self.line("    let o: u32 = (3u * i);");
-                self.line(&format!("    {var}[o] = v.x;"));
-                self.line(&format!("    {var}[(o + 1u)] = v.y;"));
-                self.line(&format!("    {var}[(o + 2u)] = v.z;"));
+            let (f, written) = if store {
+                let doc = format!("{var}[i] = v: the packed f32 triple at 3i.");
+                let f = packed_store(r, &format!("store_{var}"), &doc, Offsets::Bound);
+                (f, vec![r])
             } else {
-                self.line(&format!("// {var}[i]: the packed f32 triple at 3i."));
-                self.line(&format!("fn load_{var}(i: u32) -> vec3<f32> {{"));
-                self.line("    let o: u32 = (3u * i);");
-                self.line(&format!(
-                    "    return vec3<f32>({var}[o], {var}[(o + 1u)], {var}[(o + 2u)]);"
-                ));
-            }
-            self.line("}");
+                let doc = format!("{var}[i]: the packed f32 triple at 3i.");
+                let f = packed_load(r, &format!("load_{var}"), &doc, Offsets::Bound);
+                // The read-write variable where the helper is named after it.
+                let w = if self.read_var(r, &[]) == var {
+                    vec![]
+                } else {
+                    vec![r]
+                };
+                (f, w)
+            };
+            self.function_in(module, &f, &written);
         }
     }
 
@@ -403,8 +407,35 @@ impl<'a> Writer<'a> {
             .filter(|(_, w)| *w)
             .map(|(r, _)| r)
             .collect();
+        self.body(m, f, &written);
+    }
+
+    /// `f` with the buffers it writes given (the packed accessors, whose
+    /// variable is chosen by name).
+    fn function_in(&mut self, m: &Module, f: &Function, written: &[Resource]) {
+        self.doc(&f.doc);
+        self.name_locals(f);
+        let args: Vec<String> = f
+            .params
+            .iter()
+            .map(|id| format!("{}: {}", self.locals[id.0], self.ty(&f.locals[id.0].ty)))
+            .collect();
+        let ret = f
+            .ret
+            .as_ref()
+            .map(|t| format!(" -> {}", self.ty(t)))
+            .unwrap_or_default();
+        self.line(&format!(
+            "fn {}({}){ret} {{",
+            ident(&f.name),
+            args.join(", ")
+        ));
+        self.body(m, f, written);
+    }
+
+    fn body(&mut self, m: &Module, f: &Function, written: &[Resource]) {
         self.indent += 1;
-        self.stmts(m, f, &written, &f.body);
+        self.stmts(m, f, written, &f.body);
         self.indent -= 1;
         self.line("}");
     }
@@ -454,7 +485,7 @@ impl<'a> Writer<'a> {
                     let s = if let Some(b) = super::binding(*r).filter(|b| packed(b)) {
                         self.accessors
                             .borrow_mut()
-                            .insert((b.name.to_string(), true));
+                            .insert((b.name.to_string(), true, *r));
                         format!("store_{}({i}, {v});", b.name)
                     } else {
                         format!("{}[{i}] = {v};", self.read_var(*r, written))
@@ -485,6 +516,15 @@ impl<'a> Writer<'a> {
                     self.line(&s);
                 }
                 Stmt::Comment(c) => self.doc(c),
+                Stmt::StoreFloat(r, i, v) => {
+                    let s = format!(
+                        "{}[{}] = {};",
+                        self.read_var(*r, written),
+                        self.expr(m, f, written, i),
+                        self.expr(m, f, written, v)
+                    );
+                    self.line(&s);
+                }
                 Stmt::ReturnVoid => self.line("return;"),
                 Stmt::Barrier(Barrier::Workgroup) => self.line("workgroupBarrier();"),
                 Stmt::Barrier(Barrier::Storage) => self.line("storageBarrier();"),
@@ -613,7 +653,7 @@ impl<'a> Writer<'a> {
                 let var = self.read_var(*r, written);
                 if super::binding(*r).is_some_and(packed) {
                     let s = format!("load_{var}({idx})");
-                    self.accessors.borrow_mut().insert((var, false));
+                    self.accessors.borrow_mut().insert((var, false, *r));
                     s
                 } else {
                     format!("{var}[{idx}]")
@@ -623,6 +663,11 @@ impl<'a> Writer<'a> {
                 "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
                 self.expr(m, f, written, col),
                 self.expr(m, f, written, row)
+            ),
+            Expr::Float(r, i) => format!(
+                "{}[{}]",
+                self.read_var(*r, written),
+                self.expr(m, f, written, i)
             ),
             Expr::Stage(StageIn::Param(n)) => param(n),
             Expr::Stage(StageIn::GlobalId) => "gid.x".into(),
