@@ -28,7 +28,7 @@
 //! `te_*`) and declares the stage I/O and the packed per-patch `tcs_cp`.
 
 use super::abi::{self, Binding, Kind};
-use super::binop;
+use super::dialect::{self, Dialect};
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::entries::Offsets;
@@ -1067,74 +1067,61 @@ impl<'a> Writer<'a> {
         }
     }
 
-    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(m, f, e)
-    }
-
     fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
+        dialect::expr(&Cx { w: self, m, f }, e)
+    }
+}
+
+/// The GLSL dialect, for one function of one file.
+struct Cx<'c, 'a> {
+    w: &'c Writer<'a>,
+    m: &'c Module,
+    f: &'c Function,
+}
+
+impl Dialect for Cx<'_, '_> {
+    fn plan(&self) -> &Plan {
+        self.w.plan
+    }
+    fn module(&self) -> &Module {
+        self.m
+    }
+    fn function(&self) -> &Function {
+        self.f
+    }
+    fn ident(&self, name: &str) -> String {
+        ident(name)
+    }
+    fn local(&self, id: LocalId) -> String {
+        self.w.locals[id.0].clone()
+    }
+    fn f32_lit(&self, x: f32) -> String {
+        f32_lit(x)
+    }
+    fn f32_ty(&self) -> &'static str {
+        "float"
+    }
+    fn u32_ty(&self) -> &'static str {
+        "uint"
+    }
+    fn vec2_ty(&self) -> &'static str {
+        "vec2"
+    }
+    fn vec3_ty(&self) -> &'static str {
+        "vec3"
+    }
+    fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
+        // findLSB(0) is -1: clamp to WGSL's 32.
+        (b == Builtin::CountTrailingZeros).then(|| format!("min(uint(findLSB({})), 32u)", a[0]))
+    }
+    fn special(&self, e: &Expr) -> String {
+        let x = |e: &Expr| dialect::expr(self, e);
+        let w = self.w;
         match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u"),
-            Expr::Local(id) => self.locals[id.0].clone(),
-            Expr::ConstIndex(c, i) => {
-                format!("{}[{}]", ident(&m.consts[*c].name), self.expr(m, f, i))
-            }
-            Expr::Const(c) => ident(&m.consts[*c].name),
-            Expr::Binary(op, a, b) => format!(
-                "({} {} {})",
-                self.expr(m, f, a),
-                binop(*op),
-                self.expr(m, f, b)
-            ),
-            Expr::Neg(a) => format!("(-{})", self.expr(m, f, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("float({})", a[0]),
-                    Builtin::Sqrt => format!("sqrt({})", a[0]),
-                    Builtin::Cos => format!("cos({})", a[0]),
-                    Builtin::Sin => format!("sin({})", a[0]),
-                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
-                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
-                    Builtin::Vec3 => format!("vec3({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("round({})", a[0]),
-                    Builtin::Floor => format!("floor({})", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
-                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                    // findLSB(0) is -1: clamp to WGSL's 32.
-                    Builtin::CountTrailingZeros => format!("min(uint(findLSB({})), 32u)", a[0]),
-                    Builtin::Normalize => format!("normalize({})", a[0]),
-                    Builtin::Abs => format!("abs({})", a[0]),
-                    Builtin::Min => format!("min({}, {})", a[0], a[1]),
-                    Builtin::Fwidth => format!("fwidth({})", a[0]),
-                    Builtin::Vec2 => format!("vec2({}, {})", a[0], a[1]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let callee = match r {
-                    FnRef::Common(i) => &self.plan.common.functions[*i],
-                    FnRef::Local(i) => &m.functions[*i],
-                };
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                format!("{}({})", ident(&callee.name), a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
-                format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
-            }
-            Expr::Make(s, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                format!(
-                    "{}({})",
-                    ident(&self.plan.common.structs[*s].name),
-                    a.join(", ")
-                )
-            }
             Expr::Fetch(r, i) => {
-                let idx = self.expr(m, f, i);
-                if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("{}({idx})", ident(&self.entries.tess.load_cp.name))
+                let idx = x(i);
+                if w.stage.tess() && *r == Resource::ControlPoints {
+                    format!("{}({idx})", ident(&w.entries.tess.load_cp.name))
                 } else if r.ty() == Ty::Vec3 {
                     format!("load_{}({idx})", r.name())
                 } else {
@@ -1143,13 +1130,13 @@ impl<'a> Writer<'a> {
             }
             Expr::TableWeight(row, col) => format!(
                 "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
-                self.expr(m, f, col),
-                self.expr(m, f, row)
+                x(col),
+                x(row)
             ),
             Expr::Stage(StageIn::TessCoord(k)) => {
                 // Quads: the patch's (u, v) is (gl_TessCoord.y, gl_TessCoord.x),
                 // see the layout declaration; triangles: barycentric as is.
-                let axes = if self.entries.sides == 4 {
+                let axes = if w.entries.sides == 4 {
                     ["y", "x", "z"]
                 } else {
                     ["x", "y", "z"]
@@ -1157,7 +1144,7 @@ impl<'a> Writer<'a> {
                 format!("gl_TessCoord.{}", axes[*k as usize])
             }
             Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
-            Expr::Float(r, i) => format!("{}[{}]", r.name(), self.expr(m, f, i)),
+            Expr::Float(r, i) => format!("{}[{}]", r.name(), x(i)),
             Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
             Expr::Stage(StageIn::GlobalIdY) => "gl_GlobalInvocationID.y".into(),
             Expr::Stage(StageIn::WorkgroupId) => "gl_WorkGroupID.x".into(),
@@ -1167,16 +1154,15 @@ impl<'a> Writer<'a> {
             Expr::Stage(StageIn::Varying(_)) => {
                 unreachable!("fragment input outside Entries::instanced")
             }
-            Expr::PatchSlot(a, b) => {
-                format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
-            }
+            Expr::PatchSlot(a, b) => format!("tcs_cp[{}][{}]", x(a), x(b)),
             Expr::Stage(StageIn::Param(n)) => param(n),
-            Expr::Texel(r, x, y) => format!(
+            Expr::Texel(r, a, b) => format!(
                 "texelFetch({}, ivec2(int({}), int({})), 0).x",
                 r.name(),
-                self.expr(m, f, x),
-                self.expr(m, f, y)
+                x(a),
+                x(b)
             ),
+            _ => unreachable!("spelled by dialect::expr"),
         }
     }
 }

@@ -38,7 +38,7 @@
 //! `NoContraction`).
 
 use super::abi::{self, Kind};
-use super::binop;
+use super::dialect::{self, Dialect};
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::entries::Offsets;
@@ -805,111 +805,8 @@ impl<'a> Writer<'a> {
         }
     }
 
-    fn expr_ty(&self, cx: &Ctx, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(cx.m, cx.f, e)
-    }
-
     fn expr(&self, cx: &Ctx, e: &Expr) -> String {
-        match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u"),
-            Expr::Local(id) => cx.names[id.0].clone(),
-            Expr::ConstIndex(c, i) => {
-                format!("{}[{}]", ident(&cx.m.consts[*c].name), self.expr(cx, i))
-            }
-            Expr::Const(c) => ident(&cx.m.consts[*c].name),
-            Expr::Binary(op, a, b) => {
-                format!("({} {} {})", self.expr(cx, a), binop(*op), self.expr(cx, b))
-            }
-            Expr::Neg(a) => format!("(-{})", self.expr(cx, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("float({})", a[0]),
-                    Builtin::Sqrt => format!("sqrt({})", a[0]),
-                    Builtin::Cos => format!("cos({})", a[0]),
-                    Builtin::Sin => format!("sin({})", a[0]),
-                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
-                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
-                    Builtin::Vec3 => format!("float3({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("round({})", a[0]),
-                    Builtin::Floor => format!("floor({})", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
-                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                    // firstbitlow(0) is 0xffffffff: clamp to WGSL's 32.
-                    Builtin::CountTrailingZeros => format!("min(firstbitlow({}), 32u)", a[0]),
-                    Builtin::Normalize => format!("normalize({})", a[0]),
-                    Builtin::Abs => format!("abs({})", a[0]),
-                    Builtin::Min => format!("min({}, {})", a[0], a[1]),
-                    Builtin::Fwidth => format!("fwidth({})", a[0]),
-                    Builtin::Vec2 => format!("float2({}, {})", a[0], a[1]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let (module, callee) = self.callee(cx.m, *r);
-                let mut a = Vec::new();
-                if self.cp_of(module, callee) != Cp::None {
-                    a.push(cx.cp.name().to_string());
-                }
-                a.extend(xs.iter().map(|x| self.expr(cx, x)));
-                format!("{}({})", ident(&callee.name), a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(cx, a).unwrap_or(Ty::F32);
-                format!("{}.{}", self.expr(cx, a), self.field_name(&t, *k))
-            }
-            Expr::Make(s, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
-                format!(
-                    "make_{}({})",
-                    self.plan.common.structs[*s].name,
-                    a.join(", ")
-                )
-            }
-            Expr::Fetch(r, i) => {
-                let idx = self.expr(cx, i);
-                match (r, r.ty()) {
-                    (Resource::ControlPoints, _) => format!("{}[{idx}]", cx.cp.name()),
-                    (_, Ty::Vec3) => format!("fetch_{}({idx})", r.name()),
-                    _ => format!(
-                        "{}[{idx}]",
-                        read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
-                    ),
-                }
-            }
-            Expr::TableWeight(row, col) => format!(
-                "stencil_table.Load(int3(int({}), int({}), 0))",
-                self.expr(cx, col),
-                self.expr(cx, row)
-            ),
-            // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
-            Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
-            Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
-            Expr::Float(r, i) => format!(
-                "{}[{}]",
-                read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string()),
-                self.expr(cx, i)
-            ),
-            Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
-            Expr::Stage(StageIn::GlobalIdY) => "global_id.y".into(),
-            // The HLSL entries declare only SV_DispatchThreadID.
-            Expr::Stage(
-                StageIn::WorkgroupId
-                | StageIn::LocalIndex
-                | StageIn::VertexIndex
-                | StageIn::InstanceIndex
-                | StageIn::Varying(_),
-            ) => unreachable!("entry input outside Entries::instanced"),
-            Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
-            Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
-            Expr::Texel(r, x, y) => format!(
-                "{}.Load(int3(int({}), int({}), 0))",
-                r.name(),
-                self.expr(cx, x),
-                self.expr(cx, y)
-            ),
-        }
+        dialect::expr(&Hx { w: self, cx }, e)
     }
 
     // ---- entry points: the only code the printer adds beyond the Plan ----
@@ -1219,5 +1116,109 @@ DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch
         self.line("return o;");
         self.indent -= 1;
         self.line("}");
+    }
+}
+
+/// The HLSL dialect, for one function (`cx`: its local names, how it
+/// reaches the control points).
+struct Hx<'c, 'a> {
+    w: &'c Writer<'a>,
+    cx: &'c Ctx<'c>,
+}
+
+impl Dialect for Hx<'_, '_> {
+    fn plan(&self) -> &Plan {
+        self.w.plan
+    }
+    fn module(&self) -> &Module {
+        self.cx.m
+    }
+    fn function(&self) -> &Function {
+        self.cx.f
+    }
+    fn ident(&self, name: &str) -> String {
+        ident(name)
+    }
+    fn local(&self, id: LocalId) -> String {
+        self.cx.names[id.0].clone()
+    }
+    fn f32_lit(&self, x: f32) -> String {
+        f32_lit(x)
+    }
+    fn f32_ty(&self) -> &'static str {
+        "float"
+    }
+    fn u32_ty(&self) -> &'static str {
+        "uint"
+    }
+    fn vec2_ty(&self) -> &'static str {
+        "float2"
+    }
+    fn vec3_ty(&self) -> &'static str {
+        "float3"
+    }
+    fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
+        // firstbitlow(0) is 0xffffffff: clamp to WGSL's 32.
+        (b == Builtin::CountTrailingZeros).then(|| format!("min(firstbitlow({}), 32u)", a[0]))
+    }
+    /// Functions that reach the control points take the caller's array.
+    fn call(&self, r: FnRef, callee: &Function, args: Vec<String>) -> String {
+        let (module, _) = self.w.callee(self.cx.m, r);
+        let mut a = Vec::new();
+        if self.w.cp_of(module, callee) != Cp::None {
+            a.push(self.cx.cp.name().to_string());
+        }
+        a.extend(args);
+        format!("{}({})", ident(&callee.name), a.join(", "))
+    }
+    fn make(&self, s: usize, args: Vec<String>) -> String {
+        let name = &self.w.plan.common.structs[s].name;
+        format!("make_{name}({})", args.join(", "))
+    }
+    fn special(&self, e: &Expr) -> String {
+        let x = |e: &Expr| dialect::expr(self, e);
+        let cx = self.cx;
+        match e {
+            Expr::Fetch(r, i) => {
+                let idx = x(i);
+                match (r, r.ty()) {
+                    (Resource::ControlPoints, _) => format!("{}[{idx}]", cx.cp.name()),
+                    (_, Ty::Vec3) => format!("fetch_{}({idx})", r.name()),
+                    _ => format!(
+                        "{}[{idx}]",
+                        read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
+                    ),
+                }
+            }
+            Expr::TableWeight(row, col) => format!(
+                "stencil_table.Load(int3(int({}), int({}), 0))",
+                x(col),
+                x(row)
+            ),
+            // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
+            Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
+            Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
+            Expr::Float(r, i) => format!(
+                "{}[{}]",
+                read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string()),
+                x(i)
+            ),
+            Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
+            Expr::Stage(StageIn::GlobalIdY) => "global_id.y".into(),
+            // The HLSL entries declare only SV_DispatchThreadID.
+            Expr::Stage(
+                StageIn::WorkgroupId
+                | StageIn::LocalIndex
+                | StageIn::VertexIndex
+                | StageIn::InstanceIndex
+                | StageIn::Varying(_),
+            ) => unreachable!("entry input outside Entries::instanced"),
+            Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", x(a), x(b)),
+            Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
+            Expr::Texel(r, a, b) => {
+                format!("{}.Load(int3(int({}), int({}), 0))", r.name(), x(a), x(b))
+            }
+            _ => unreachable!("spelled by dialect::expr"),
+        }
     }
 }

@@ -2,6 +2,7 @@
 //! and only spelling it. No printer computes, reorders or simplifies.
 
 pub mod abi;
+pub mod dialect;
 pub mod docs;
 pub mod glsl;
 pub mod hlsl;

@@ -30,7 +30,7 @@
 //! one function called from one place, printed like every other.
 
 use super::abi::{self, Binding, Kind};
-use super::binop;
+use super::dialect::{self, Dialect};
 use super::{header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::plan::*;
@@ -579,115 +579,16 @@ impl<'a> Writer<'a> {
         }
     }
 
-    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(m, f, e)
-    }
-
     fn expr(&self, m: &Module, f: &Function, written: &[Resource], e: &Expr) -> String {
-        match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u"),
-            Expr::Local(id) => self.locals[id.0].clone(),
-            Expr::ConstIndex(c, i) => format!(
-                "{}[{}]",
-                ident(&m.consts[*c].name),
-                self.expr(m, f, written, i)
-            ),
-            Expr::Const(c) => ident(&m.consts[*c].name),
-            Expr::Binary(op, a, b) => format!(
-                "({} {} {})",
-                self.expr(m, f, written, a),
-                binop(*op),
-                self.expr(m, f, written, b)
-            ),
-            Expr::Neg(a) => format!("(-{})", self.expr(m, f, written, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("f32({})", a[0]),
-                    Builtin::Sqrt => format!("sqrt({})", a[0]),
-                    Builtin::Cos => format!("cos({})", a[0]),
-                    Builtin::Sin => format!("sin({})", a[0]),
-                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
-                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
-                    Builtin::Vec3 => format!("vec3<f32>({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("round({})", a[0]),
-                    Builtin::Floor => format!("floor({})", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("u32({})", a[0]),
-                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                    Builtin::CountTrailingZeros => format!("countTrailingZeros({})", a[0]),
-                    Builtin::Normalize => format!("normalize({})", a[0]),
-                    Builtin::Abs => format!("abs({})", a[0]),
-                    Builtin::Min => format!("min({}, {})", a[0], a[1]),
-                    Builtin::Fwidth => format!("fwidth({})", a[0]),
-                    Builtin::Vec2 => format!("vec2<f32>({}, {})", a[0], a[1]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let callee = match r {
-                    FnRef::Common(i) => &self.plan.common.functions[*i],
-                    FnRef::Local(i) => &m.functions[*i],
-                };
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
-                format!("{}({})", ident(&callee.name), a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
-                format!(
-                    "{}.{}",
-                    self.expr(m, f, written, a),
-                    self.field_name(&t, *k)
-                )
-            }
-            Expr::Make(s, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, written, x)).collect();
-                format!(
-                    "{}({})",
-                    ident(&self.plan.common.structs[*s].name),
-                    a.join(", ")
-                )
-            }
-            Expr::Fetch(r, i) => {
-                let idx = self.expr(m, f, written, i);
-                let var = self.read_var(*r, written);
-                if super::binding(*r).is_some_and(packed) {
-                    let s = format!("load_{var}({idx})");
-                    self.accessors.borrow_mut().insert((var, false, *r));
-                    s
-                } else {
-                    format!("{var}[{idx}]")
-                }
-            }
-            Expr::TableWeight(row, col) => format!(
-                "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
-                self.expr(m, f, written, col),
-                self.expr(m, f, written, row)
-            ),
-            Expr::Float(r, i) => format!(
-                "{}[{}]",
-                self.read_var(*r, written),
-                self.expr(m, f, written, i)
-            ),
-            Expr::Stage(StageIn::Param(n)) => param(n),
-            Expr::Stage(StageIn::GlobalId) => "gid.x".into(),
-            Expr::Stage(StageIn::GlobalIdY) => "gid.y".into(),
-            Expr::Stage(StageIn::WorkgroupId) => "wid.x".into(),
-            Expr::Stage(StageIn::LocalIndex) => "l".into(),
-            Expr::Stage(StageIn::VertexIndex) => "vi".into(),
-            Expr::Stage(StageIn::InstanceIndex) => "inst".into(),
-            Expr::Stage(StageIn::Varying(o)) => format!("input.{}", varying(*o)),
-            // Only in the tessellation stage bodies (`Entries::tess`).
-            Expr::Stage(StageIn::TessCoord(_) | StageIn::PatchInDraw) | Expr::PatchSlot(..) => {
-                unreachable!("tessellation-stage input outside Entries::tess")
-            }
-            Expr::Texel(r, x, y) => format!(
-                "textureLoad({}, vec2<u32>({}, {}), 0u).x",
-                r.name(),
-                self.expr(m, f, written, x),
-                self.expr(m, f, written, y)
-            ),
-        }
+        dialect::expr(
+            &Cx {
+                w: self,
+                m,
+                f,
+                written,
+            },
+            e,
+        )
     }
 
     /// The Plan's entry points ([`Entries::instanced`]) and the
@@ -795,5 +696,86 @@ fn varying(o: StageOut) -> &'static str {
         StageOut::PatchClass => "patch_class",
         StageOut::Uv => "uv",
         _ => unreachable!("not an output of the instanced vertex entries"),
+    }
+}
+
+/// The WGSL dialect, for one function: `written` are the buffers the
+/// function writes (itself or through its callees), which decides the
+/// variable a read goes through.
+struct Cx<'c, 'a> {
+    w: &'c Writer<'a>,
+    m: &'c Module,
+    f: &'c Function,
+    written: &'c [Resource],
+}
+
+impl Dialect for Cx<'_, '_> {
+    fn plan(&self) -> &Plan {
+        self.w.plan
+    }
+    fn module(&self) -> &Module {
+        self.m
+    }
+    fn function(&self) -> &Function {
+        self.f
+    }
+    fn ident(&self, name: &str) -> String {
+        ident(name)
+    }
+    fn local(&self, id: LocalId) -> String {
+        self.w.locals[id.0].clone()
+    }
+    fn f32_lit(&self, x: f32) -> String {
+        f32_lit(x)
+    }
+    fn f32_ty(&self) -> &'static str {
+        "f32"
+    }
+    fn u32_ty(&self) -> &'static str {
+        "u32"
+    }
+    fn vec2_ty(&self) -> &'static str {
+        "vec2<f32>"
+    }
+    fn vec3_ty(&self) -> &'static str {
+        "vec3<f32>"
+    }
+    fn special(&self, e: &Expr) -> String {
+        let x = |e: &Expr| dialect::expr(self, e);
+        match e {
+            Expr::Fetch(r, i) => {
+                let idx = x(i);
+                let var = self.w.read_var(*r, self.written);
+                if super::binding(*r).is_some_and(packed) {
+                    let s = format!("load_{var}({idx})");
+                    self.w.accessors.borrow_mut().insert((var, false, *r));
+                    s
+                } else {
+                    format!("{var}[{idx}]")
+                }
+            }
+            Expr::TableWeight(row, col) => format!(
+                "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
+                x(col),
+                x(row)
+            ),
+            Expr::Float(r, i) => format!("{}[{}]", self.w.read_var(*r, self.written), x(i)),
+            Expr::Stage(StageIn::Param(n)) => param(n),
+            Expr::Stage(StageIn::GlobalId) => "gid.x".into(),
+            Expr::Stage(StageIn::GlobalIdY) => "gid.y".into(),
+            Expr::Stage(StageIn::WorkgroupId) => "wid.x".into(),
+            Expr::Stage(StageIn::LocalIndex) => "l".into(),
+            Expr::Stage(StageIn::VertexIndex) => "vi".into(),
+            Expr::Stage(StageIn::InstanceIndex) => "inst".into(),
+            Expr::Stage(StageIn::Varying(o)) => format!("input.{}", varying(*o)),
+            Expr::Texel(r, a, b) => format!(
+                "textureLoad({}, vec2<u32>({}, {}), 0u).x",
+                r.name(),
+                x(a),
+                x(b)
+            ),
+            // Only in the tessellation stage bodies (`Entries::tess`).
+            _ => unreachable!("tessellation-stage input outside Entries::tess"),
+        }
     }
 }
