@@ -56,6 +56,25 @@ pub trait Dialect: Sized {
         let name = &self.plan().common.structs[s].name;
         format!("{}({})", self.ident(name), args.join(", "))
     }
+    /// The binding part of a declaration, before ` = value` (`let x: T`,
+    /// `var x: T`, `T x`); `mutable` for [`Stmt::Var`].
+    fn decl(&self, id: LocalId, mutable: bool) -> String;
+    /// The head of an `if`.
+    fn if_head(&self, c: &Expr) -> String {
+        format!("if {} {{", expr(self, c))
+    }
+    /// The head of a loop over `v = start; v < end` by `step` (`None`: the
+    /// unit step of [`Stmt::For`], `Some`: [`Stmt::ForStep`]).
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String;
+    /// Whether `#ifdef` reaches the compiler (GLSL, HLSL); otherwise
+    /// [`Stmt::IfDef`] prints its default branch alone.
+    fn preprocessor(&self) -> bool {
+        false
+    }
+    /// The statements each target spells its own way: memory writes
+    /// ([`Stmt::Store`], [`Stmt::StoreFloat`], [`Stmt::StorePatchSlot`]),
+    /// stage outputs and barriers.
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines);
     /// Memory, stage inputs and the other expressions each target spells
     /// its own way: [`Expr::Fetch`], [`Expr::Float`], [`Expr::TableWeight`],
     /// [`Expr::Texel`], [`Expr::Stage`], [`Expr::PatchSlot`].
@@ -130,5 +149,105 @@ pub fn builtin<D: Dialect>(d: &D, b: Builtin, a: &[String]) -> String {
         Builtin::Normalize => call("normalize"),
         Builtin::Fwidth => call("fwidth"),
         Builtin::CountTrailingZeros => call("countTrailingZeros"),
+    }
+}
+
+/// Printed lines: four spaces per indentation level, empty lines bare,
+/// preprocessor lines at column 0.
+pub struct Lines {
+    pub out: String,
+    pub indent: usize,
+}
+
+impl Lines {
+    pub fn line(&mut self, s: &str) {
+        if !s.is_empty() {
+            for _ in 0..self.indent {
+                self.out.push_str("    ");
+            }
+            self.out.push_str(s);
+        }
+        self.out.push('\n');
+    }
+    /// A line at column 0.
+    pub fn raw(&mut self, s: &str) {
+        self.out.push_str(s);
+        self.out.push('\n');
+    }
+    /// `// ` comment lines.
+    pub fn doc(&mut self, doc: &str) {
+        for l in doc.lines() {
+            self.line(format!("// {l}").trim_end());
+        }
+    }
+    fn block<D: Dialect>(&mut self, d: &D, body: &[Stmt]) {
+        self.indent += 1;
+        stmts(d, body, self);
+        self.indent -= 1;
+    }
+}
+
+/// `body` in dialect `d`, the statements in Plan order.
+pub fn stmts<D: Dialect>(d: &D, body: &[Stmt], out: &mut Lines) {
+    let x = |e: &Expr| expr(d, e);
+    for s in body {
+        match s {
+            Stmt::Let(id, e) | Stmt::Var(id, e) => {
+                let decl = d.decl(*id, matches!(s, Stmt::Var(..)));
+                out.line(&format!("{decl} = {};", x(e)));
+            }
+            Stmt::Assign(id, e) => out.line(&format!("{} = {};", d.local(*id), x(e))),
+            Stmt::AssignField(id, k, e) => {
+                let field = match &d.function().locals[id.0].ty {
+                    Ty::Struct(i) => d.ident(&d.plan().common.structs[*i].fields[*k].0),
+                    _ => format!("field{k}"),
+                };
+                out.line(&format!("{}.{field} = {};", d.local(*id), x(e)));
+            }
+            Stmt::If(c, a, b) => {
+                out.line(&d.if_head(c));
+                out.block(d, a);
+                if !b.is_empty() {
+                    out.line("} else {");
+                    out.block(d, b);
+                }
+                out.line("}");
+            }
+            Stmt::IfDef(def, a, b) if d.preprocessor() => {
+                let (open, first, second) = if a.is_empty() {
+                    (format!("#ifndef {}", def.name()), b, &a[..])
+                } else {
+                    (format!("#ifdef {}", def.name()), a, &b[..])
+                };
+                out.raw(&open);
+                stmts(d, first, out);
+                if !second.is_empty() {
+                    out.raw("#else");
+                    stmts(d, second, out);
+                }
+                out.raw("#endif");
+            }
+            // No preprocessor: always the default branch.
+            Stmt::IfDef(_, _, b) => stmts(d, b, out),
+            Stmt::For(id, a, b, body) => {
+                out.line(&d.for_head(*id, x(a), x(b), None));
+                out.block(d, body);
+                out.line("}");
+            }
+            Stmt::ForStep(id, a, b, step, body) => {
+                out.line(&d.for_head(*id, x(a), x(b), Some(x(step))));
+                out.block(d, body);
+                out.line("}");
+            }
+            Stmt::Return(e) => out.line(&format!("return {};", x(e))),
+            Stmt::ReturnVoid => out.line("return;"),
+            Stmt::Call(r, xs) => out.line(&format!("{};", x(&Expr::CallFn(*r, xs.clone())))),
+            Stmt::Comment(c) => out.doc(c),
+            Stmt::Store(..)
+            | Stmt::StoreFloat(..)
+            | Stmt::StorePatchSlot(..)
+            | Stmt::Output(..)
+            | Stmt::Barrier(_) => d.special_stmt(s, out),
+        }
     }
 }

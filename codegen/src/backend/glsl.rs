@@ -28,7 +28,7 @@
 //! `te_*`) and declares the stage I/O and the packed per-patch `tcs_cp`.
 
 use super::abi::{self, Binding, Kind};
-use super::dialect::{self, Dialect};
+use super::dialect::{self, Dialect, Lines};
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::entries::Offsets;
@@ -897,178 +897,13 @@ impl<'a> Writer<'a> {
         )
     }
 
-    fn cond(&self, m: &Module, f: &Function, c: &Expr) -> String {
-        let s = self.expr(m, f, c);
-        if matches!(c, Expr::Binary(..)) {
-            s
-        } else {
-            format!("({s})")
-        }
-    }
-
     fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) | Stmt::Var(id, e) => {
-                    let s = format!("{} = {};", self.decl(f, *id), self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", self.locals[id.0], self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", self.locals[id.0], self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Store(r, i, v) => {
-                    let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
-                    let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("{}({i}, {v});", ident(&self.entries.tess.store_cp.name))
-                    } else if r.ty() == Ty::Vec3 {
-                        format!("store_{}({i}, {v});", r.name())
-                    } else {
-                        format!("{}[{i}] = {v};", r.name())
-                    };
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if {} {{", self.cond(m, f, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(m, f, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                Stmt::IfDef(d, a, b) => {
-                    // Preprocessor lines at column 0.
-                    let (open, first, second) = if a.is_empty() {
-                        (format!("#ifndef {}\n", d.name()), b, &a[..])
-                    } else {
-                        (format!("#ifdef {}\n", d.name()), a, &b[..])
-                    };
-                    self.out.push_str(&open);
-                    self.stmts(m, f, first);
-                    if !second.is_empty() {
-                        self.out.push_str("#else\n");
-                        self.stmts(m, f, second);
-                    }
-                    self.out.push_str("#endif\n");
-                }
-                Stmt::For(id, a, b, body) => {
-                    let v = self.locals[id.0].clone();
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} = ({v} + 1u)) {{",
-                        self.decl(f, *id),
-                        self.expr(m, f, a),
-                        self.expr(m, f, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Call(r, xs) => {
-                    let s = format!("{};", self.expr(m, f, &Expr::CallFn(*r, xs.clone())));
-                    self.line(&s);
-                }
-                Stmt::Comment(c) => self.doc(c),
-                Stmt::StoreFloat(r, i, v) => {
-                    let s = format!(
-                        "{}[{}] = {};",
-                        r.name(),
-                        self.expr(m, f, i),
-                        self.expr(m, f, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::ReturnVoid => self.line("return;"),
-                Stmt::Barrier(Barrier::Workgroup) => self.line("barrier();"),
-                Stmt::Barrier(Barrier::Storage) => {
-                    self.line("memoryBarrierBuffer();");
-                    self.line("barrier();");
-                }
-                Stmt::ForStep(id, a, b, step, body) => {
-                    let v = self.locals[id.0].clone();
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} = {v} + {}) {{",
-                        self.decl(f, *id),
-                        self.expr(m, f, a),
-                        self.expr(m, f, b),
-                        self.expr(m, f, step)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::StorePatchSlot(a, b, v) => {
-                    let s = format!(
-                        "tcs_cp[{}][{}] = {};",
-                        self.expr(m, f, a),
-                        self.expr(m, f, b),
-                        self.expr(m, f, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Output(o, e) => {
-                    let v = self.expr(m, f, e);
-                    // GLSL's quad domain is (u, v) = (y, x): its slots are
-                    // `hw_factor_edges(sides, false)`.
-                    let slot = crate::tess::factor_slot(self.entries.sides, *o, false);
-                    let slot = slot.unwrap_or_default();
-                    match o {
-                        StageOut::EdgeFactor(_) => {
-                            self.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
-                        }
-                        StageOut::InsideFactor(_) => {
-                            self.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
-                        }
-                        StageOut::Position => {
-                            self.line(&format!("te_position = {v};"));
-                            self.line(&format!(
-                                "gl_Position = ({} * vec4({v}, 1.0));",
-                                param("view_proj")
-                            ));
-                        }
-                        StageOut::Normal => self.line(&format!("te_normal = {v};")),
-                        StageOut::Domain => self.line(&format!("te_domain = {v};")),
-                        StageOut::Patch => self.line(&format!("te_patch = {v};")),
-                        StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
-                            unreachable!(
-                                "an output of the instanced entries in a tessellation stage"
-                            )
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
-            _ => format!("field{k}"),
-        }
-    }
-
-    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
-        dialect::expr(&Cx { w: self, m, f }, e)
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Cx { w: self, m, f }, body, &mut lines);
+        self.out = lines.out;
     }
 }
 
@@ -1113,6 +948,86 @@ impl Dialect for Cx<'_, '_> {
     fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
         // findLSB(0) is -1: clamp to WGSL's 32.
         (b == Builtin::CountTrailingZeros).then(|| format!("min(uint(findLSB({})), 32u)", a[0]))
+    }
+    fn decl(&self, id: LocalId, _mutable: bool) -> String {
+        self.w.decl(self.f, id)
+    }
+    /// Parentheses around a condition that is not already a binary.
+    fn if_head(&self, c: &Expr) -> String {
+        let s = dialect::expr(self, c);
+        if matches!(c, Expr::Binary(..)) {
+            format!("if {s} {{")
+        } else {
+            format!("if ({s}) {{")
+        }
+    }
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        let v = self.local(id);
+        let next = match step {
+            None => format!("({v} + 1u)"),
+            Some(step) => format!("{v} + {step}"),
+        };
+        format!(
+            "for ({} = {start}; {v} < {end}; {v} = {next}) {{",
+            self.w.decl(self.f, id)
+        )
+    }
+    fn preprocessor(&self) -> bool {
+        true
+    }
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
+        let x = |e: &Expr| dialect::expr(self, e);
+        match s {
+            Stmt::Store(r, i, v) => {
+                let (i, v) = (x(i), x(v));
+                let s = if self.w.stage.tess() && *r == Resource::ControlPoints {
+                    format!("{}({i}, {v});", ident(&self.w.entries.tess.store_cp.name))
+                } else if r.ty() == Ty::Vec3 {
+                    format!("store_{}({i}, {v});", r.name())
+                } else {
+                    format!("{}[{i}] = {v};", r.name())
+                };
+                out.line(&s);
+            }
+            Stmt::StoreFloat(r, i, v) => out.line(&format!("{}[{}] = {};", r.name(), x(i), x(v))),
+            Stmt::Barrier(Barrier::Workgroup) => out.line("barrier();"),
+            Stmt::Barrier(Barrier::Storage) => {
+                out.line("memoryBarrierBuffer();");
+                out.line("barrier();");
+            }
+            Stmt::StorePatchSlot(a, b, v) => {
+                out.line(&format!("tcs_cp[{}][{}] = {};", x(a), x(b), x(v)))
+            }
+            Stmt::Output(o, e) => {
+                let v = dialect::expr(self, e);
+                // GLSL's quad domain is (u, v) = (y, x): its slots are
+                // `hw_factor_edges(sides, false)`.
+                let slot = crate::tess::factor_slot(self.w.entries.sides, *o, false);
+                let slot = slot.unwrap_or_default();
+                match o {
+                    StageOut::EdgeFactor(_) => {
+                        out.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
+                    }
+                    StageOut::InsideFactor(_) => {
+                        out.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
+                    }
+                    StageOut::Position => {
+                        out.line(&format!("te_position = {v};"));
+                        out.line(&format!(
+                            "gl_Position = ({} * vec4({v}, 1.0));",
+                            param("view_proj")
+                        ));
+                    }
+                    StageOut::Normal => out.line(&format!("te_normal = {v};")),
+                    StageOut::Domain => out.line(&format!("te_domain = {v};")),
+                    StageOut::Patch => out.line(&format!("te_patch = {v};")),
+                    StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
+                        unreachable!("an output of the instanced entries in a tessellation stage")
+                    }
+                }
+            }
+            _ => unreachable!("spelled by dialect::stmts"),
+        }
     }
     fn special(&self, e: &Expr) -> String {
         let x = |e: &Expr| dialect::expr(self, e);

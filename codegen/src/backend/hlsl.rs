@@ -38,7 +38,7 @@
 //! `NoContraction`).
 
 use super::abi::{self, Kind};
-use super::dialect::{self, Dialect};
+use super::dialect::{self, Dialect, Lines};
 use super::{called, header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::entries::Offsets;
@@ -631,168 +631,12 @@ impl<'a> Writer<'a> {
     }
 
     fn stmts(&mut self, cx: &Ctx, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) | Stmt::Var(id, e) => {
-                    let s = format!("{} = {};", self.decl(cx, id), self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", cx.names[id.0], self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&cx.f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", cx.names[id.0], self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Store(r, i, v) => {
-                    let (i, v) = (self.expr(cx, i), self.expr(cx, v));
-                    let s = match (r, r.ty()) {
-                        (Resource::ControlPoints, _) => format!("{}[{i}] = {v};", cx.cp.name()),
-                        (_, Ty::Vec3) => format!("store_{}({i}, {v});", r.name()),
-                        _ => format!(
-                            "{}[{i}] = {v};",
-                            write_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
-                        ),
-                    };
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if ({}) {{", self.expr(cx, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(cx, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(cx, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                Stmt::IfDef(d, a, b) => {
-                    // Preprocessor lines at column 0.
-                    let (open, first, second) = if a.is_empty() {
-                        (format!("#ifndef {}\n", d.name()), b, &a[..])
-                    } else {
-                        (format!("#ifdef {}\n", d.name()), a, &b[..])
-                    };
-                    self.out.push_str(&open);
-                    self.stmts(cx, first);
-                    if !second.is_empty() {
-                        self.out.push_str("#else\n");
-                        self.stmts(cx, second);
-                    }
-                    self.out.push_str("#endif\n");
-                }
-                Stmt::For(id, a, b, body) => {
-                    let v = &cx.names[id.0];
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} += 1u) {{",
-                        self.decl(cx, id),
-                        self.expr(cx, a),
-                        self.expr(cx, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(cx, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Call(r, xs) => {
-                    let s = format!("{};", self.expr(cx, &Expr::CallFn(*r, xs.clone())));
-                    self.line(&s);
-                }
-                Stmt::Comment(c) => self.doc(c),
-                Stmt::StoreFloat(r, i, v) => {
-                    let b = abi::binding_of(*r);
-                    let s = format!(
-                        "{}[{}] = {};",
-                        write_view(b).unwrap_or_else(|| r.name().to_string()),
-                        self.expr(cx, i),
-                        self.expr(cx, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::ReturnVoid => self.line("return;"),
-                Stmt::Barrier(Barrier::Workgroup) => {
-                    self.line("GroupMemoryBarrierWithGroupSync();")
-                }
-                Stmt::Barrier(Barrier::Storage) => self.line("DeviceMemoryBarrierWithGroupSync();"),
-                Stmt::ForStep(id, a, b, step, body) => {
-                    let v = cx.names[id.0].clone();
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} += {}) {{",
-                        self.decl(cx, id),
-                        self.expr(cx, a),
-                        self.expr(cx, b),
-                        self.expr(cx, step)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(cx, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::StorePatchSlot(a, b, v) => {
-                    let s = format!(
-                        "c.cp[{}][{}] = {};",
-                        self.expr(cx, a),
-                        self.expr(cx, b),
-                        self.expr(cx, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Output(o, e) => {
-                    let v = self.expr(cx, e);
-                    let sides = self.entries.sides;
-                    // HLSL's quad domain is (u, v) = (x, y): its slots are
-                    // `hw_factor_edges(sides, true)`.
-                    let slot = crate::tess::factor_slot(sides, *o, true).unwrap_or_default();
-                    match o {
-                        StageOut::EdgeFactor(_) => {
-                            self.line(&format!("c.edges[{slot}] = {v};"));
-                        }
-                        StageOut::InsideFactor(_) => {
-                            if sides == 3 {
-                                self.line(&format!("c.inside = {v};"));
-                            } else {
-                                self.line(&format!("c.inside[{slot}] = {v};"));
-                            }
-                        }
-                        StageOut::Position => {
-                            self.line(&format!(
-                                "o.position = mul(params.view_proj, float4({v}, 1.0f));"
-                            ));
-                            self.line(&format!("o.world = {v};"));
-                        }
-                        StageOut::Normal => self.line(&format!("o.normal = {v};")),
-                        StageOut::Domain => self.line(&format!("o.domain = {v};")),
-                        StageOut::Patch => self.line(&format!("o.patch_index = {v};")),
-                        StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
-                            unreachable!(
-                                "an output of the instanced entries in a tessellation stage"
-                            )
-                        }
-                    }
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
-            _ => format!("field{k}"),
-        }
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Hx { w: self, cx }, body, &mut lines);
+        self.out = lines.out;
     }
 
     fn callee<'m>(&self, m: &'m Module, r: FnRef) -> (&'m Module, &'m Function)
@@ -803,10 +647,6 @@ impl<'a> Writer<'a> {
             FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[i]),
             FnRef::Local(i) => (m, &m.functions[i]),
         }
-    }
-
-    fn expr(&self, cx: &Ctx, e: &Expr) -> String {
-        dialect::expr(&Hx { w: self, cx }, e)
     }
 
     // ---- entry points: the only code the printer adds beyond the Plan ----
@@ -1174,6 +1014,87 @@ impl Dialect for Hx<'_, '_> {
     fn make(&self, s: usize, args: Vec<String>) -> String {
         let name = &self.w.plan.common.structs[s].name;
         format!("make_{name}({})", args.join(", "))
+    }
+    fn decl(&self, id: LocalId, _mutable: bool) -> String {
+        self.w.decl(self.cx, &id)
+    }
+    fn if_head(&self, c: &Expr) -> String {
+        format!("if ({}) {{", dialect::expr(self, c))
+    }
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        let v = self.local(id);
+        let step = step.unwrap_or_else(|| "1u".into());
+        format!(
+            "for ({} = {start}; {v} < {end}; {v} += {step}) {{",
+            self.w.decl(self.cx, &id)
+        )
+    }
+    fn preprocessor(&self) -> bool {
+        true
+    }
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
+        let x = |e: &Expr| dialect::expr(self, e);
+        let cx = self.cx;
+        match s {
+            Stmt::Store(r, i, v) => {
+                let (i, v) = (x(i), x(v));
+                let s = match (r, r.ty()) {
+                    (Resource::ControlPoints, _) => format!("{}[{i}] = {v};", cx.cp.name()),
+                    (_, Ty::Vec3) => format!("store_{}({i}, {v});", r.name()),
+                    _ => format!(
+                        "{}[{i}] = {v};",
+                        write_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
+                    ),
+                };
+                out.line(&s);
+            }
+            Stmt::StoreFloat(r, i, v) => {
+                let b = abi::binding_of(*r);
+                out.line(&format!(
+                    "{}[{}] = {};",
+                    write_view(b).unwrap_or_else(|| r.name().to_string()),
+                    x(i),
+                    x(v)
+                ));
+            }
+            Stmt::Barrier(Barrier::Workgroup) => out.line("GroupMemoryBarrierWithGroupSync();"),
+            Stmt::Barrier(Barrier::Storage) => out.line("DeviceMemoryBarrierWithGroupSync();"),
+            Stmt::StorePatchSlot(a, b, v) => {
+                out.line(&format!("c.cp[{}][{}] = {};", x(a), x(b), x(v)))
+            }
+            Stmt::Output(o, e) => {
+                let v = dialect::expr(self, e);
+                let sides = self.w.entries.sides;
+                // HLSL's quad domain is (u, v) = (x, y): its slots are
+                // `hw_factor_edges(sides, true)`.
+                let slot = crate::tess::factor_slot(sides, *o, true).unwrap_or_default();
+                match o {
+                    StageOut::EdgeFactor(_) => {
+                        out.line(&format!("c.edges[{slot}] = {v};"));
+                    }
+                    StageOut::InsideFactor(_) => {
+                        if sides == 3 {
+                            out.line(&format!("c.inside = {v};"));
+                        } else {
+                            out.line(&format!("c.inside[{slot}] = {v};"));
+                        }
+                    }
+                    StageOut::Position => {
+                        out.line(&format!(
+                            "o.position = mul(params.view_proj, float4({v}, 1.0f));"
+                        ));
+                        out.line(&format!("o.world = {v};"));
+                    }
+                    StageOut::Normal => out.line(&format!("o.normal = {v};")),
+                    StageOut::Domain => out.line(&format!("o.domain = {v};")),
+                    StageOut::Patch => out.line(&format!("o.patch_index = {v};")),
+                    StageOut::PatchClass | StageOut::Uv | StageOut::Color => {
+                        unreachable!("an output of the instanced entries in a tessellation stage")
+                    }
+                }
+            }
+            _ => unreachable!("spelled by dialect::stmts"),
+        }
     }
     fn special(&self, e: &Expr) -> String {
         let x = |e: &Expr| dialect::expr(self, e);

@@ -5,7 +5,7 @@
 //! points being evaluated are `cp: &[Vec3]`. Rust never contracts `a * b + c`
 //! into an FMA, so the CPU path computes exactly the Plan's operations.
 
-use super::dialect::{self, Dialect};
+use super::dialect::{self, Dialect, Lines};
 use super::{header_lines, resources_of};
 use crate::plan::*;
 
@@ -375,106 +375,12 @@ pub struct SchemeKernels {
     }
 
     fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) => {
-                    let l = &f.locals[id.0];
-                    let s = format!(
-                        "let {}: {} = {};",
-                        l.name,
-                        ty(self.plan, &l.ty),
-                        self.expr(m, f, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Var(id, e) => {
-                    let l = &f.locals[id.0];
-                    let s = format!(
-                        "let mut {}: {} = {};",
-                        l.name,
-                        ty(self.plan, &l.ty),
-                        self.expr(m, f, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", f.locals[id.0].name, self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", f.locals[id.0].name, self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Store(_, i, v) => {
-                    let s = format!(
-                        "out[({}) as usize] = {};",
-                        self.expr(m, f, i),
-                        self.expr(m, f, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if {} {{", self.expr(m, f, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(m, f, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                // Only in the tessellation stage bodies (`Entries::tess`),
-                // which this target has no stages for and never prints.
-                Stmt::Call(..)
-                | Stmt::Output(..)
-                | Stmt::Comment(..)
-                | Stmt::StorePatchSlot(..) => {
-                    unreachable!("tessellation-stage statement outside Entries::tess")
-                }
-                // Only in the GPU entry points (`Entries::instanced`) and
-                // the packed accessors of the shader printers.
-                Stmt::ReturnVoid | Stmt::ForStep(..) | Stmt::Barrier(_) | Stmt::StoreFloat(..) => {
-                    unreachable!("a statement of the GPU entry points outside Entries::instanced")
-                }
-                // No preprocessor: always the default branch.
-                Stmt::IfDef(_, _, b) => self.stmts(m, f, b),
-                Stmt::For(id, a, b, body) => {
-                    let s = format!(
-                        "for {} in ({})..({}) {{",
-                        f.locals[id.0].name,
-                        self.expr(m, f, a),
-                        self.expr(m, f, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(m, f, e));
-                    self.line(&s);
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => self.plan.common.structs[*i].fields[k].0.clone(),
-            _ => format!("field{k}"),
-        }
-    }
-
-    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
-        dialect::expr(&Cx { w: self, m, f }, e)
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Cx { w: self, m, f }, body, &mut lines);
+        self.out = lines.out;
     }
 }
 
@@ -576,6 +482,25 @@ impl Dialect for Cx<'_, '_> {
             .map(|((name, _), x)| format!("{name}: {x}"))
             .collect();
         format!("{} {{ {} }}", sd.name, parts.join(", "))
+    }
+    fn decl(&self, id: LocalId, mutable: bool) -> String {
+        let l = &self.f.locals[id.0];
+        let kw = if mutable { "let mut" } else { "let" };
+        format!("{kw} {}: {}", l.name, ty(self.w.plan, &l.ty))
+    }
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        // Strided loops are only in the GPU entry points.
+        assert!(step.is_none(), "a strided loop outside Entries::instanced");
+        format!("for {} in ({start})..({end}) {{", self.local(id))
+    }
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
+        let x = |e: &Expr| dialect::expr(self, e);
+        match s {
+            Stmt::Store(_, i, v) => out.line(&format!("out[({}) as usize] = {};", x(i), x(v))),
+            // Only in the tessellation stage bodies (`Entries::tess`), the
+            // GPU entry points and the packed accessors of the shaders.
+            _ => unreachable!("a shader statement in the Rust module"),
+        }
     }
     fn special(&self, e: &Expr) -> String {
         let x = |e: &Expr| dialect::expr(self, e);

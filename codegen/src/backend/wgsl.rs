@@ -30,7 +30,7 @@
 //! one function called from one place, printed like every other.
 
 use super::abi::{self, Binding, Kind};
-use super::dialect::{self, Dialect};
+use super::dialect::{self, Dialect, Lines};
 use super::{header_lines, resources_of};
 use crate::builder::GeneratedFile;
 use crate::plan::*;
@@ -451,132 +451,18 @@ impl<'a> Writer<'a> {
     }
 
     fn stmts(&mut self, m: &Module, f: &Function, written: &[Resource], body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) | Stmt::Var(id, e) => {
-                    let kw = if matches!(s, Stmt::Let(..)) {
-                        "let"
-                    } else {
-                        "var"
-                    };
-                    let s = format!(
-                        "{kw} {}: {} = {};",
-                        self.locals[id.0],
-                        self.ty(&f.locals[id.0].ty),
-                        self.expr(m, f, written, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", self.locals[id.0], self.expr(m, f, written, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&f.locals[id.0].ty, *k);
-                    let s = format!(
-                        "{}.{field} = {};",
-                        self.locals[id.0],
-                        self.expr(m, f, written, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Store(r, i, v) => {
-                    let (i, v) = (self.expr(m, f, written, i), self.expr(m, f, written, v));
-                    let s = if let Some(b) = super::binding(*r).filter(|b| packed(b)) {
-                        self.accessors
-                            .borrow_mut()
-                            .insert((b.name.to_string(), true, *r));
-                        format!("store_{}({i}, {v});", b.name)
-                    } else {
-                        format!("{}[{i}] = {v};", self.read_var(*r, written))
-                    };
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if {} {{", self.expr(m, f, written, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, written, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(m, f, written, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                Stmt::Call(r, xs) => {
-                    let s = format!(
-                        "{};",
-                        self.expr(m, f, written, &Expr::CallFn(*r, xs.clone()))
-                    );
-                    self.line(&s);
-                }
-                Stmt::Comment(c) => self.doc(c),
-                Stmt::StoreFloat(r, i, v) => {
-                    let s = format!(
-                        "{}[{}] = {};",
-                        self.read_var(*r, written),
-                        self.expr(m, f, written, i),
-                        self.expr(m, f, written, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::ReturnVoid => self.line("return;"),
-                Stmt::Barrier(Barrier::Workgroup) => self.line("workgroupBarrier();"),
-                Stmt::Barrier(Barrier::Storage) => self.line("storageBarrier();"),
-                Stmt::ForStep(id, a, b, step, body) => {
-                    let v = self.locals[id.0].clone();
-                    let s = format!(
-                        "for (var {v}: {} = {}; {v} < {}; {v} = {v} + {}) {{",
-                        self.ty(&f.locals[id.0].ty),
-                        self.expr(m, f, written, a),
-                        self.expr(m, f, written, b),
-                        self.expr(m, f, written, step)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, written, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                // Only in the tessellation stage bodies (`Entries::tess`),
-                // which this target has no stages for and never prints.
-                Stmt::Output(..) | Stmt::StorePatchSlot(..) => {
-                    unreachable!("tessellation-stage statement outside Entries::tess")
-                }
-                // No preprocessor: always the default branch.
-                Stmt::IfDef(_, _, b) => self.stmts(m, f, written, b),
-                Stmt::For(id, a, b, body) => {
-                    let v = self.locals[id.0].clone();
-                    let s = format!(
-                        "for (var {v}: {} = {}; {v} < {}; {v} = ({v} + 1u)) {{",
-                        self.ty(&f.locals[id.0].ty),
-                        self.expr(m, f, written, a),
-                        self.expr(m, f, written, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, written, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(m, f, written, e));
-                    self.line(&s);
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
-            _ => format!("field{k}"),
-        }
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        let cx = Cx {
+            w: self,
+            m,
+            f,
+            written,
+        };
+        dialect::stmts(&cx, body, &mut lines);
+        self.out = lines.out;
     }
 
     fn expr(&self, m: &Module, f: &Function, written: &[Resource], e: &Expr) -> String {
@@ -739,6 +625,49 @@ impl Dialect for Cx<'_, '_> {
     }
     fn vec3_ty(&self) -> &'static str {
         "vec3<f32>"
+    }
+    fn decl(&self, id: LocalId, mutable: bool) -> String {
+        let kw = if mutable { "var" } else { "let" };
+        let ty = self.w.ty(&self.f.locals[id.0].ty);
+        format!("{kw} {}: {ty}", self.local(id))
+    }
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        let v = self.local(id);
+        let ty = self.w.ty(&self.f.locals[id.0].ty);
+        let next = match step {
+            None => format!("({v} + 1u)"),
+            Some(step) => format!("{v} + {step}"),
+        };
+        format!("for (var {v}: {ty} = {start}; {v} < {end}; {v} = {next}) {{")
+    }
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
+        let x = |e: &Expr| dialect::expr(self, e);
+        match s {
+            Stmt::Store(r, i, v) => {
+                let (i, v) = (x(i), x(v));
+                let s = if let Some(b) = super::binding(*r).filter(|b| packed(b)) {
+                    self.w
+                        .accessors
+                        .borrow_mut()
+                        .insert((b.name.to_string(), true, *r));
+                    format!("store_{}({i}, {v});", b.name)
+                } else {
+                    format!("{}[{i}] = {v};", self.w.read_var(*r, self.written))
+                };
+                out.line(&s);
+            }
+            Stmt::StoreFloat(r, i, v) => out.line(&format!(
+                "{}[{}] = {};",
+                self.w.read_var(*r, self.written),
+                x(i),
+                x(v)
+            )),
+            Stmt::Barrier(Barrier::Workgroup) => out.line("workgroupBarrier();"),
+            Stmt::Barrier(Barrier::Storage) => out.line("storageBarrier();"),
+            // Only in the tessellation stage bodies (`Entries::tess`),
+            // which this target has no stages for and never prints.
+            _ => unreachable!("tessellation-stage statement outside Entries::tess"),
+        }
     }
     fn special(&self, e: &Expr) -> String {
         let x = |e: &Expr| dialect::expr(self, e);
