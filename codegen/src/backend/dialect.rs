@@ -64,8 +64,17 @@ pub trait Dialect: Sized {
         format!("if {} {{", expr(self, c))
     }
     /// The head of a loop over `v = start; v < end` by `step` (`None`: the
-    /// unit step of [`Stmt::For`], `Some`: [`Stmt::ForStep`]).
-    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String;
+    /// unit step of [`Stmt::For`], `Some`: [`Stmt::ForStep`]): C's `for`
+    /// with the mutable declaration of `v` (WGSL, GLSL).
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        let v = self.local(id);
+        let next = match step {
+            None => format!("({v} + 1u)"),
+            Some(step) => format!("{v} + {step}"),
+        };
+        let decl = self.decl(id, true);
+        format!("for ({decl} = {start}; {v} < {end}; {v} = {next}) {{")
+    }
     /// Whether `#ifdef` reaches the compiler (GLSL, HLSL); otherwise
     /// [`Stmt::IfDef`] prints its default branch alone.
     fn preprocessor(&self) -> bool {

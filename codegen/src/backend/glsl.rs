@@ -961,17 +961,6 @@ impl Dialect for Cx<'_, '_> {
             format!("if ({s}) {{")
         }
     }
-    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
-        let v = self.local(id);
-        let next = match step {
-            None => format!("({v} + 1u)"),
-            Some(step) => format!("{v} + {step}"),
-        };
-        format!(
-            "for ({} = {start}; {v} < {end}; {v} = {next}) {{",
-            self.w.decl(self.f, id)
-        )
-    }
     fn preprocessor(&self) -> bool {
         true
     }

@@ -631,15 +631,6 @@ impl Dialect for Cx<'_, '_> {
         let ty = self.w.ty(&self.f.locals[id.0].ty);
         format!("{kw} {}: {ty}", self.local(id))
     }
-    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
-        let v = self.local(id);
-        let ty = self.w.ty(&self.f.locals[id.0].ty);
-        let next = match step {
-            None => format!("({v} + 1u)"),
-            Some(step) => format!("{v} + {step}"),
-        };
-        format!("for (var {v}: {ty} = {start}; {v} < {end}; {v} = {next}) {{")
-    }
     fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
         let x = |e: &Expr| dialect::expr(self, e);
         match s {
