@@ -648,3 +648,90 @@ pub fn packed_store(r: Resource, name: &str, doc: &str, offsets: Offsets) -> Fun
     f.body = body;
     f
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::wgsl::{ADAPTIVE_ENTRY_POINTS, ENTRY_POINTS};
+    use crate::{builtin_schemes, StencilTable};
+
+    fn plan() -> Plan {
+        let schemes: Vec<crate::Scheme> = builtin_schemes()
+            .iter()
+            .map(|s| s.compile(5).expect("built-in scheme"))
+            .collect();
+        let table = StencilTable::build(&schemes, 5);
+        crate::lower::plan(&schemes, &table)
+    }
+
+    /// The entry-point list the WGSL printer publishes (and the runtime
+    /// and `validate_wgsl` rely on) is the Plan's, in order, with the
+    /// Plan's stages.
+    #[test]
+    fn published_entry_points_are_the_plans() {
+        let published: Vec<(&str, &str)> = ENTRY_POINTS
+            .iter()
+            .chain(ADAPTIVE_ENTRY_POINTS)
+            .copied()
+            .collect();
+        for (module, entries) in &plan().schemes {
+            let planned: Vec<(&str, &str)> = entries
+                .instanced
+                .iter()
+                .filter_map(|i| match i {
+                    EntryItem::Entry(e) => Some((
+                        e.body.name.as_str(),
+                        match e.kind {
+                            EntryKind::Compute { .. } => "compute",
+                            EntryKind::Vertex => "vertex",
+                            EntryKind::Fragment => "fragment",
+                        },
+                    )),
+                    _ => None,
+                })
+                .collect();
+            assert_eq!(planned, published, "scheme {}", module.name);
+        }
+    }
+
+    /// Every builtin input an entry body reads is one it declares, so the
+    /// printers' parameter lists are complete.
+    #[test]
+    fn entry_inputs_are_declared() {
+        for (_, entries) in &plan().schemes {
+            for item in &entries.instanced {
+                let EntryItem::Entry(e) = item else { continue };
+                let mut used = Vec::new();
+                let mut note = |n: Node| {
+                    if let Node::Expr(Expr::Stage(s)) = n {
+                        used.push(*s);
+                    }
+                };
+                walk(&e.body.body, &mut note);
+                for (_, x) in &e.outputs {
+                    walk_expr(x, &mut note);
+                }
+                for s in used {
+                    let declared = match s {
+                        StageIn::Param(_) => true,
+                        StageIn::GlobalIdY => e.inputs.contains(&StageIn::GlobalId),
+                        StageIn::Varying(_) => e.kind == EntryKind::Fragment,
+                        s => e.inputs.contains(&s),
+                    };
+                    assert!(declared, "{}: {s:?} not declared", e.body.name);
+                }
+            }
+        }
+    }
+
+    /// The two forms of the packed accessors address the same floats.
+    #[test]
+    fn packed_accessor_forms_agree() {
+        for offsets in [Offsets::Bound, Offsets::Inline] {
+            let f = packed_load(Resource::Positions, "load", "", offsets);
+            assert_eq!(f.resources(), vec![(Resource::Positions, false)]);
+            let f = packed_store(Resource::VertexOut, "store", "", offsets);
+            assert_eq!(f.resources(), vec![(Resource::VertexOut, true)]);
+        }
+    }
+}

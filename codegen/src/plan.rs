@@ -966,3 +966,45 @@ mod tests {
         assert_eq!(f.locals[b.0].name, "sector_0_1");
     }
 }
+
+#[cfg(test)]
+mod walk_tests {
+    use super::build::*;
+    use super::*;
+
+    /// `walk` reaches statements and expressions inside every kind of
+    /// block, so the analyses built on it (resources, table reads, calls)
+    /// see nested code.
+    #[test]
+    fn walk_reaches_nested_blocks() {
+        let mut func = Function::new("f", "");
+        let i = func.local("i", Ty::U32);
+        let store = Stmt::Store(Resource::Samples, l(i), Expr::F32(0.0));
+        let call = Stmt::Call(FnRef::Common(3), vec![fetch(Resource::Valence, l(i))]);
+        func.body = vec![Stmt::IfDef(
+            Define::Capture,
+            vec![],
+            vec![Stmt::ForStep(
+                i,
+                u(0),
+                u(4),
+                u(1),
+                vec![Stmt::If(
+                    bin(
+                        BinOp::Lt,
+                        Expr::TableWeight(Box::new(u(0)), Box::new(u(1))),
+                        f(1.0),
+                    ),
+                    vec![store],
+                    vec![call],
+                )],
+            )],
+        )];
+        assert_eq!(
+            func.resources(),
+            vec![(Resource::Valence, false), (Resource::Samples, true)]
+        );
+        assert!(func.reads_table());
+        assert_eq!(func.called(), vec![FnRef::Common(3)]);
+    }
+}
