@@ -1,5 +1,9 @@
 //! Printers: one writer per target, each walking the same [`Plan`](crate::plan::Plan)
-//! and only spelling it. No printer computes, reorders or simplifies.
+//! and only spelling it. No printer computes, reorders or simplifies: the
+//! walk over expressions and statements is [`dialect`]'s, shared by all
+//! four; a printer is a [`dialect::Dialect`] (its names, types, memory and
+//! stage I/O) plus the declarations around the Plan's functions and entry
+//! points (bindings, attributes, stage interfaces).
 
 pub mod abi;
 pub mod dialect;
