@@ -7,6 +7,9 @@
 //! index. A printer's job is only to spell these in its language; if two
 //! printers disagree on a result, the bug is in a printer.
 
+mod walk;
+pub use walk::{walk, walk_expr, Node};
+
 /// Value types.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Ty {
@@ -577,86 +580,6 @@ impl Function {
     }
 }
 
-/// A statement or an expression met by [`walk`].
-#[derive(Clone, Copy, Debug)]
-pub enum Node<'a> {
-    Stmt(&'a Stmt),
-    Expr(&'a Expr),
-}
-
-/// The one traversal of Plan code: every statement of `body` (nested
-/// blocks too), then each of its expressions and their subexpressions, in
-/// source order, parents before children. Analyses that need "every fetch",
-/// "every call" and the like are a match over [`Node`] instead of another
-/// hand-written recursion over every variant.
-pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
-    for s in body {
-        f(Node::Stmt(s));
-        match s {
-            Stmt::Let(_, e)
-            | Stmt::Var(_, e)
-            | Stmt::Assign(_, e)
-            | Stmt::Return(e)
-            | Stmt::AssignField(_, _, e)
-            | Stmt::Output(_, e) => walk_expr(e, f),
-            Stmt::Store(_, i, v) | Stmt::StoreFloat(_, i, v) => {
-                walk_expr(i, f);
-                walk_expr(v, f);
-            }
-            Stmt::If(c, a, b) => {
-                walk_expr(c, f);
-                walk(a, f);
-                walk(b, f);
-            }
-            Stmt::IfDef(_, a, b) => {
-                walk(a, f);
-                walk(b, f);
-            }
-            Stmt::For(_, a, b, body) => {
-                walk_expr(a, f);
-                walk_expr(b, f);
-                walk(body, f);
-            }
-            Stmt::ForStep(_, a, b, step, body) => {
-                walk_expr(a, f);
-                walk_expr(b, f);
-                walk_expr(step, f);
-                walk(body, f);
-            }
-            Stmt::Call(_, xs) => xs.iter().for_each(|x| walk_expr(x, f)),
-            Stmt::StorePatchSlot(a, b, v) => {
-                walk_expr(a, f);
-                walk_expr(b, f);
-                walk_expr(v, f);
-            }
-            Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
-        }
-    }
-}
-
-/// [`walk`] over one expression.
-pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
-    f(Node::Expr(e));
-    match e {
-        Expr::Fetch(_, a)
-        | Expr::Float(_, a)
-        | Expr::ConstIndex(_, a)
-        | Expr::Neg(a)
-        | Expr::Field(a, _) => walk_expr(a, f),
-        Expr::Binary(_, a, b)
-        | Expr::TableWeight(a, b)
-        | Expr::Texel(_, a, b)
-        | Expr::PatchSlot(a, b) => {
-            walk_expr(a, f);
-            walk_expr(b, f);
-        }
-        Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
-            xs.iter().for_each(|x| walk_expr(x, f))
-        }
-        Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
-    }
-}
-
 /// A module-level constant (scalar or array of u32).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstDecl {
@@ -964,47 +887,5 @@ mod tests {
         let b = f.local("sector_0", Ty::Vec3);
         assert_ne!(f.locals[a.0].name, f.locals[b.0].name);
         assert_eq!(f.locals[b.0].name, "sector_0_1");
-    }
-}
-
-#[cfg(test)]
-mod walk_tests {
-    use super::build::*;
-    use super::*;
-
-    /// `walk` reaches statements and expressions inside every kind of
-    /// block, so the analyses built on it (resources, table reads, calls)
-    /// see nested code.
-    #[test]
-    fn walk_reaches_nested_blocks() {
-        let mut func = Function::new("f", "");
-        let i = func.local("i", Ty::U32);
-        let store = Stmt::Store(Resource::Samples, l(i), Expr::F32(0.0));
-        let call = Stmt::Call(FnRef::Common(3), vec![fetch(Resource::Valence, l(i))]);
-        func.body = vec![Stmt::IfDef(
-            Define::Capture,
-            vec![],
-            vec![Stmt::ForStep(
-                i,
-                u(0),
-                u(4),
-                u(1),
-                vec![Stmt::If(
-                    bin(
-                        BinOp::Lt,
-                        Expr::TableWeight(Box::new(u(0)), Box::new(u(1))),
-                        f(1.0),
-                    ),
-                    vec![store],
-                    vec![call],
-                )],
-            )],
-        )];
-        assert_eq!(
-            func.resources(),
-            vec![(Resource::Valence, false), (Resource::Samples, true)]
-        );
-        assert!(func.reads_table());
-        assert_eq!(func.called(), vec![FnRef::Common(3)]);
     }
 }
