@@ -13,7 +13,6 @@
 pub mod backend;
 pub mod builder;
 pub mod error;
-pub mod form;
 pub mod front;
 pub mod lower;
 pub mod outdir;

@@ -380,7 +380,7 @@ fn check_eval(name: &str, case: &Value, key: &str, worst: &mut Worst) {
 /// golden quads (valences 4444, 5444, 3546, 8374).
 #[test]
 fn acc_matches_schemes_reference() {
-    use tessgen_codegen::form::Form;
+    use tessgen_codegen::plan::form::Form;
     let g = common::json("spec/schemes_reference.json");
     let scheme = kernels::scheme("acc").expect("acc");
     let mut worst = Worst::default();
@@ -564,7 +564,7 @@ fn check_triangle(name: &str, key: &str) -> Worst {
 /// The cubic-triangle control points as the reference names them:
 /// `b_ijk` exponents of (w1, w2, w3) = corners (0, 1, 2).
 fn tri_control_names() -> [(&'static str, usize); 10] {
-    use tessgen_codegen::form::Form;
+    use tessgen_codegen::plan::form::Form;
     let f = Form::TriCubic;
     [
         ("b300", f.storage_index(0, 0)),
@@ -584,7 +584,7 @@ fn tri_control_names() -> [(&'static str, usize); 10] {
 /// and positions/normals at the golden barycentric samples.
 #[test]
 fn pn_matches_schemes_reference() {
-    use tessgen_codegen::form::Form;
+    use tessgen_codegen::plan::form::Form;
     let g = common::json("spec/schemes_reference.json");
     let pn = &g["pn"];
     let scheme = kernels::scheme("pn").expect("pn");
@@ -618,7 +618,7 @@ fn pn_matches_schemes_reference() {
 /// field's corner coefficients) and positions/normals at the samples.
 #[test]
 fn stpn_matches_schemes_reference() {
-    use tessgen_codegen::form::Form;
+    use tessgen_codegen::plan::form::Form;
     let g = common::json("spec/schemes_reference.json");
     let st = &g["st_pn"];
     let scheme = kernels::scheme("stpn").expect("stpn");

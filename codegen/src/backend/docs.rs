@@ -183,17 +183,17 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
         s.push_str("| class | faces | form | control points | layout |\n|---|---|---|---|---|\n");
         for (k, p) in e.patches.iter().enumerate() {
             let layout = match p.form {
-                crate::form::Form::Bicubic => "Bézier net `G[k][l]` at `4k + l` (k along u)",
-                crate::form::Form::CPatch => "`6i + {v, t0, t1, b211, b121, b112}` per corner i",
-                crate::form::Form::Acc => {
+                crate::plan::form::Form::Bicubic => "Bézier net `G[k][l]` at `4k + l` (k along u)",
+                crate::plan::form::Form::CPatch => "`6i + {v, t0, t1, b211, b121, b112}` per corner i",
+                crate::plan::form::Form::Acc => {
                     "geometry `G[k][l]` at `4k + l`; tangent coefficients at \
                      `16 + 6i + {da00, da01, da10, da11, db00, db10}` in corner i's frame \
                      (a toward v_{i+1}, b toward v_{i-1})"
                 }
-                crate::form::Form::Gregory => {
+                crate::plan::form::Form::Gregory => {
                     "`5i + {P, E⁺, E⁻, F⁺, F⁻}` per corner i (OpenSubdiv order)"
                 }
-                crate::form::Form::TriCubic => {
+                crate::plan::form::Form::TriCubic => {
                     "`5i + {b, bn, bp, n, nm}` per corner i, centre at 15 (cubic triangle + quadratic normal field)"
                 }
             };

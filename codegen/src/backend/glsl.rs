@@ -28,11 +28,15 @@
 //! `te_*`) and declares the stage I/O and the packed per-patch `tcs_cp`.
 
 use super::abi::{self, Binding, Kind};
-use super::binop;
+use super::dialect::{self, Dialect, Lines};
 use super::{called, header_lines, resources_of};
+use crate::lower::entries::Offsets;
 use crate::outdir::GeneratedFile;
 use crate::plan::*;
 use std::collections::{BTreeMap, HashSet};
+
+mod spell;
+use spell::Cx;
 
 /// Print every scheme of the plan as GLSL files.
 pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
@@ -368,10 +372,6 @@ impl<'a> Writer<'a> {
         }
     }
 
-    fn fn_name(&self, r: FnRef) -> String {
-        ident(&self.function(r).1.name)
-    }
-
     fn ty(&self, t: &Ty) -> String {
         match t {
             Ty::F32 => "float".into(),
@@ -394,7 +394,7 @@ impl<'a> Writer<'a> {
                     .map(|p| FnRef::Local(p.function))
                     .collect();
                 if self.stage == Stage::Tesc {
-                    r.push(FnRef::Common(crate::lower::common_fn::EDGE_FACTOR));
+                    r.push(FnRef::Common(crate::plan::common_fn::EDGE_FACTOR));
                 }
                 r
             }
@@ -543,17 +543,6 @@ impl<'a> Writer<'a> {
         Some((extra, fns))
     }
 
-    /// Largest control-point count over the scheme's classes.
-    fn kmax(&self) -> u32 {
-        self.entries
-            .patches
-            .iter()
-            .map(|p| p.control_points)
-            .max()
-            .unwrap_or(1)
-            .max(1)
-    }
-
     fn file(&mut self, command: &str) {
         for h in header_lines(command) {
             self.line(&format!("// {h}"));
@@ -656,11 +645,8 @@ impl<'a> Writer<'a> {
                 "// in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4),",
             );
             self.line("// so KMAX vec3 would take KMAX locations.");
-            self.line(&format!("const uint KMAX = {}u;", self.kmax()));
-            self.line(&format!(
-                "const uint KMAX4 = {}u;",
-                (3 * self.kmax()).div_ceil(4)
-            ));
+            self.line(&format!("const uint KMAX = {}u;", self.entries.tess.points));
+            self.line(&format!("const uint KMAX4 = {}u;", self.entries.tess.slots));
             self.line(&format!(
                 "layout(location = 0) patch {dir} vec4 tcs_cp[KMAX4];"
             ));
@@ -817,39 +803,34 @@ impl<'a> Writer<'a> {
             let Some(&(read, written)) = need.get(&b.binding) else {
                 continue;
             };
-            let n = b.name;
+            let (n, Some(r)) = (b.name, b.resource) else {
+                continue;
+            };
+            let module = self.module;
             if read {
-                self.line(&format!("vec3 load_{n}(uint i) {{"));
-                self.line(&format!(
-                    "    return vec3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
-                ));
-                self.line("}");
+                let f = crate::lower::entries::packed_load(
+                    r,
+                    &format!("load_{n}"),
+                    "",
+                    Offsets::Inline,
+                );
+                self.plan_function(module, &f);
                 self.line("");
             }
             if written {
-                self.line(&format!("void store_{n}(uint i, vec3 v) {{"));
-                self.line(&format!("    {n}[(3u * i)] = v.x;"));
-                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
-                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
-                self.line("}");
+                let f = crate::lower::entries::packed_store(
+                    r,
+                    &format!("store_{n}"),
+                    "",
+                    Offsets::Inline,
+                );
+                self.plan_function(module, &f);
                 self.line("");
             }
-        }
-    }
-
-    /// Call of the class's patch function: `if (class == 0) {…} else …`,
-    /// the last class unconditional (like `eval`'s dispatch).
-    fn class_chain(&mut self, body: &dyn Fn(&Self, &PatchEntry) -> String) {
-        let stmts: Vec<String> = self.entries.patches.iter().map(|p| body(self, p)).collect();
-        for line in super::class_chain_lines(&param("class"), &stmts) {
-            self.line(&line);
         }
     }
 
     fn main(&mut self) {
-        let first = param("first");
-        let count = param("count");
-        let cp_base = param("cp_base");
         self.line("void main() {");
         self.indent += 1;
         match self.stage {
@@ -873,19 +854,9 @@ impl<'a> Writer<'a> {
                 self.stmts(self.module, body, &body.body);
             }
             Stage::CompPatch => {
-                self.line("uint k = gl_GlobalInvocationID.x;");
-                self.line(&format!("if (k >= {count}) {{"));
-                self.line("    return;");
-                self.line("}");
-                self.line(&format!("uint p = ({first} + k);"));
-                self.line("uint face = patch_faces[p];");
-                self.class_chain(&|w, p| {
-                    format!(
-                        "{}(face, ({cp_base} + (k * {}u)));",
-                        w.fn_name(FnRef::Local(p.function)),
-                        p.control_points
-                    )
-                });
+                let body = &self.entries.compute_patch;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
             }
             Stage::CompEval => {
                 let body = &self.entries.compute_eval;
@@ -939,238 +910,12 @@ impl<'a> Writer<'a> {
         )
     }
 
-    fn cond(&self, m: &Module, f: &Function, c: &Expr) -> String {
-        let s = self.expr(m, f, c);
-        if matches!(c, Expr::Binary(..)) {
-            s
-        } else {
-            format!("({s})")
-        }
-    }
-
     fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) | Stmt::Var(id, e) => {
-                    let s = format!("{} = {};", self.decl(f, *id), self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", self.locals[id.0], self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", self.locals[id.0], self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Store(r, i, v) => {
-                    let (i, v) = (self.expr(m, f, i), self.expr(m, f, v));
-                    let s = if self.stage.tess() && *r == Resource::ControlPoints {
-                        format!("{}({i}, {v});", ident(&self.entries.tess.store_cp.name))
-                    } else if r.ty() == Ty::Vec3 {
-                        format!("store_{}({i}, {v});", r.name())
-                    } else {
-                        format!("{}[{i}] = {v};", r.name())
-                    };
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if {} {{", self.cond(m, f, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(m, f, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                Stmt::IfDef(d, a, b) => {
-                    // Preprocessor lines at column 0.
-                    let (open, first, second) = if a.is_empty() {
-                        (format!("#ifndef {}\n", d.name()), b, &a[..])
-                    } else {
-                        (format!("#ifdef {}\n", d.name()), a, &b[..])
-                    };
-                    self.out.push_str(&open);
-                    self.stmts(m, f, first);
-                    if !second.is_empty() {
-                        self.out.push_str("#else\n");
-                        self.stmts(m, f, second);
-                    }
-                    self.out.push_str("#endif\n");
-                }
-                Stmt::For(id, a, b, body) => {
-                    let v = self.locals[id.0].clone();
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} = ({v} + 1u)) {{",
-                        self.decl(f, *id),
-                        self.expr(m, f, a),
-                        self.expr(m, f, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Call(r, xs) => {
-                    let s = format!("{};", self.expr(m, f, &Expr::CallFn(*r, xs.clone())));
-                    self.line(&s);
-                }
-                Stmt::Comment(c) => self.doc(c),
-                Stmt::StorePatchSlot(a, b, v) => {
-                    let s = format!(
-                        "tcs_cp[{}][{}] = {};",
-                        self.expr(m, f, a),
-                        self.expr(m, f, b),
-                        self.expr(m, f, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Output(o, e) => {
-                    let v = self.expr(m, f, e);
-                    let sides = self.entries.sides;
-                    // GLSL's quad domain is (u, v) = (y, x): its slots are
-                    // `hw_factor_edges(sides, false)`.
-                    let (outer, inner) = crate::lower::hw_factor_edges(sides, false);
-                    match o {
-                        StageOut::EdgeFactor(k) => {
-                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
-                            self.line(&format!("gl_TessLevelOuter[{slot}] = {v};"));
-                        }
-                        StageOut::InsideFactor(d) => {
-                            let edges = crate::lower::tess::inside_edges(sides, *d);
-                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
-                            self.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
-                        }
-                        StageOut::Position => {
-                            self.line(&format!("te_position = {v};"));
-                            self.line(&format!(
-                                "gl_Position = ({} * vec4({v}, 1.0));",
-                                param("view_proj")
-                            ));
-                        }
-                        StageOut::Normal => self.line(&format!("te_normal = {v};")),
-                        StageOut::Domain => self.line(&format!("te_domain = {v};")),
-                        StageOut::Patch => self.line(&format!("te_patch = {v};")),
-                    }
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
-            _ => format!("field{k}"),
-        }
-    }
-
-    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(m, f, e)
-    }
-
-    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
-        match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u"),
-            Expr::Local(id) => self.locals[id.0].clone(),
-            Expr::ConstIndex(c, i) => {
-                format!("{}[{}]", ident(&m.consts[*c].name), self.expr(m, f, i))
-            }
-            Expr::Const(c) => ident(&m.consts[*c].name),
-            Expr::Binary(op, a, b) => format!(
-                "({} {} {})",
-                self.expr(m, f, a),
-                binop(*op),
-                self.expr(m, f, b)
-            ),
-            Expr::Neg(a) => format!("(-{})", self.expr(m, f, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("float({})", a[0]),
-                    Builtin::Sqrt => format!("sqrt({})", a[0]),
-                    Builtin::Cos => format!("cos({})", a[0]),
-                    Builtin::Sin => format!("sin({})", a[0]),
-                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
-                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
-                    Builtin::Vec3 => format!("vec3({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("round({})", a[0]),
-                    Builtin::Floor => format!("floor({})", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
-                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let callee = match r {
-                    FnRef::Common(i) => &self.plan.common.functions[*i],
-                    FnRef::Local(i) => &m.functions[*i],
-                };
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                format!("{}({})", ident(&callee.name), a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
-                format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
-            }
-            Expr::Make(s, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                format!(
-                    "{}({})",
-                    ident(&self.plan.common.structs[*s].name),
-                    a.join(", ")
-                )
-            }
-            Expr::Fetch(r, i) => {
-                let idx = self.expr(m, f, i);
-                if self.stage.tess() && *r == Resource::ControlPoints {
-                    format!("{}({idx})", ident(&self.entries.tess.load_cp.name))
-                } else if r.ty() == Ty::Vec3 {
-                    format!("load_{}({idx})", r.name())
-                } else {
-                    format!("{}[{idx}]", r.name())
-                }
-            }
-            Expr::TableWeight(row, col) => format!(
-                "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
-                self.expr(m, f, col),
-                self.expr(m, f, row)
-            ),
-            Expr::Stage(StageIn::TessCoord(k)) => {
-                // Quads: the patch's (u, v) is (gl_TessCoord.y, gl_TessCoord.x),
-                // see the layout declaration; triangles: barycentric as is.
-                let axes = if self.entries.sides == 4 {
-                    ["y", "x", "z"]
-                } else {
-                    ["x", "y", "z"]
-                };
-                format!("gl_TessCoord.{}", axes[*k as usize])
-            }
-            Expr::Stage(StageIn::PatchInDraw) => "uint(gl_PrimitiveID)".into(),
-            Expr::Stage(StageIn::GlobalId) => "gl_GlobalInvocationID.x".into(),
-            Expr::PatchSlot(a, b) => {
-                format!("tcs_cp[{}][{}]", self.expr(m, f, a), self.expr(m, f, b))
-            }
-            Expr::Stage(StageIn::Param(n)) => param(n),
-            Expr::Texel(r, x, y) => format!(
-                "texelFetch({}, ivec2(int({}), int({})), 0).x",
-                r.name(),
-                self.expr(m, f, x),
-                self.expr(m, f, y)
-            ),
-        }
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Cx { w: self, m, f }, body, &mut lines);
+        self.out = lines.out;
     }
 }

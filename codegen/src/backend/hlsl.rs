@@ -38,11 +38,15 @@
 //! `NoContraction`).
 
 use super::abi::{self, Kind};
-use super::binop;
+use super::dialect::{self, Dialect, Lines};
 use super::{called, header_lines, resources_of};
+use crate::lower::entries::Offsets;
 use crate::outdir::GeneratedFile;
 use crate::plan::*;
 use std::collections::HashSet;
+
+mod spell;
+use spell::Hx;
 
 /// Entry points of every emitted HLSL file, with the glslang stage name
 /// (`-S`) each compiles as. Each file's header lists the same pairs.
@@ -207,8 +211,6 @@ pub struct Writer<'a> {
     indent: usize,
     /// Global names a local must not shadow.
     globals: HashSet<String>,
-    /// Most control points of any class of this scheme.
-    kmax: u32,
 }
 
 impl<'a> Writer<'a> {
@@ -253,13 +255,6 @@ impl<'a> Writer<'a> {
                 globals.insert(format!("make_{}", s.name));
             }
         }
-        let kmax = entries
-            .patches
-            .iter()
-            .map(|p| p.control_points)
-            .max()
-            .unwrap_or(1)
-            .max(1);
         Writer {
             plan,
             module,
@@ -267,7 +262,6 @@ impl<'a> Writer<'a> {
             out: String::new(),
             indent: 0,
             globals,
-            kmax,
         }
     }
 
@@ -400,14 +394,17 @@ impl<'a> Writer<'a> {
         }
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
-        self.line(&format!("static const uint KMAX = {}u;", self.kmax));
+        self.line(&format!(
+            "static const uint KMAX = {}u;",
+            self.entries.tess.points
+        ));
         self.line(
             "// vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch",
         );
         self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
         self.line(&format!(
             "static const uint KMAX4 = {}u;",
-            (3 * self.kmax).div_ceil(4)
+            self.entries.tess.slots
         ));
         self.line("// Control points per patch of each class (index = Params.class).");
         let ks: Vec<String> = self
@@ -433,21 +430,21 @@ impl<'a> Writer<'a> {
             "// ---- vec3 buffers: packed float triples, point i at floats 3i, 3i+1, 3i+2 ----",
         );
         for b in abi::BINDINGS.iter().filter(|b| b.kind == Kind::Vec3Buffer) {
-            if let Some(n) = read_view(b) {
+            let Some(r) = b.resource else {
+                continue;
+            };
+            let module = self.module;
+            if read_view(b).is_some() {
                 self.line("");
-                self.line(&format!("float3 fetch_{}(uint i) {{", b.name));
-                self.line(&format!(
-                    "    return float3({n}[(3u * i)], {n}[((3u * i) + 1u)], {n}[((3u * i) + 2u)]);"
-                ));
-                self.line("}");
+                let name = format!("fetch_{}", b.name);
+                let f = crate::lower::entries::packed_load(r, &name, "", Offsets::Inline);
+                self.function_with(module, &f, Cp::None);
             }
-            if let Some(n) = write_view(b) {
+            if write_view(b).is_some() {
                 self.line("");
-                self.line(&format!("void store_{}(uint i, float3 v) {{", b.name));
-                self.line(&format!("    {n}[(3u * i)] = v.x;"));
-                self.line(&format!("    {n}[((3u * i) + 1u)] = v.y;"));
-                self.line(&format!("    {n}[((3u * i) + 2u)] = v.z;"));
-                self.line("}");
+                let name = format!("store_{}", b.name);
+                let f = crate::lower::entries::packed_store(r, &name, "", Offsets::Inline);
+                self.function_with(module, &f, Cp::None);
             }
         }
     }
@@ -583,12 +580,18 @@ impl<'a> Writer<'a> {
     }
 
     fn function(&mut self, m: &Module, f: &Function) {
+        self.function_with(m, f, self.cp_of(m, f))
+    }
+
+    /// `f`, reaching the control points as `cp` says (the packed accessors
+    /// read the buffer itself: [`Cp::None`]).
+    fn function_with(&mut self, m: &Module, f: &Function, cp: Cp) {
         self.doc(&f.doc);
         let cx = Ctx {
             m,
             f,
             names: self.local_names(f),
-            cp: self.cp_of(m, f),
+            cp,
             patch: "patch_id",
         };
         let mut args = Vec::new();
@@ -631,136 +634,12 @@ impl<'a> Writer<'a> {
     }
 
     fn stmts(&mut self, cx: &Ctx, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) | Stmt::Var(id, e) => {
-                    let s = format!("{} = {};", self.decl(cx, id), self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", cx.names[id.0], self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&cx.f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", cx.names[id.0], self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Store(r, i, v) => {
-                    let (i, v) = (self.expr(cx, i), self.expr(cx, v));
-                    let s = match (r, r.ty()) {
-                        (Resource::ControlPoints, _) => format!("{}[{i}] = {v};", cx.cp.name()),
-                        (_, Ty::Vec3) => format!("store_{}({i}, {v});", r.name()),
-                        _ => format!(
-                            "{}[{i}] = {v};",
-                            write_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
-                        ),
-                    };
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if ({}) {{", self.expr(cx, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(cx, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(cx, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                Stmt::IfDef(d, a, b) => {
-                    // Preprocessor lines at column 0.
-                    let (open, first, second) = if a.is_empty() {
-                        (format!("#ifndef {}\n", d.name()), b, &a[..])
-                    } else {
-                        (format!("#ifdef {}\n", d.name()), a, &b[..])
-                    };
-                    self.out.push_str(&open);
-                    self.stmts(cx, first);
-                    if !second.is_empty() {
-                        self.out.push_str("#else\n");
-                        self.stmts(cx, second);
-                    }
-                    self.out.push_str("#endif\n");
-                }
-                Stmt::For(id, a, b, body) => {
-                    let v = &cx.names[id.0];
-                    let s = format!(
-                        "for ({} = {}; {v} < {}; {v} += 1u) {{",
-                        self.decl(cx, id),
-                        self.expr(cx, a),
-                        self.expr(cx, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(cx, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(cx, e));
-                    self.line(&s);
-                }
-                Stmt::Call(r, xs) => {
-                    let s = format!("{};", self.expr(cx, &Expr::CallFn(*r, xs.clone())));
-                    self.line(&s);
-                }
-                Stmt::Comment(c) => self.doc(c),
-                Stmt::StorePatchSlot(a, b, v) => {
-                    let s = format!(
-                        "c.cp[{}][{}] = {};",
-                        self.expr(cx, a),
-                        self.expr(cx, b),
-                        self.expr(cx, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Output(o, e) => {
-                    let v = self.expr(cx, e);
-                    let sides = self.entries.sides;
-                    // HLSL's quad domain is (u, v) = (x, y): its slots are
-                    // `hw_factor_edges(sides, true)`.
-                    let (outer, inner) = crate::lower::hw_factor_edges(sides, true);
-                    match o {
-                        StageOut::EdgeFactor(k) => {
-                            let slot = outer.iter().position(|&x| x == *k as usize).unwrap_or(0);
-                            self.line(&format!("c.edges[{slot}] = {v};"));
-                        }
-                        StageOut::InsideFactor(d) => {
-                            let edges = crate::lower::tess::inside_edges(sides, *d);
-                            let slot = inner.iter().position(|x| *x == edges).unwrap_or(0);
-                            if sides == 3 {
-                                self.line(&format!("c.inside = {v};"));
-                            } else {
-                                self.line(&format!("c.inside[{slot}] = {v};"));
-                            }
-                        }
-                        StageOut::Position => {
-                            self.line(&format!(
-                                "o.position = mul(params.view_proj, float4({v}, 1.0f));"
-                            ));
-                            self.line(&format!("o.world = {v};"));
-                        }
-                        StageOut::Normal => self.line(&format!("o.normal = {v};")),
-                        StageOut::Domain => self.line(&format!("o.domain = {v};")),
-                        StageOut::Patch => self.line(&format!("o.patch_index = {v};")),
-                    }
-                }
-            }
-        }
-    }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => ident(&self.plan.common.structs[*i].fields[k].0),
-            _ => format!("field{k}"),
-        }
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Hx { w: self, cx }, body, &mut lines);
+        self.out = lines.out;
     }
 
     fn callee<'m>(&self, m: &'m Module, r: FnRef) -> (&'m Module, &'m Function)
@@ -770,92 +649,6 @@ impl<'a> Writer<'a> {
         match r {
             FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[i]),
             FnRef::Local(i) => (m, &m.functions[i]),
-        }
-    }
-
-    fn expr_ty(&self, cx: &Ctx, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(cx.m, cx.f, e)
-    }
-
-    fn expr(&self, cx: &Ctx, e: &Expr) -> String {
-        match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u"),
-            Expr::Local(id) => cx.names[id.0].clone(),
-            Expr::ConstIndex(c, i) => {
-                format!("{}[{}]", ident(&cx.m.consts[*c].name), self.expr(cx, i))
-            }
-            Expr::Const(c) => ident(&cx.m.consts[*c].name),
-            Expr::Binary(op, a, b) => {
-                format!("({} {} {})", self.expr(cx, a), binop(*op), self.expr(cx, b))
-            }
-            Expr::Neg(a) => format!("(-{})", self.expr(cx, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("float({})", a[0]),
-                    Builtin::Sqrt => format!("sqrt({})", a[0]),
-                    Builtin::Cos => format!("cos({})", a[0]),
-                    Builtin::Sin => format!("sin({})", a[0]),
-                    Builtin::Dot => format!("dot({}, {})", a[0], a[1]),
-                    Builtin::Cross => format!("cross({}, {})", a[0], a[1]),
-                    Builtin::Vec3 => format!("float3({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("round({})", a[0]),
-                    Builtin::Floor => format!("floor({})", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("uint({})", a[0]),
-                    Builtin::Max => format!("max({}, {})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let (module, callee) = self.callee(cx.m, *r);
-                let mut a = Vec::new();
-                if self.cp_of(module, callee) != Cp::None {
-                    a.push(cx.cp.name().to_string());
-                }
-                a.extend(xs.iter().map(|x| self.expr(cx, x)));
-                format!("{}({})", ident(&callee.name), a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(cx, a).unwrap_or(Ty::F32);
-                format!("{}.{}", self.expr(cx, a), self.field_name(&t, *k))
-            }
-            Expr::Make(s, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(cx, x)).collect();
-                format!(
-                    "make_{}({})",
-                    self.plan.common.structs[*s].name,
-                    a.join(", ")
-                )
-            }
-            Expr::Fetch(r, i) => {
-                let idx = self.expr(cx, i);
-                match (r, r.ty()) {
-                    (Resource::ControlPoints, _) => format!("{}[{idx}]", cx.cp.name()),
-                    (_, Ty::Vec3) => format!("fetch_{}({idx})", r.name()),
-                    _ => format!(
-                        "{}[{idx}]",
-                        read_view(abi::binding_of(*r)).unwrap_or_else(|| r.name().to_string())
-                    ),
-                }
-            }
-            Expr::TableWeight(row, col) => format!(
-                "stencil_table.Load(int3(int({}), int({}), 0))",
-                self.expr(cx, col),
-                self.expr(cx, row)
-            ),
-            // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
-            Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
-            Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),
-            Expr::Stage(StageIn::GlobalId) => "global_id.x".into(),
-            Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", self.expr(cx, a), self.expr(cx, b)),
-            Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
-            Expr::Texel(r, x, y) => format!(
-                "{}.Load(int3(int({}), int({}), 0))",
-                r.name(),
-                self.expr(cx, x),
-                self.expr(cx, y)
-            ),
         }
     }
 

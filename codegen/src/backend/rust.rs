@@ -5,10 +5,9 @@
 //! points being evaluated are `cp: &[Vec3]`. Rust never contracts `a * b + c`
 //! into an FMA, so the CPU path computes exactly the Plan's operations.
 
-use super::binop;
+use super::dialect::{self, Dialect, Lines};
 use super::{header_lines, resources_of};
 use crate::plan::*;
-use std::fmt::Write;
 
 pub struct Writer<'a> {
     plan: &'a Plan,
@@ -376,196 +375,157 @@ pub struct SchemeKernels {
     }
 
     fn stmts(&mut self, m: &Module, f: &Function, body: &[Stmt]) {
-        for s in body {
-            match s {
-                Stmt::Let(id, e) => {
-                    let l = &f.locals[id.0];
-                    let s = format!(
-                        "let {}: {} = {};",
-                        l.name,
-                        ty(self.plan, &l.ty),
-                        self.expr(m, f, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Var(id, e) => {
-                    let l = &f.locals[id.0];
-                    let s = format!(
-                        "let mut {}: {} = {};",
-                        l.name,
-                        ty(self.plan, &l.ty),
-                        self.expr(m, f, e)
-                    );
-                    self.line(&s);
-                }
-                Stmt::Assign(id, e) => {
-                    let s = format!("{} = {};", f.locals[id.0].name, self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::AssignField(id, k, e) => {
-                    let field = self.field_name(&f.locals[id.0].ty, *k);
-                    let s = format!("{}.{field} = {};", f.locals[id.0].name, self.expr(m, f, e));
-                    self.line(&s);
-                }
-                Stmt::Store(_, i, v) => {
-                    let s = format!(
-                        "out[({}) as usize] = {};",
-                        self.expr(m, f, i),
-                        self.expr(m, f, v)
-                    );
-                    self.line(&s);
-                }
-                Stmt::If(c, a, b) => {
-                    let s = format!("if {} {{", self.expr(m, f, c));
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, a);
-                    self.indent -= 1;
-                    if b.is_empty() {
-                        self.line("}");
-                    } else {
-                        self.line("} else {");
-                        self.indent += 1;
-                        self.stmts(m, f, b);
-                        self.indent -= 1;
-                        self.line("}");
-                    }
-                }
-                // Only in the tessellation stage bodies (`Entries::tess`),
-                // which this target has no stages for and never prints.
-                Stmt::Call(..)
-                | Stmt::Output(..)
-                | Stmt::Comment(..)
-                | Stmt::StorePatchSlot(..) => {
-                    unreachable!("tessellation-stage statement outside Entries::tess")
-                }
-                // No preprocessor: always the default branch.
-                Stmt::IfDef(_, _, b) => self.stmts(m, f, b),
-                Stmt::For(id, a, b, body) => {
-                    let s = format!(
-                        "for {} in ({})..({}) {{",
-                        f.locals[id.0].name,
-                        self.expr(m, f, a),
-                        self.expr(m, f, b)
-                    );
-                    self.line(&s);
-                    self.indent += 1;
-                    self.stmts(m, f, body);
-                    self.indent -= 1;
-                    self.line("}");
-                }
-                Stmt::Return(e) => {
-                    let s = format!("return {};", self.expr(m, f, e));
-                    self.line(&s);
-                }
+        let mut lines = Lines {
+            out: std::mem::take(&mut self.out),
+            indent: self.indent,
+        };
+        dialect::stmts(&Cx { w: self, m, f }, body, &mut lines);
+        self.out = lines.out;
+    }
+}
+
+/// The Rust dialect, for one function: method-call builtins, `as` casts,
+/// slices indexed by `usize`, hidden slice arguments.
+struct Cx<'c, 'a> {
+    w: &'c Writer<'a>,
+    m: &'c Module,
+    f: &'c Function,
+}
+
+impl Dialect for Cx<'_, '_> {
+    fn plan(&self) -> &Plan {
+        self.w.plan
+    }
+    fn module(&self) -> &Module {
+        self.m
+    }
+    fn function(&self) -> &Function {
+        self.f
+    }
+    fn ident(&self, name: &str) -> String {
+        name.to_string()
+    }
+    fn local(&self, id: LocalId) -> String {
+        self.f.locals[id.0].name.clone()
+    }
+    fn f32_lit(&self, x: f32) -> String {
+        f32_lit(x)
+    }
+    fn u32_lit(&self, x: u32) -> String {
+        format!("{x}u32")
+    }
+    fn f32_ty(&self) -> &'static str {
+        "f32"
+    }
+    fn u32_ty(&self) -> &'static str {
+        "u32"
+    }
+    fn vec2_ty(&self) -> &'static str {
+        "Vec2"
+    }
+    fn vec3_ty(&self) -> &'static str {
+        "Vec3"
+    }
+    fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
+        Some(match b {
+            Builtin::F32FromU32 => format!("({} as f32)", a[0]),
+            Builtin::Sqrt => format!("{}.sqrt()", a[0]),
+            Builtin::Cos => format!("{}.cos()", a[0]),
+            Builtin::Sin => format!("{}.sin()", a[0]),
+            Builtin::Dot => format!("{}.dot({})", a[0], a[1]),
+            Builtin::Cross => format!("{}.cross({})", a[0], a[1]),
+            Builtin::Vec3 => format!("Vec3::new({}, {}, {})", a[0], a[1], a[2]),
+            Builtin::Round => format!("{}.round_ties_even()", a[0]),
+            Builtin::Floor => format!("{}.floor()", a[0]),
+            Builtin::U32FromF32 | Builtin::U32FromBool => format!("({} as u32)", a[0]),
+            Builtin::Max => format!("{}.max({})", a[0], a[1]),
+            Builtin::Component(_) => return None,
+            Builtin::CountTrailingZeros => format!("{}.trailing_zeros()", a[0]),
+            Builtin::Normalize => format!("{}.normalize()", a[0]),
+            Builtin::Abs => format!("{}.abs()", a[0]),
+            Builtin::Min => format!("{}.min({})", a[0], a[1]),
+            // Only in the GPU entry points (`Entries::instanced`).
+            Builtin::Fwidth | Builtin::Vec2 => {
+                unreachable!("a shader builtin outside Entries::instanced")
             }
+        })
+    }
+    fn const_index(&self, name: String, index: String) -> String {
+        format!("{name}[({index}) as usize]")
+    }
+    /// Functions take the slices they reach first: inputs, out, cp.
+    fn call(&self, r: FnRef, callee: &Function, args: Vec<String>) -> String {
+        let module = match r {
+            FnRef::Common(_) => &self.w.plan.common,
+            FnRef::Local(_) => self.m,
+        };
+        let p = self.w.params(module, callee);
+        let mut a = Vec::new();
+        if p.inputs {
+            a.push("inputs".to_string());
+        }
+        if p.out {
+            a.push("out".to_string());
+        }
+        if p.cp {
+            a.push("cp".to_string());
+        }
+        a.extend(args);
+        format!("{}({})", callee.name, a.join(", "))
+    }
+    fn make(&self, s: usize, args: Vec<String>) -> String {
+        let sd = &self.w.plan.common.structs[s];
+        let parts: Vec<String> = sd
+            .fields
+            .iter()
+            .zip(args)
+            .map(|((name, _), x)| format!("{name}: {x}"))
+            .collect();
+        format!("{} {{ {} }}", sd.name, parts.join(", "))
+    }
+    fn decl(&self, id: LocalId, mutable: bool) -> String {
+        let l = &self.f.locals[id.0];
+        let kw = if mutable { "let mut" } else { "let" };
+        format!("{kw} {}: {}", l.name, ty(self.w.plan, &l.ty))
+    }
+    fn for_head(&self, id: LocalId, start: String, end: String, step: Option<String>) -> String {
+        // Strided loops are only in the GPU entry points.
+        assert!(step.is_none(), "a strided loop outside Entries::instanced");
+        format!("for {} in ({start})..({end}) {{", self.local(id))
+    }
+    fn special_stmt(&self, s: &Stmt, out: &mut Lines) {
+        let x = |e: &Expr| dialect::expr(self, e);
+        match s {
+            Stmt::Store(_, i, v) => out.line(&format!("out[({}) as usize] = {};", x(i), x(v))),
+            // Only in the tessellation stage bodies (`Entries::tess`), the
+            // GPU entry points and the packed accessors of the shaders.
+            _ => unreachable!("a shader statement in the Rust module"),
         }
     }
-
-    fn field_name(&self, t: &Ty, k: usize) -> String {
-        match t {
-            Ty::Struct(i) => self.plan.common.structs[*i].fields[k].0.clone(),
-            _ => format!("field{k}"),
-        }
-    }
-
-    fn expr_ty(&self, m: &Module, f: &Function, e: &Expr) -> Option<Ty> {
-        self.plan.expr_ty(m, f, e)
-    }
-
-    fn expr(&self, m: &Module, f: &Function, e: &Expr) -> String {
+    fn special(&self, e: &Expr) -> String {
+        let x = |e: &Expr| dialect::expr(self, e);
         match e {
-            Expr::F32(x) => f32_lit(*x),
-            Expr::U32(x) => format!("{x}u32"),
-            Expr::Local(id) => f.locals[id.0].name.clone(),
-            Expr::ConstIndex(c, i) => {
-                format!("{}[({}) as usize]", m.consts[*c].name, self.expr(m, f, i))
-            }
-            Expr::Const(c) => m.consts[*c].name.clone(),
-            Expr::Binary(op, a, b) => {
-                format!(
-                    "({} {} {})",
-                    self.expr(m, f, a),
-                    binop(*op),
-                    self.expr(m, f, b)
-                )
-            }
-            Expr::Neg(a) => format!("(-{})", self.expr(m, f, a)),
-            Expr::Call(b, xs) => {
-                let a: Vec<String> = xs.iter().map(|x| self.expr(m, f, x)).collect();
-                match b {
-                    Builtin::F32FromU32 => format!("({} as f32)", a[0]),
-                    Builtin::Sqrt => format!("{}.sqrt()", a[0]),
-                    Builtin::Cos => format!("{}.cos()", a[0]),
-                    Builtin::Sin => format!("{}.sin()", a[0]),
-                    Builtin::Dot => format!("{}.dot({})", a[0], a[1]),
-                    Builtin::Cross => format!("{}.cross({})", a[0], a[1]),
-                    Builtin::Vec3 => format!("Vec3::new({}, {}, {})", a[0], a[1], a[2]),
-                    Builtin::Round => format!("{}.round_ties_even()", a[0]),
-                    Builtin::Floor => format!("{}.floor()", a[0]),
-                    Builtin::U32FromF32 | Builtin::U32FromBool => format!("({} as u32)", a[0]),
-                    Builtin::Max => format!("{}.max({})", a[0], a[1]),
-                    Builtin::Component(k) => format!("{}.{}", a[0], ["x", "y", "z"][*k as usize]),
-                }
-            }
-            Expr::CallFn(r, xs) => {
-                let (module, callee) = match r {
-                    FnRef::Common(i) => (&self.plan.common, &self.plan.common.functions[*i]),
-                    FnRef::Local(i) => (m, &m.functions[*i]),
-                };
-                let p = self.params(module, callee);
-                let mut a = Vec::new();
-                if p.inputs {
-                    a.push("inputs".to_string());
-                }
-                if p.out {
-                    a.push("out".to_string());
-                }
-                if p.cp {
-                    a.push("cp".to_string());
-                }
-                a.extend(xs.iter().map(|x| self.expr(m, f, x)));
-                format!("{}({})", callee.name, a.join(", "))
-            }
-            Expr::Field(a, k) => {
-                let t = self.expr_ty(m, f, a).unwrap_or(Ty::F32);
-                format!("{}.{}", self.expr(m, f, a), self.field_name(&t, *k))
-            }
-            Expr::Make(s, xs) => {
-                let sd = &self.plan.common.structs[*s];
-                let mut parts = Vec::new();
-                for ((name, _), x) in sd.fields.iter().zip(xs) {
-                    parts.push(format!("{name}: {}", self.expr(m, f, x)));
-                }
-                format!("{} {{ {} }}", sd.name, parts.join(", "))
-            }
             Expr::Fetch(r, i) => {
-                let idx = self.expr(m, f, i);
+                let idx = x(i);
                 match r {
                     Resource::ControlPoints => format!("cp[({idx}) as usize]"),
                     other => format!("inputs.{}[({idx}) as usize]", other.name()),
                 }
             }
-            // Only in the tessellation stage bodies (`Entries::tess`).
-            Expr::Stage(_) | Expr::PatchSlot(..) => {
-                unreachable!("tessellation-stage input outside Entries::tess")
-            }
-            Expr::Texel(r, x, y) => format!(
+            Expr::Texel(r, a, b) => format!(
                 "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",
                 r.name(),
-                self.expr(m, f, y),
-                self.expr(m, f, x)
+                x(b),
+                x(a)
             ),
-            Expr::TableWeight(row, col) => {
-                let mut s = String::new();
-                let _ = write!(
-                    s,
-                    "inputs.table[((({}) * TABLE_WIDTH) + ({})) as usize]",
-                    self.expr(m, f, row),
-                    self.expr(m, f, col)
-                );
-                s
-            }
+            Expr::TableWeight(row, col) => format!(
+                "inputs.table[((({}) * TABLE_WIDTH) + ({})) as usize]",
+                x(row),
+                x(col)
+            ),
+            // Only in the tessellation stage bodies (`Entries::tess`) and
+            // the packed accessors of the shader printers.
+            _ => unreachable!("tessellation-stage input outside Entries::tess"),
         }
     }
 }

@@ -178,12 +178,12 @@ pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
         Stmt::Let(
             factor,
             call(
-                FnRef::Common(crate::lower::common_fn::EDGE_FACTOR_RUNTIME),
+                FnRef::Common(crate::plan::common_fn::EDGE_FACTOR_RUNTIME),
                 vec![l(a), l(b), l(va), l(vb), l(edge)],
             ),
         ),
         Stmt::Return(call(
-            FnRef::Common(crate::lower::common_fn::EDGE_LEVEL),
+            FnRef::Common(crate::plan::common_fn::EDGE_LEVEL),
             vec![l(factor), l(max_level)],
         )),
     ]);

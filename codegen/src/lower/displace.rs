@@ -384,7 +384,7 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
         seen.push(i);
         let f = &m.functions[i];
         f.resources().contains(&(Resource::ControlPoints, false))
-            || crate::backend::called(f).into_iter().any(|c| match c {
+            || crate::plan::called(f).into_iter().any(|c| match c {
                 FnRef::Local(j) => reads_cp(m, j, seen),
                 FnRef::Common(_) => false,
             })
@@ -406,7 +406,9 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 xs.iter_mut().for_each(|x| expr(x, map));
             }
             Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
-            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, map),
+            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) | Expr::Float(_, a) => {
+                expr(a, map)
+            }
             Expr::Binary(_, a, b)
             | Expr::TableWeight(a, b)
             | Expr::Texel(_, a, b)
@@ -425,7 +427,7 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 | Stmt::Assign(_, e)
                 | Stmt::Return(e)
                 | Stmt::AssignField(_, _, e) => expr(e, map),
-                Stmt::Store(_, i, v) => {
+                Stmt::Store(_, i, v) | Stmt::StoreFloat(_, i, v) => {
                     expr(i, map);
                     expr(v, map);
                 }
@@ -452,11 +454,17 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                     xs.iter_mut().for_each(|x| expr(x, map));
                 }
                 Stmt::Output(_, e) => expr(e, map),
-                Stmt::Comment(_) => {}
+                Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
                 Stmt::StorePatchSlot(a, b, v) => {
                     expr(a, map);
                     expr(b, map);
                     expr(v, map);
+                }
+                Stmt::ForStep(_, a, b, step, body) => {
+                    expr(a, map);
+                    expr(b, map);
+                    expr(step, map);
+                    stmts(body, map);
                 }
             }
         }
@@ -467,7 +475,7 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
         if out.contains(&i) || !reads_cp(m, i, &mut Vec::new()) {
             return;
         }
-        for c in crate::backend::called(&m.functions[i]) {
+        for c in crate::plan::called(&m.functions[i]) {
             if let FnRef::Local(j) = c {
                 collect(m, j, out);
             }

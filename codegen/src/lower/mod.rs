@@ -9,10 +9,10 @@
 //!   coordinates and evaluates shared boundaries through one edge evaluator
 //!   (symmetric de Casteljau; `spec/watertight.md` Rule 2).
 
-use crate::form::Form;
 use crate::front::scheme::{self, Class, Scheme, CORNER_VAR};
 use crate::front::sym::{self, Sym};
 use crate::plan::build::*;
+use crate::plan::form::Form;
 use crate::plan::{self, *};
 use crate::table::{SchemeRows, StencilTable};
 use std::collections::BTreeMap;
@@ -20,6 +20,7 @@ use std::collections::BTreeMap;
 pub mod adaptive;
 mod common;
 pub mod displace;
+pub mod entries;
 mod eval;
 mod grid;
 mod patch;
@@ -32,70 +33,6 @@ use grid::*;
 use patch::*;
 use surface::*;
 use vertex::*;
-
-/// Indices of the common module's functions.
-pub mod common_fn {
-    pub const NORMALIZE: usize = 0;
-    pub const CUBIC: usize = 1;
-    pub const EDGE: usize = 2;
-    pub const EDGE_FACTOR: usize = 3;
-    /// `tessgen_edge_factor_runtime`: the metric chosen at run time.
-    pub const EDGE_FACTOR_RUNTIME: usize = 4;
-    /// `tessgen_edge_level`: power-of-two edge level of a factor.
-    pub const EDGE_LEVEL: usize = 5;
-    /// `tessgen_bucket_level`: a patch's bucket, the largest edge level.
-    pub const BUCKET_LEVEL: usize = 6;
-}
-
-/// Name of the adaptive per-edge tessellation factor.
-pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";
-
-/// Name of the adaptive per-edge factor with the metric chosen at run time.
-pub const EDGE_FACTOR_RUNTIME_FN: &str = "tessgen_edge_factor_runtime";
-
-/// Fixed-point denominator of the adaptive evaluation: the hardware
-/// tessellator's domain coordinates are 16.16 fixed point, so `m / 2^16`
-/// is exact in f32 and `2^16 − m` is the neighbour's coordinate.
-pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
-
-/// Which patch edges feed a hardware tessellator's factors in adaptive
-/// builds: `(outer, inner)`, `outer[s]` the edge (k: `v_k → v_{k+1}`) whose
-/// factor goes to outer factor slot `s`, `inner[s]` the edges whose largest
-/// factor is inside factor `s`.
-///
-/// Conventions (Vulkan and D3D alike): a triangle domain's outer slot `s` is
-/// the edge where barycentric coordinate `s` is 0 — with `(x, y, z)`
-/// weighing corners 0, 1, 2 that is edge 1 (`x = 0`), edge 2 (`y = 0`),
-/// edge 0 (`z = 0`) — and its one inside factor is the largest of the three
-/// edges. A quad domain's outer slots are the edges `a = 0, b = 0, a = 1,
-/// b = 1` of its coordinates `(a, b)`, and inside factor 0 subdivides along
-/// `a` (the edges `b = 0`, `b = 1`). HLSL takes `(u, v) = (a, b)`
-/// (`first_is_u`), GLSL `(u, v) = (b, a)` (the axis swap that keeps the
-/// winding counter-clockwise); our edges are 0: `v = 0`, 1: `u = 1`,
-/// 2: `v = 1`, 3: `u = 0`. Every factor depends on its edge alone (Rule 3),
-/// the inside ones only on the patch's own edges.
-pub fn hw_factor_edges(sides: u32, first_is_u: bool) -> (Vec<usize>, Vec<Vec<usize>>) {
-    if sides == 3 {
-        return (vec![1, 2, 0], vec![vec![0, 1, 2]]);
-    }
-    let outer = if first_is_u {
-        vec![3, 0, 1, 2]
-    } else {
-        vec![0, 3, 2, 1]
-    };
-    let sorted = |mut v: Vec<usize>| {
-        v.sort_unstable();
-        v
-    };
-    let inner = vec![
-        sorted(vec![outer[1], outer[3]]),
-        sorted(vec![outer[0], outer[2]]),
-    ];
-    (outer, inner)
-}
-
-/// Name of the single shared edge evaluator.
-pub const EDGE_FN: &str = "tessgen_edge";
 
 fn f32c(x: f64) -> Expr {
     Expr::F32(x as f32)
@@ -331,14 +268,20 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
             evaluation: Function::new("", ""),
             store_cp: Function::new("", ""),
             load_cp: Function::new("", ""),
+            points: 0,
+            slots: 0,
         },
         compute_vertex: Function::new("", ""),
         compute_eval: Function::new("", ""),
+        compute_patch: Function::new("", ""),
+        instanced: Vec::new(),
     };
     // The hardware tessellation stages' bodies call the functions above.
     entries.tess = crate::lower::tess::stages(&entries, curve_const);
     entries.compute_vertex = crate::lower::tess::compute_vertex(&entries);
     entries.compute_eval = crate::lower::tess::compute_eval(&entries);
+    entries.compute_patch = crate::lower::entries::patch_main(&entries);
+    entries.instanced = crate::lower::entries::instanced(&entries);
     (m, entries)
 }
 

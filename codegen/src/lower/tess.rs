@@ -12,22 +12,10 @@
 //! (`eval_main`'s), and how the factors are formed from the edges alone
 //! (watertight.md Rules 2 and 3).
 
-use crate::lower::{common_fn, ADAPTIVE_LEVEL};
+use crate::plan::{common_fn, ADAPTIVE_LEVEL};
+use crate::plan::abi::inside_edges;
 use crate::plan::build::*;
 use crate::plan::*;
-
-/// The patch edges (k: `v_k → v_{k+1}`) whose largest factor is the inside
-/// factor along patch axis `d` ([`StageOut::InsideFactor`]): quads, along
-/// `u` (d = 0) the edges `v = 0` and `v = 1` (0 and 2), along `v` the
-/// edges 1 and 3; triangles, all three. Printers find the API slot of that
-/// set in [`crate::lower::hw_factor_edges`].
-pub fn inside_edges(sides: u32, d: u8) -> Vec<usize> {
-    match (sides, d) {
-        (3, _) => vec![0, 1, 2],
-        (_, 0) => vec![0, 2],
-        _ => vec![1, 3],
-    }
-}
 
 fn stage(s: StageIn) -> Expr {
     Expr::Stage(s)
@@ -58,11 +46,20 @@ fn level_stmt(level: LocalId, adaptive_doc: &str) -> Stmt {
 /// Both stage bodies of a scheme. `curve_const` is the scheme's
 /// `EDGE_CURVE` constant.
 pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
+    let points = entries
+        .patches
+        .iter()
+        .map(|p| p.control_points)
+        .max()
+        .unwrap_or(1)
+        .max(1);
     TessStages {
         control: control(entries, curve_const),
         evaluation: evaluation(entries),
         store_cp: store_cp(),
         load_cp: load_cp(),
+        points,
+        slots: (3 * points).div_ceil(4),
     }
 }
 
@@ -559,7 +556,7 @@ fn evaluation(entries: &Entries) -> Function {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lower::hw_factor_edges;
+    use crate::plan::abi::{factor_slot, hw_factor_edges};
 
     /// Every inside factor the Plan forms is one of the API's inside slots,
     /// in both axis conventions (GLSL swaps u and v), and every edge feeds
@@ -579,6 +576,12 @@ mod tests {
                         inner.contains(&inside_edges(sides, d)),
                         "sides {sides} d {d}"
                     );
+                    let o = StageOut::InsideFactor(d);
+                    assert!(factor_slot(sides, o, first_is_u).is_some());
+                }
+                for k in 0..sides as u8 {
+                    let o = StageOut::EdgeFactor(k);
+                    assert!(factor_slot(sides, o, first_is_u).is_some());
                 }
             }
         }

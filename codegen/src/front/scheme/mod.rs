@@ -6,9 +6,9 @@
 //! (a point times a point), and rows whose weights do not sum to 1 (0 for
 //! tangent vectors) at some valence.
 
-use crate::form::{Form, SlotKind};
 use crate::front::dsl::{self, DefAst, DefKind, SchemeAst};
 use crate::front::sym::{self, BinOp, CmpOp, Env, Func, Sym, Value};
+use crate::plan::form::{Form, SlotKind};
 use proc_macro2::Span;
 use std::collections::BTreeMap;
 use syn::{Expr, Ident};

@@ -7,6 +7,11 @@
 //! index. A printer's job is only to spell these in its language; if two
 //! printers disagree on a result, the bug is in a printer.
 
+pub mod abi;
+pub mod form;
+mod walk;
+pub use walk::{binding, called, resources_of, walk, walk_expr, Node};
+
 /// Value types.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Ty {
@@ -91,6 +96,22 @@ pub enum Resource {
     /// written by the evaluation stage of capture builds
     /// ([`Define::Capture`], [`TessStages`]).
     Samples,
+    /// `u32` adaptive classify output, `abi::PATCH_LEVELS_WORDS` per patch
+    /// (the WGSL instanced entries, [`Entries::instanced`]).
+    PatchLevels,
+    /// `u32` adaptive draw lists, `abi::BUCKET_ENTRY_WORDS` per entry.
+    BucketPatches,
+    /// `u32` GPU-driven bucket header and entries (written on the GPU).
+    BucketList,
+    /// `u32` GPU-driven indirect dispatch arguments.
+    BucketDispatch,
+    /// `u32` GPU-driven indexed indirect draw arguments.
+    BucketDraw,
+    /// `u32` GPU-driven per-chunk slot counts and offsets.
+    BucketChunks,
+    /// `u32` workgroup-shared array of one chunk's bucket levels (declared
+    /// by [`EntryItem::Workgroup`]; no binding).
+    BucketTile,
 }
 
 impl Resource {
@@ -137,6 +158,13 @@ impl Resource {
             Resource::DisplaceMap => "displace_map",
             Resource::PatchFaces => "patch_faces",
             Resource::Samples => "samples",
+            Resource::PatchLevels => "patch_levels",
+            Resource::BucketPatches => "bucket_patches",
+            Resource::BucketList => "bucket_list",
+            Resource::BucketDispatch => "bucket_dispatch",
+            Resource::BucketDraw => "bucket_draw",
+            Resource::BucketChunks => "bucket_chunks",
+            Resource::BucketTile => "tessgen_bucket_tile",
         }
     }
     pub const ALL: [Resource; 20] = [
@@ -178,6 +206,10 @@ pub enum BinOp {
     Ge,
     And,
     Or,
+    /// `u32` left shift.
+    Shl,
+    /// `u32` bitwise and.
+    BitAnd,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -204,8 +236,21 @@ pub enum Builtin {
     /// The larger of two f32 (inside tessellation factors; never NaN there:
     /// the factor functions clamp).
     Max,
-    /// Component 0, 1 or 2 (`.x`, `.y`, `.z`) of a `vec3`.
+    /// Component 0, 1 or 2 (`.x`, `.y`, `.z`) of a `vec3` (or `vec2`).
     Component(u8),
+    /// Trailing zero bits of a `u32` (32 for 0): the WGSL bucket passes.
+    CountTrailingZeros,
+    /// Unit vector of a `vec3` (the built-in, unguarded; the fragment entry).
+    Normalize,
+    /// Absolute value of an f32.
+    Abs,
+    /// The smaller of two f32.
+    Min,
+    /// Screen-space derivative width of an f32 (fragment entries only).
+    Fwidth,
+    /// A `vec2` from two f32: only as a stage output ([`StageOut::Uv`]),
+    /// never a local's type.
+    Vec2,
 }
 
 /// A value only the hardware tessellation stages have: [`Expr::Stage`] in
@@ -230,6 +275,18 @@ pub enum StageIn {
     /// `u32` index of the compute invocation (`x` of the global invocation
     /// id): the compute entry bodies ([`Entries::compute_vertex`]).
     GlobalId,
+    /// `u32` `y` of the global invocation id (two-row indirect dispatches).
+    GlobalIdY,
+    /// `u32` `x` of the workgroup id.
+    WorkgroupId,
+    /// `u32` index of the invocation within its workgroup.
+    LocalIndex,
+    /// `u32` vertex index of a vertex entry.
+    VertexIndex,
+    /// `u32` instance index of a vertex entry.
+    InstanceIndex,
+    /// A fragment entry's interpolated input: the vertex entry's output.
+    Varying(StageOut),
 }
 
 /// An output of a hardware tessellation stage: [`Stmt::Output`] in the
@@ -255,6 +312,12 @@ pub enum StageOut {
     /// Evaluation stage, capture builds that record triangles: the `u32`
     /// patch (index into `patch_faces`) of the vertex.
     Patch,
+    /// Instanced vertex entry: the `u32` patch class (flat).
+    PatchClass,
+    /// Instanced vertex entry: the `vec2` domain point `(u, v)`.
+    Uv,
+    /// Fragment entry: the `vec3` colour (opaque).
+    Color,
 }
 
 /// The bodies of the hardware tessellation stages (GLSL `.tesc`/`.tese`
@@ -279,6 +342,11 @@ pub struct TessStages {
     pub store_cp: Function,
     /// `load_patch_cp(j) -> vec3`: the inverse of [`TessStages::store_cp`].
     pub load_cp: Function,
+    /// `KMAX`: control points of the largest class (at least 1), the
+    /// length of the per-patch control-point arrays.
+    pub points: u32,
+    /// `KMAX4`: `vec4` slots of the packed per-patch storage, ⌈3·KMAX / 4⌉.
+    pub slots: u32,
 }
 
 /// Index of a local in [`Function::locals`].
@@ -314,6 +382,9 @@ pub enum Expr {
     /// control points, the per-patch storage between the tessellation
     /// stages ([`TessStages::load_cp`] only).
     PatchSlot(Box<Expr>, Box<Expr>),
+    /// `f32` number `k` of the packed storage of a `vec3` resource (3 per
+    /// element): the packed accessors only (`crate::lower::entries::packed_load`).
+    Float(Resource, Box<Expr>),
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -402,6 +473,26 @@ pub enum Stmt {
     /// `slot`, `comp`, value: write [`Expr::PatchSlot`]
     /// ([`TessStages::store_cp`] only).
     StorePatchSlot(Expr, Expr, Expr),
+    /// Return from a function (an entry point) without a value.
+    ReturnVoid,
+    /// `for local = start; local < end; local += step` over u32: the strided
+    /// loops of the workgroup passes (invocation `l` takes items `l`, `l +
+    /// 64`, …). Printers spell the increment without parentheses.
+    ForStep(LocalId, Expr, Expr, Expr, Vec<Stmt>),
+    /// A barrier of the workgroup's invocations.
+    Barrier(Barrier),
+    /// Write [`Expr::Float`] `k` of a packed `vec3` resource
+    /// (`crate::lower::entries::packed_store` only).
+    StoreFloat(Resource, Expr, Expr),
+}
+
+/// What a [`Stmt::Barrier`] orders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Barrier {
+    /// Workgroup-shared memory ([`Resource::BucketTile`]).
+    Workgroup,
+    /// Storage buffers, between the invocations of one workgroup.
+    Storage,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -454,104 +545,40 @@ impl Function {
     /// Resources this function reads (`false`) or writes (`true`).
     pub fn resources(&self) -> Vec<(Resource, bool)> {
         let mut out = Vec::new();
-        fn add(out: &mut Vec<(Resource, bool)>, r: Resource, w: bool) {
+        let mut add = |r: Resource, w: bool| {
             if !out.contains(&(r, w)) {
                 out.push((r, w));
             }
-        }
-        fn expr(e: &Expr, out: &mut Vec<(Resource, bool)>) {
-            match e {
-                Expr::Fetch(r, i) => {
-                    add(out, *r, false);
-                    expr(i, out);
-                }
-                Expr::Texel(r, x, y) => {
-                    add(out, *r, false);
-                    expr(x, out);
-                    expr(y, out);
-                }
-                Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => expr(a, out),
-                Expr::Binary(_, a, b) | Expr::TableWeight(a, b) | Expr::PatchSlot(a, b) => {
-                    expr(a, out);
-                    expr(b, out);
-                }
-                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
-                    xs.iter().for_each(|x| expr(x, out))
-                }
-                Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
+        };
+        walk(&self.body, &mut |n| match n {
+            Node::Expr(Expr::Fetch(r, _) | Expr::Texel(r, ..) | Expr::Float(r, _)) => {
+                add(*r, false)
             }
-        }
-        fn stmts(s: &[Stmt], out: &mut Vec<(Resource, bool)>) {
-            for s in s {
-                match s {
-                    Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => {
-                        expr(e, out)
-                    }
-                    Stmt::AssignField(_, _, e) => expr(e, out),
-                    Stmt::Store(r, i, v) => {
-                        add(out, *r, true);
-                        expr(i, out);
-                        expr(v, out);
-                    }
-                    Stmt::If(c, a, b) => {
-                        expr(c, out);
-                        stmts(a, out);
-                        stmts(b, out);
-                    }
-                    Stmt::IfDef(_, a, b) => {
-                        stmts(a, out);
-                        stmts(b, out);
-                    }
-                    Stmt::For(_, a, b, body) => {
-                        expr(a, out);
-                        expr(b, out);
-                        stmts(body, out);
-                    }
-                    Stmt::Call(_, xs) => xs.iter().for_each(|x| expr(x, out)),
-                    Stmt::Output(_, e) => expr(e, out),
-                    Stmt::Comment(_) => {}
-                    Stmt::StorePatchSlot(a, b, v) => {
-                        expr(a, out);
-                        expr(b, out);
-                        expr(v, out);
-                    }
-                }
-            }
-        }
-        stmts(&self.body, &mut out);
+            Node::Stmt(Stmt::Store(r, ..) | Stmt::StoreFloat(r, ..)) => add(*r, true),
+            _ => {}
+        });
         out.sort();
         out
     }
     /// Whether the function reads the stencil table.
     pub fn reads_table(&self) -> bool {
-        fn expr(e: &Expr) -> bool {
-            match e {
-                Expr::TableWeight(..) => true,
-                Expr::Fetch(_, a) | Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) => {
-                    expr(a)
+        let mut table = false;
+        walk(&self.body, &mut |n| {
+            table |= matches!(n, Node::Expr(Expr::TableWeight(..)));
+        });
+        table
+    }
+    /// Functions this function calls, in order of first call.
+    pub fn called(&self) -> Vec<FnRef> {
+        let mut out = Vec::new();
+        walk(&self.body, &mut |n| {
+            if let Node::Expr(Expr::CallFn(r, _)) | Node::Stmt(Stmt::Call(r, _)) = n {
+                if !out.contains(r) {
+                    out.push(*r);
                 }
-                Expr::Binary(_, a, b) | Expr::Texel(_, a, b) | Expr::PatchSlot(a, b) => {
-                    expr(a) || expr(b)
-                }
-                Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => xs.iter().any(expr),
-                _ => false,
             }
-        }
-        fn stmts(s: &[Stmt]) -> bool {
-            s.iter().any(|s| match s {
-                Stmt::Let(_, e) | Stmt::Var(_, e) | Stmt::Assign(_, e) | Stmt::Return(e) => expr(e),
-                Stmt::AssignField(_, _, e) => expr(e),
-                Stmt::Store(_, i, v) => expr(i) || expr(v),
-                Stmt::If(c, a, b) => expr(c) || stmts(a) || stmts(b),
-                Stmt::IfDef(_, a, b) => stmts(a) || stmts(b),
-                Stmt::For(_, a, b, body) => expr(a) || expr(b) || stmts(body),
-                Stmt::Call(_, xs) => xs.iter().any(expr),
-                Stmt::Output(_, e) => expr(e),
-                Stmt::Comment(_) => false,
-                Stmt::StorePatchSlot(a, b, v) => expr(a) || expr(b) || expr(v),
-            })
-        }
-        stmts(&self.body)
+        });
+        out
     }
 }
 
@@ -652,6 +679,55 @@ pub struct Entries {
     /// through `eval_displaced_global` into `samples` (see
     /// `crate::lower::tess::compute_eval`).
     pub compute_eval: Function,
+    /// The body of the compute entry `patch_main` (WGSL, GLSL): the class's
+    /// patch function for patch `params.first + k`, control points from
+    /// `params.cp_base + k·points` (see `crate::lower::entries::patch_main`).
+    pub compute_patch: Function,
+    /// The WGSL module's entry points and the declarations between them,
+    /// in order (targets without a tessellator: compute construction,
+    /// instanced evaluation, adaptive buckets; see `crate::lower::entries`).
+    pub instanced: Vec<EntryItem>,
+}
+
+/// How an entry point is invoked.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EntryKind {
+    /// A compute entry with a one-dimensional workgroup of this size.
+    Compute { workgroup_size: u32 },
+    /// A vertex entry whose outputs are [`EntryPoint::outputs`].
+    Vertex,
+    /// A fragment entry reading the vertex outputs ([`StageIn::Varying`]).
+    Fragment,
+}
+
+/// An entry point: its kind, the builtin inputs it declares (in parameter
+/// order; [`StageIn::GlobalId`] stands for the whole global invocation id,
+/// whose `y` is [`StageIn::GlobalIdY`]), its body (name and doc are the
+/// entry's) and, for vertex and fragment entries, its stage outputs,
+/// written after the body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EntryPoint {
+    pub kind: EntryKind,
+    pub inputs: Vec<StageIn>,
+    pub body: Function,
+    pub outputs: Vec<(StageOut, Expr)>,
+}
+
+/// One module-scope item of [`Entries::instanced`], in print order.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EntryItem {
+    Entry(EntryPoint),
+    /// A workgroup-shared `u32` array of `len` elements.
+    Workgroup {
+        resource: Resource,
+        len: u32,
+        doc: String,
+    },
+    /// The declaration of the vertex entries' outputs (and the fragment
+    /// entry's inputs): position, normal, patch class, uv.
+    VertexOutput {
+        doc: String,
+    },
 }
 
 /// The per-scheme functions of adaptive tessellation on the instanced path.
@@ -712,7 +788,7 @@ impl Entries {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PatchEntry {
     pub class: crate::Class,
-    pub form: crate::form::Form,
+    pub form: crate::plan::form::Form,
     pub control_points: u32,
     pub function: usize,
 }
@@ -748,6 +824,34 @@ impl Plan {
         }
     }
 }
+
+/// Indices of the common module's functions.
+pub mod common_fn {
+    pub const NORMALIZE: usize = 0;
+    pub const CUBIC: usize = 1;
+    pub const EDGE: usize = 2;
+    pub const EDGE_FACTOR: usize = 3;
+    /// `tessgen_edge_factor_runtime`: the metric chosen at run time.
+    pub const EDGE_FACTOR_RUNTIME: usize = 4;
+    /// `tessgen_edge_level`: power-of-two edge level of a factor.
+    pub const EDGE_LEVEL: usize = 5;
+    /// `tessgen_bucket_level`: a patch's bucket, the largest edge level.
+    pub const BUCKET_LEVEL: usize = 6;
+}
+
+/// Name of the adaptive per-edge tessellation factor.
+pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";
+
+/// Name of the adaptive per-edge factor with the metric chosen at run time.
+pub const EDGE_FACTOR_RUNTIME_FN: &str = "tessgen_edge_factor_runtime";
+
+/// Fixed-point denominator of the adaptive evaluation: the hardware
+/// tessellator's domain coordinates are 16.16 fixed point, so `m / 2^16`
+/// is exact in f32 and `2^16 − m` is the neighbour's coordinate.
+pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
+
+/// Name of the single shared edge evaluator.
+pub const EDGE_FN: &str = "tessgen_edge";
 
 /// Fixed indices into the common module, used by scheme modules.
 pub mod common {

@@ -7,7 +7,7 @@
 //! point): WGSL/std430 `vec3` arrays would pad to 16 bytes, and packed floats
 //! are what engines already have in their vertex buffers.
 
-use crate::plan::{Define, Entries, Module, Plan, Resource};
+use crate::plan::{Define, Entries, Module, Plan, Resource, StageOut};
 
 /// What a binding holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -608,5 +608,70 @@ mod tests {
         let mut slots: Vec<(u32, u32)> = ADAPTIVE.iter().map(|a| (a.1, a.2)).collect();
         slots.sort_unstable();
         assert_eq!(slots.last().map(|(f, c)| f + c), Some(ADAPTIVE_LEN));
+    }
+}
+
+// Tessellation factor slots of the hardware tessellators (Vulkan, D3D).
+
+/// Which patch edges feed a hardware tessellator's factors in adaptive
+/// builds: `(outer, inner)`, `outer[s]` the edge (k: `v_k → v_{k+1}`) whose
+/// factor goes to outer factor slot `s`, `inner[s]` the edges whose largest
+/// factor is inside factor `s`.
+///
+/// Conventions (Vulkan and D3D alike): a triangle domain's outer slot `s` is
+/// the edge where barycentric coordinate `s` is 0 — with `(x, y, z)`
+/// weighing corners 0, 1, 2 that is edge 1 (`x = 0`), edge 2 (`y = 0`),
+/// edge 0 (`z = 0`) — and its one inside factor is the largest of the three
+/// edges. A quad domain's outer slots are the edges `a = 0, b = 0, a = 1,
+/// b = 1` of its coordinates `(a, b)`, and inside factor 0 subdivides along
+/// `a` (the edges `b = 0`, `b = 1`). HLSL takes `(u, v) = (a, b)`
+/// (`first_is_u`), GLSL `(u, v) = (b, a)` (the axis swap that keeps the
+/// winding counter-clockwise); our edges are 0: `v = 0`, 1: `u = 1`,
+/// 2: `v = 1`, 3: `u = 0`. Every factor depends on its edge alone (Rule 3),
+/// the inside ones only on the patch's own edges.
+pub fn hw_factor_edges(sides: u32, first_is_u: bool) -> (Vec<usize>, Vec<Vec<usize>>) {
+    if sides == 3 {
+        return (vec![1, 2, 0], vec![vec![0, 1, 2]]);
+    }
+    let outer = if first_is_u {
+        vec![3, 0, 1, 2]
+    } else {
+        vec![0, 3, 2, 1]
+    };
+    let sorted = |mut v: Vec<usize>| {
+        v.sort_unstable();
+        v
+    };
+    let inner = vec![
+        sorted(vec![outer[1], outer[3]]),
+        sorted(vec![outer[0], outer[2]]),
+    ];
+    (outer, inner)
+}
+
+/// The patch edges (k: `v_k → v_{k+1}`) whose largest factor is the inside
+/// factor along patch axis `d` ([`StageOut::InsideFactor`]): quads, along
+/// `u` (d = 0) the edges `v = 0` and `v = 1` (0 and 2), along `v` the
+/// edges 1 and 3; triangles, all three. Printers find the API slot of that
+/// set in [`crate::plan::abi::hw_factor_edges`].
+pub fn inside_edges(sides: u32, d: u8) -> Vec<usize> {
+    match (sides, d) {
+        (3, _) => vec![0, 1, 2],
+        (_, 0) => vec![0, 2],
+        _ => vec![1, 3],
+    }
+}
+
+/// The index of factor output `o` in an API's outer (edge factors) or
+/// inner (inside factors) array, `first_is_u` as in
+/// [`crate::plan::abi::hw_factor_edges`] (HLSL: true, GLSL: false); `None` for
+/// an output that is not a factor. Every factor has a slot (the test
+/// below), so printers only spell the index.
+pub fn factor_slot(sides: u32, o: StageOut, first_is_u: bool) -> Option<usize> {
+    let (outer, inner) = crate::plan::abi::hw_factor_edges(sides, first_is_u);
+    match o {
+        StageOut::EdgeFactor(k) => outer.iter().position(|&x| x == k as usize),
+        StageOut::InsideFactor(d) => inner.iter().position(|x| *x == inside_edges(sides, d)),
+        _ => None,
     }
 }
