@@ -10,6 +10,7 @@
 
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
+use crate::readback::GridReadback;
 use crate::topology::Topology;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
@@ -787,8 +788,7 @@ impl<'g> GpuMesh<'g> {
         }
         let spp = (self.scheme.grid_len)(level) as u64;
         let faces = self.patch_faces.len();
-        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
-        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
         // Patches per readback chunk: within the dispatch and binding limits.
         let by_dispatch = self.chunk(spp);
         let by_binding = (self.limits.max_storage_buffer_binding_size / (spp * 24)).max(1);
@@ -846,23 +846,11 @@ impl<'g> GpuMesh<'g> {
                     self.gpu.queue.submit([enc.finish()]);
                 })?;
                 let floats = self.read(&staging)?;
-                for (i, s) in floats.chunks_exact(6).enumerate() {
-                    let patch = c.first + k + (i as u64 / spp) as u32;
-                    let face = self.patch_faces[patch as usize] as usize;
-                    let at = face * spp as usize + (i as u64 % spp) as usize;
-                    positions[at] = Vec3::new(s[0], s[1], s[2]);
-                    normals[at] = Vec3::new(s[3], s[4], s[5]);
-                }
+                grids.scatter(&floats, (c.first + k) as u64, &self.patch_faces);
                 k += count;
             }
         }
-        Ok(Tessellation {
-            level,
-            faces,
-            sides: self.scheme.sides,
-            positions,
-            normals,
-        })
+        Ok(grids.finish())
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a

@@ -27,10 +27,13 @@ pub mod kernels;
 pub mod mesh;
 pub mod obj;
 pub mod pattern;
+#[cfg(any(feature = "gpu", feature = "vulkan"))]
+mod readback;
 #[cfg(feature = "gpu")]
 pub mod render;
 pub mod stats;
 pub mod tags;
+pub mod tessellate;
 pub mod topology;
 pub mod trimesh;
 pub mod upload;

@@ -28,6 +28,7 @@ use crate::adaptive::{self, Adaptive, Metric};
 use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
+use crate::readback::GridReadback;
 use crate::topology::Topology;
 use crate::upload::{
     binding, f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
@@ -1914,8 +1915,7 @@ impl<'v> VkMesh<'v> {
     ) -> Result<Tessellation, VkError> {
         self.write_buffer(binding::SAMPLES, samples);
         let faces = self.patch_faces.len();
-        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
-        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
         let nan: Vec<u8> = std::iter::repeat_n(f32::NAN.to_le_bytes(), (chunk * spp * 6) as usize)
             .flatten()
             .collect();
@@ -1926,22 +1926,10 @@ impl<'v> VkMesh<'v> {
             samples.write(&nan);
             run(p0, n)?;
             let floats = samples.read_f32((n * spp * 6) as usize);
-            for (i, s) in floats.chunks_exact(6).enumerate() {
-                let patch = p0 + i as u64 / spp;
-                let face = self.patch_faces[patch as usize] as usize;
-                let at = face * spp as usize + (i as u64 % spp) as usize;
-                positions[at] = Vec3::new(s[0], s[1], s[2]);
-                normals[at] = Vec3::new(s[3], s[4], s[5]);
-            }
+            grids.scatter(&floats, p0, &self.patch_faces);
             p0 += n;
         }
-        Ok(Tessellation {
-            level,
-            faces,
-            sides: self.scheme.sides,
-            positions,
-            normals,
-        })
+        Ok(grids.finish())
     }
 }
 
