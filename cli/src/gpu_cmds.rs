@@ -353,37 +353,3 @@ fn rayon_threads() -> usize {
         .map(|n| n.get())
         .unwrap_or(1)
 }
-
-/// `tessellate --adaptive … --backend wgpu [--displace MAP]`: the WGSL
-/// instanced path (`GpuMesh::evaluate_adaptive`: GPU classify pass, one
-/// dispatch per (class, level) bucket, snapped transitions; displaced by
-/// `eval_adaptive_displaced` when the mesh is uploaded with displacement)
-/// as a triangle soup. `source` is the OBJ mesh (texture coordinates).
-pub fn wgpu_adaptive(
-    scheme: &str,
-    source: &tessgen_runtime::Mesh,
-    mesh: tessgen_runtime::adaptive::AdaptiveMesh<'_>,
-    positions: &[glam::Vec3],
-    a: &tessgen_runtime::adaptive::Adaptive,
-    max_level: u32,
-    displacement: Option<&tessgen_runtime::displace::Displacement>,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    use tessgen_runtime::adaptive::AdaptiveMesh;
-    use tessgen_runtime::gpu::GpuMesh;
-    let gpu = tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?;
-    let m = match (mesh, displacement) {
-        (AdaptiveMesh::Quads(topo), None) => GpuMesh::new(&gpu, topo, positions, scheme),
-        (AdaptiveMesh::Triangles(tri), None) => GpuMesh::new_tri(&gpu, tri, scheme),
-        (AdaptiveMesh::Quads(topo), Some(d)) => {
-            GpuMesh::new_displaced(&gpu, source, topo, positions, scheme, d)
-        }
-        (AdaptiveMesh::Triangles(tri), Some(d)) => {
-            GpuMesh::new_tri_displaced(&gpu, source, tri, scheme, d)
-        }
-    }
-    .map_err(|e| e.to_string())?;
-    let t = m
-        .evaluate_adaptive(mesh, a, max_level)
-        .map_err(|e| e.to_string())?;
-    Ok(t.triangles())
-}

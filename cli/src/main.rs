@@ -16,7 +16,10 @@ use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
 use tessgen_runtime::stats::MeshStats;
 use tessgen_runtime::tags::TagFile;
-use tessgen_runtime::{cpu, kernels, obj, weld, Mesh, MeshError, Topology, TopologyOptions};
+use tessgen_runtime::tessellate::{
+    self, AdaptiveRequest, EdgeMetric, Output as TessOutput, Request,
+};
+use tessgen_runtime::{cpu, kernels, weld, Mesh, MeshError, Topology, TopologyOptions};
 
 /// Largest `--max-valence` accepted: the table has O(n²) rows of 2n + 1 columns.
 const MAX_MAX_VALENCE: u32 = 128;
@@ -501,51 +504,18 @@ fn inspect(args: &InspectArgs) -> CmdResult {
     Ok(ExitCode::SUCCESS)
 }
 
-/// `--adaptive`: the Vulkan harness with per-edge factors; the hardware's
-/// triangles as an OBJ triangle soup (`v` per triangle corner, `f` per
+/// `--adaptive`: per-edge factors through the front door — the hardware
+/// tessellator's triangles (glsl, hlsl) or the instanced path's grids (cpu,
+/// wgpu) as an OBJ triangle soup (`v` per triangle corner, `f` per
 /// triangle), welded exactly with `--check-watertight`.
-fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> CmdResult {
-    let tags = match &args.tags {
-        Some(path) => Some(load_tags(path, mesh)?),
-        None => None,
-    };
-    let displacement = match &args.displace {
-        Some(path) => {
-            if tags.is_some() {
-                return Err("--displace does not take --tags".into());
-            }
-            Some(displacement_arg(path, args)?)
-        }
-        None => None,
-    };
+fn tessellate_adaptive(mesh: &Mesh, args: &TessellateArgs, request: Request<'_>) -> CmdResult {
     let start = Instant::now();
-    let tris = match args.backend {
-        Backend::Cpu => cpu_adaptive(mesh, args, tags.as_ref(), displacement.as_ref()),
-        Backend::Wgpu => instanced_adaptive(mesh, args, tags.as_ref()).and_then(|a| {
-            gpu_cmds::wgpu_adaptive(
-                &args.scheme,
-                mesh,
-                a.domain.edges(),
-                &a.positions,
-                &a.adaptive,
-                a.max_level,
-                displacement.as_ref(),
-            )
-        }),
-        _ => vulkan_adaptive(mesh, args, tags.as_ref(), displacement.as_ref()),
-    }
-    .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let tris = tessellate::tessellate(mesh, &request)
+        .map_err(|e| format!("{}: {e}", args.mesh.display()))?
+        .triangles();
     let elapsed = start.elapsed();
-    let mut text = String::new();
-    for t in &tris {
-        for p in t {
-            text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-        }
-    }
-    for k in 0..tris.len() {
-        text.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
-    }
-    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    std::fs::write(&args.out, tessellate::soup_obj(&tris))
+        .map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
         "tessgen: {} faces → {} triangles ({} adaptive, {:?}, {} backend) in {:.2} ms → {}",
         mesh.num_faces(),
@@ -581,15 +551,30 @@ fn tessellate_adaptive(mesh: &tessgen_runtime::Mesh, args: &TessellateArgs) -> C
 }
 
 /// The metric of `--adaptive`: random factors for `edges` edges, or the
-/// distance/screen metric with the eye at 2.5 bounding-box diagonals
-/// from the mesh centre (azimuth 30°, elevation 20°), looking at the centre.
+/// distance/screen metric of [`edge_metric`] (`bench`, which builds its
+/// adaptive settings itself).
 pub(crate) fn adaptive_metric(
     edges: u32,
     positions: &[glam::Vec3],
     adaptive: Option<&AdaptiveArg>,
 ) -> tessgen_runtime::adaptive::Metric {
+    use tessgen_runtime::adaptive;
+    let screen = AdaptiveArg::Screen(8.0);
+    match edge_metric(positions, adaptive.unwrap_or(&screen)) {
+        EdgeMetric::Random { seed, lo, hi } => {
+            adaptive::Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
+        }
+        EdgeMetric::Given(m) => m,
+    }
+}
+
+/// `--adaptive` for the front door: random factors (drawn there, per edge
+/// of the mesh the scheme runs on), or the distance/screen metric with the
+/// eye at 2.5 bounding-box diagonals from the mesh centre (azimuth 30°,
+/// elevation 20°), looking at the centre.
+pub(crate) fn edge_metric(positions: &[glam::Vec3], adaptive: &AdaptiveArg) -> EdgeMetric {
     use glam::Vec3;
-    use tessgen_runtime::adaptive::{self, Metric};
+    use tessgen_runtime::adaptive::Metric;
     let (lo, hi) = positions.iter().fold(
         (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
         |(a, b), p| (a.min(*p), b.max(*p)),
@@ -597,12 +582,10 @@ pub(crate) fn adaptive_metric(
     let (center, diag) = ((lo + hi) * 0.5, (hi - lo).length().max(1e-6));
     let (az, el) = (30f32.to_radians(), 20f32.to_radians());
     let eye = center + Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()) * 2.5 * diag;
-    match adaptive.cloned() {
-        Some(AdaptiveArg::Random { seed, lo, hi }) => {
-            Metric::Buffer(adaptive::random_factors(edges, seed, lo, hi))
-        }
-        Some(AdaptiveArg::Distance(k)) => Metric::Distance { eye, scale: k },
-        Some(AdaptiveArg::Screen(_)) | None => Metric::Screen {
+    match *adaptive {
+        AdaptiveArg::Random { seed, lo, hi } => EdgeMetric::Random { seed, lo, hi },
+        AdaptiveArg::Distance(k) => EdgeMetric::Given(Metric::Distance { eye, scale: k }),
+        AdaptiveArg::Screen(px) => EdgeMetric::Given(Metric::Screen {
             view_proj: tessgen_runtime::render::Camera {
                 eye,
                 target: center,
@@ -611,296 +594,15 @@ pub(crate) fn adaptive_metric(
             }
             .view_proj(1.0),
             viewport: [1024.0, 1024.0],
-            pixels_per_segment: match adaptive {
-                Some(AdaptiveArg::Screen(px)) => *px,
-                _ => 8.0,
-            },
-        },
+            pixels_per_segment: px,
+        }),
     }
 }
 
 /// `--max-factor` rounded down to a power of two, within 1 ..= MAX_LEVEL:
-/// the instanced path's largest bucket level.
+/// the instanced path's largest bucket level (the front door's rule).
 pub(crate) fn power_of_two_level(max_factor: f32) -> u32 {
-    let mut max_level = 1u32;
-    while max_level * 2 <= max_factor.clamp(1.0, cpu::MAX_LEVEL as f32) as u32 {
-        max_level *= 2;
-    }
-    max_level
-}
-
-/// The instanced adaptive path's input (`--backend cpu|wgpu`): the mesh
-/// whose edges are numbered (quad topology, or for triangle schemes the
-/// triangle mesh, `--split-quads`, crease `--tags` for stpn), positions,
-/// the metric, and the largest level — `--max-factor` rounded down to a
-/// power of two. Levels are powers of two, so only `--partitioning integer`
-/// applies.
-struct InstancedAdaptive {
-    domain: InstancedDomain,
-    positions: Vec<glam::Vec3>,
-    adaptive: tessgen_runtime::adaptive::Adaptive,
-    max_level: u32,
-}
-
-/// What an instanced adaptive run tessellates: a quad scheme's topology or
-/// a triangle scheme's triangle mesh.
-enum InstancedDomain {
-    Quads(Topology),
-    Triangles(tessgen_runtime::trimesh::TriMesh),
-}
-
-impl InstancedDomain {
-    fn edges(&self) -> tessgen_runtime::adaptive::AdaptiveMesh<'_> {
-        match self {
-            InstancedDomain::Quads(t) => t.into(),
-            InstancedDomain::Triangles(t) => t.into(),
-        }
-    }
-}
-
-fn instanced_adaptive(
-    mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-    tags: Option<&TagFile>,
-) -> Result<InstancedAdaptive, String> {
-    if args.partitioning != Partitioning::Integer {
-        return Err(format!(
-            "--backend {} snaps to power-of-two levels: --partitioning integer only",
-            args.backend.name()
-        ));
-    }
-    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
-    if tags.is_some() && kernels.name != "stpn" {
-        return Err(cpu::TessError::TagsUnused {
-            scheme: kernels.name.into(),
-        }
-        .to_string());
-    }
-    let domain = if kernels.sides == 3 {
-        InstancedDomain::Triangles(
-            cpu::tri_mesh(mesh, args.split_quads, tags).map_err(|e| e.to_string())?,
-        )
-    } else {
-        InstancedDomain::Quads(
-            Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?,
-        )
-    };
-    let positions: Vec<glam::Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| glam::Vec3::from_array(*p))
-        .collect();
-    let max_level = power_of_two_level(args.max_factor);
-    let adaptive = tessgen_runtime::adaptive::Adaptive {
-        metric: adaptive_metric(
-            domain.edges().edge_ids().1,
-            &positions,
-            args.adaptive.as_ref(),
-        ),
-        partitioning: Partitioning::Integer,
-        min: 1.0,
-        max: max_level as f32,
-    };
-    Ok(InstancedAdaptive {
-        domain,
-        positions,
-        adaptive,
-        max_level,
-    })
-}
-
-/// `--backend cpu --adaptive …`: power-of-two edge levels, patches
-/// bucketed by their largest edge level, boundary samples snapped onto the
-/// edges' own points (`adaptive::evaluate_cpu_adaptive`, the generated Rust
-/// of the Plan functions the WGSL path runs); with `--displace`,
-/// `adaptive::evaluate_cpu_adaptive_displaced`.
-fn cpu_adaptive(
-    mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-    tags: Option<&TagFile>,
-    displacement: Option<&Displacement>,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    let a = instanced_adaptive(mesh, args, tags)?;
-    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
-    let patches = match &a.domain {
-        InstancedDomain::Quads(t) => cpu::construct(t, &a.positions, kernels),
-        InstancedDomain::Triangles(t) => cpu::construct_tri(t, kernels),
-    }
-    .map_err(|e| e.to_string())?;
-    let t = match displacement {
-        None => tessgen_runtime::adaptive::evaluate_cpu_adaptive(
-            &patches,
-            a.domain.edges(),
-            &a.adaptive,
-            a.max_level,
-        ),
-        Some(d) => {
-            let data = match &a.domain {
-                InstancedDomain::Quads(t) => cpu::displacement_data(mesh, t, &patches, d),
-                InstancedDomain::Triangles(t) => cpu::displacement_data_tri(mesh, t, &patches, d),
-            }
-            .map_err(|e| e.to_string())?;
-            tessgen_runtime::adaptive::evaluate_cpu_adaptive_displaced(
-                &patches,
-                a.domain.edges(),
-                &a.adaptive,
-                a.max_level,
-                &data,
-            )
-        }
-    }
-    .map_err(|e| e.to_string())?;
-    Ok(t.triangles())
-}
-
-#[cfg(feature = "vulkan")]
-fn vulkan_adaptive(
-    mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-    tags: Option<&TagFile>,
-    displacement: Option<&Displacement>,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    use glam::Vec3;
-    use tessgen_runtime::adaptive::{self, Adaptive};
-    use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
-    let language = match args.backend {
-        Backend::Glsl => Language::Glsl,
-        Backend::Hlsl => Language::Hlsl,
-        other => {
-            return Err(format!(
-                "--adaptive runs on --backend cpu, wgpu, glsl or hlsl, not {}",
-                other.name()
-            ))
-        }
-    };
-    let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
-    if tags.is_some() && kernels.name != "stpn" {
-        return Err(cpu::TessError::TagsUnused {
-            scheme: kernels.name.into(),
-        }
-        .to_string());
-    }
-    // Triangle schemes tessellate the triangle mesh (`--split-quads`), quad
-    // schemes the quad topology; both number their edges for the factors.
-    let (topo, tri) = if kernels.sides == 3 {
-        let tri = cpu::tri_mesh(mesh, args.split_quads, tags).map_err(|e| e.to_string())?;
-        (None, Some(tri))
-    } else {
-        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(|e| e.to_string())?;
-        (Some(topo), None)
-    };
-    let edges = match (&topo, &tri) {
-        (Some(t), _) => adaptive::edge_ids(t).1,
-        (_, Some(t)) => t.edge_ids().1,
-        _ => 0,
-    };
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let metric = adaptive_metric(edges, &positions, args.adaptive.as_ref());
-    let options = Options {
-        adaptive: Some(Adaptive {
-            metric,
-            partitioning: args.partitioning,
-            min: 1.0,
-            max: args.max_factor,
-        }),
-        ..Options::new(language)
-    };
-    let vk = Vulkan::new().map_err(|e| e.to_string())?;
-    // With --displace the evaluation stage is built with TESSGEN_DISPLACE.
-    let m = match (&tri, displacement) {
-        (Some(t), None) => VkMesh::new_tri(&vk, t, &args.scheme, &options),
-        (Some(t), Some(d)) => VkMesh::new_tri_displaced(&vk, mesh, t, &args.scheme, d, &options),
-        (None, d) => {
-            let topo = topo.ok_or("no quad topology")?;
-            match d {
-                None => VkMesh::new(&vk, &topo, &positions, &args.scheme, &options),
-                Some(d) => {
-                    VkMesh::new_displaced(&vk, mesh, &topo, &positions, &args.scheme, d, &options)
-                }
-            }
-        }
-    }
-    .map_err(|e| e.to_string())?;
-    Ok(m.evaluate_adaptive()
-        .map_err(|e| e.to_string())?
-        .triangles())
-}
-
-#[cfg(not(feature = "vulkan"))]
-fn vulkan_adaptive(
-    _mesh: &tessgen_runtime::Mesh,
-    _args: &TessellateArgs,
-    _tags: Option<&TagFile>,
-    _displacement: Option<&Displacement>,
-) -> Result<Vec<[glam::Vec3; 3]>, String> {
-    Err("--adaptive needs tessgen built with the `vulkan` feature".into())
-}
-
-/// `--backend glsl|hlsl`: the Vulkan tessellation harness.
-#[cfg(feature = "vulkan")]
-fn vulkan_tessellate(
-    mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-    tags: Option<&TagFile>,
-    displacement: Option<&Displacement>,
-) -> Result<tessgen_runtime::vulkan::VkOutput, String> {
-    use tessgen_runtime::vulkan::{self, Language, Options};
-    let language = if args.backend == Backend::Hlsl {
-        Language::Hlsl
-    } else {
-        Language::Glsl
-    };
-    if let Some(d) = displacement {
-        // The evaluation stage built with TESSGEN_DISPLACE.
-        return vulkan::tessellate_displaced_any(
-            mesh,
-            &args.scheme,
-            args.level.unwrap_or(1),
-            args.split_quads,
-            d,
-            &Options::new(language),
-        )
-        .map_err(|e| e.to_string());
-    }
-    vulkan::tessellate_tagged(
-        mesh,
-        &args.scheme,
-        args.level.unwrap_or(1),
-        args.split_quads,
-        tags,
-        &Options::new(language),
-    )
-    .map_err(|e| e.to_string())
-}
-
-/// Without the `vulkan` feature there is no output type to name.
-#[cfg(not(feature = "vulkan"))]
-enum VkOutput {}
-
-#[cfg(not(feature = "vulkan"))]
-fn vulkan_tessellate(
-    _mesh: &tessgen_runtime::Mesh,
-    args: &TessellateArgs,
-    _tags: Option<&TagFile>,
-    _displacement: Option<&Displacement>,
-) -> Result<VkOutput, String> {
-    Err(format!(
-        "--backend {} needs tessgen built with the `vulkan` feature",
-        args.backend.name()
-    ))
-}
-
-/// A backend's tessellation: the grid (cpu, wgpu) or the Vulkan pipeline's output.
-enum Output {
-    Grid(tessgen_runtime::Tessellation),
-    #[cfg(feature = "vulkan")]
-    Vulkan(tessgen_runtime::vulkan::VkOutput),
-    #[cfg(not(feature = "vulkan"))]
-    Vulkan(VkOutput),
+    tessellate::power_of_two_level(max_factor)
 }
 
 /// `--displace MAP [--displace-scale S] [--displace-per-patch]`.
@@ -916,10 +618,61 @@ fn displacement_arg(path: &std::path::Path, args: &TessellateArgs) -> Result<Dis
     })
 }
 
+/// `--backend` as the runtime's backend; glsl and hlsl need the `vulkan` feature.
+fn runtime_backend(backend: Backend) -> Result<tessellate::Backend, String> {
+    match backend {
+        Backend::Cpu => Ok(tessellate::Backend::Cpu),
+        Backend::Wgpu => Ok(tessellate::Backend::Wgpu),
+        #[cfg(feature = "vulkan")]
+        Backend::Glsl => Ok(tessellate::Backend::VulkanGlsl),
+        #[cfg(feature = "vulkan")]
+        Backend::Hlsl => Ok(tessellate::Backend::VulkanHlsl),
+        #[cfg(not(feature = "vulkan"))]
+        other => Err(format!(
+            "--backend {} needs tessgen built with the `vulkan` feature",
+            other.name()
+        )),
+    }
+}
+
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
+    let tags = match &args.tags {
+        Some(path) => Some(load_tags(path, &mesh)?),
+        None => None,
+    };
+    let displacement = match &args.displace {
+        Some(path) => Some(displacement_arg(path, args)?),
+        None => None,
+    };
+    let mut request = match &args.adaptive {
+        Some(metric) => {
+            let positions: Vec<glam::Vec3> = mesh
+                .positions
+                .iter()
+                .map(|p| glam::Vec3::from_array(*p))
+                .collect();
+            Request::adaptive(
+                &args.scheme,
+                AdaptiveRequest {
+                    metric: edge_metric(&positions, metric),
+                    partitioning: args.partitioning,
+                    max_factor: args.max_factor,
+                },
+            )
+        }
+        None => Request::uniform(&args.scheme, args.level.unwrap_or(1)),
+    }
+    .on(runtime_backend(args.backend)?)
+    .split_quads(args.split_quads);
+    if let Some(t) = &tags {
+        request = request.tagged(t);
+    }
+    if let Some(d) = &displacement {
+        request = request.displaced(d);
+    }
     if args.adaptive.is_some() {
-        return tessellate_adaptive(&mesh, args);
+        return tessellate_adaptive(&mesh, args, request);
     }
     let level = args.level.unwrap_or(1);
     let per_face = u64::from(level + 1).pow(2);
@@ -931,73 +684,26 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
             level
         ));
     }
-    let tags = match &args.tags {
-        Some(path) => Some(load_tags(path, &mesh)?),
-        None => None,
-    };
-    let (scheme, split) = (&args.scheme, args.split_quads);
-    let displacement = match &args.displace {
-        Some(path) => {
-            if tags.is_some() {
-                return Err("--displace does not take --tags".into());
-            }
-            Some(displacement_arg(path, args)?)
-        }
-        None => None,
-    };
     let start = Instant::now();
-    let out = match (args.backend, &displacement) {
-        (Backend::Cpu, Some(d)) => cpu::tessellate_displaced_any(&mesh, scheme, level, split, d)
-            .map(Output::Grid)
-            .map_err(|e| e.to_string()),
-        (Backend::Wgpu, Some(d)) => {
-            tessgen_runtime::gpu::tessellate_displaced_any(&mesh, scheme, level, split, d)
-                .map(Output::Grid)
-                .map_err(|e| e.to_string())
-        }
-        (backend, _) => match backend {
-            Backend::Cpu => cpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
-                .map(Output::Grid)
-                .map_err(|e| e.to_string()),
-            Backend::Wgpu => {
-                tessgen_runtime::gpu::tessellate_tagged(&mesh, scheme, level, split, tags.as_ref())
-                    .map(Output::Grid)
-                    .map_err(|e| e.to_string())
-            }
-            Backend::Glsl | Backend::Hlsl => {
-                vulkan_tessellate(&mesh, args, tags.as_ref(), displacement.as_ref())
-                    .map(Output::Vulkan)
-            }
-        },
-    }
-    .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    let out = tessellate::tessellate(&mesh, &request)
+        .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
-    let (text, summary, r) = match &out {
-        Output::Grid(t) => (
-            obj::to_obj(t),
-            format!(
-                "{} faces × {} samples = {} samples",
-                t.faces,
-                t.grid_len(),
-                t.positions.len()
-            ),
-            args.check_watertight.then(|| weld::weld(t)),
+    let summary = match &out {
+        TessOutput::Grid(t) => format!(
+            "{} faces × {} samples = {} samples",
+            t.faces,
+            t.grid_len(),
+            t.positions.len()
         ),
-        #[cfg(feature = "vulkan")]
-        Output::Vulkan(v) => {
-            // Triangle schemes: the tessellator's own triangles (its inner
-            // vertices are not a grid), in the same OBJ conventions.
-            let (patches, vertices, triangles) = v.counts();
-            (
-                v.to_obj(),
-                format!("{patches} patches, {vertices} vertices, {triangles} triangles"),
-                args.check_watertight.then(|| v.weld()),
-            )
+        // Triangle schemes on glsl/hlsl: the tessellator's own triangles
+        // (its inner vertices are not a grid), in the same OBJ conventions.
+        _ => {
+            let (patches, vertices, triangles) = out.counts();
+            format!("{patches} patches, {vertices} vertices, {triangles} triangles")
         }
-        #[cfg(not(feature = "vulkan"))]
-        Output::Vulkan(v) => match *v {},
     };
-    std::fs::write(&args.out, text).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let r = args.check_watertight.then(|| out.weld());
+    std::fs::write(&args.out, out.to_obj()).map_err(|e| format!("{}: {e}", args.out.display()))?;
     eprintln!(
         "tessgen: {summary} ({} level {}, {} backend) in {:.2} ms → {}",
         args.scheme,

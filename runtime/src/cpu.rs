@@ -34,8 +34,6 @@ pub enum TessError {
     TriMesh(#[from] crate::mesh::trimesh::TriMeshError),
     #[error(transparent)]
     Tags(#[from] crate::mesh::tags::TagError),
-    #[error("scheme `{scheme}` takes no crease tags (only `stpn` reads them)")]
-    TagsUnused { scheme: String },
     #[error(transparent)]
     Displace(#[from] crate::displace::DisplaceError),
 }
@@ -453,29 +451,6 @@ pub fn displacement_data(
     )?)
 }
 
-/// [`tessellate_displaced`] for any built-in scheme: quad schemes as
-/// there, triangle schemes on [`tri_mesh`]`(mesh, split_quads, None)` with
-/// 12 texture coordinates per triangle ([`crate::displace::build_tri`]).
-pub fn tessellate_displaced_any(
-    mesh: &Mesh,
-    scheme_name: &str,
-    level: u32,
-    split_quads: bool,
-    d: &Displacement,
-) -> Result<Tessellation, TessError> {
-    let kernels = scheme(scheme_name)?;
-    if kernels.sides == 4 {
-        return tessellate_displaced(mesh, scheme_name, level, d);
-    }
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
-    let tri = tri_mesh(mesh, split_quads, None)?;
-    let patches = construct_tri(&tri, kernels)?;
-    let data = displacement_data_tri(mesh, &tri, &patches, d)?;
-    evaluate_displaced(&patches, level, &data)
-}
-
 /// The displacement arrays of a triangle scheme for the CPU layout of
 /// `patches` (built by [`construct_tri`] from `tri`, which was made from
 /// `mesh`).
@@ -492,52 +467,6 @@ pub fn displacement_data_tri(
         &patches.cp_offsets[..patches.face_class.len()],
         d,
     )?)
-}
-
-/// [`tessellate_mesh`] with displacement (quad schemes; triangle schemes
-/// through [`tessellate_displaced_any`], which takes `split_quads`).
-pub fn tessellate_displaced(
-    mesh: &Mesh,
-    scheme_name: &str,
-    level: u32,
-    d: &Displacement,
-) -> Result<Tessellation, TessError> {
-    let kernels = scheme(scheme_name)?;
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
-    if kernels.sides != 4 {
-        return tessellate_displaced_any(mesh, scheme_name, level, false, d);
-    }
-    let topo = Topology::build(mesh, &topology_options())?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let patches = construct(&topo, &positions, kernels)?;
-    let data = displacement_data(mesh, &topo, &patches, d)?;
-    evaluate_displaced(&patches, level, &data)
-}
-
-/// Load-free entry point: topology + scheme + level → grids.
-pub fn tessellate_mesh(
-    mesh: &Mesh,
-    scheme_name: &str,
-    level: u32,
-) -> Result<Tessellation, TessError> {
-    let kernels = scheme(scheme_name)?;
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
-    let topo = Topology::build(mesh, &topology_options())?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let patches = construct(&topo, &positions, kernels)?;
-    evaluate(&patches, level)
 }
 
 /// Start of each vertex's vertex-stage outputs (`rows_per_n·n + rows_fixed`
@@ -603,46 +532,6 @@ pub fn construct_tri(
         vertex_out_offsets: Vec::new(),
         vertex_out: Vec::new(),
     })
-}
-
-/// Tessellate a polygon mesh with any built-in scheme: quad schemes through
-/// [`Topology`], triangle schemes through [`crate::mesh::trimesh::TriMesh`]
-/// (quads split when `split_quads`; OBJ normals used when consistent,
-/// area-weighted otherwise).
-pub fn tessellate_any(
-    mesh: &Mesh,
-    scheme_name: &str,
-    level: u32,
-    split_quads: bool,
-) -> Result<Tessellation, TessError> {
-    tessellate_tagged(mesh, scheme_name, level, split_quads, None)
-}
-
-/// [`tessellate_any`] with the crease tags of a tag file for `stpn`
-/// ([`crate::mesh::tags`]); `tags` with any other scheme is an error rather than
-/// silently ignored.
-pub fn tessellate_tagged(
-    mesh: &Mesh,
-    scheme_name: &str,
-    level: u32,
-    split_quads: bool,
-    tags: Option<&crate::mesh::tags::TagFile>,
-) -> Result<Tessellation, TessError> {
-    let kernels = scheme(scheme_name)?;
-    if tags.is_some() && kernels.name != "stpn" {
-        return Err(TessError::TagsUnused {
-            scheme: kernels.name.into(),
-        });
-    }
-    if kernels.sides == 4 {
-        return tessellate_mesh(mesh, scheme_name, level);
-    }
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
-    let tri = tri_mesh(mesh, split_quads, tags)?;
-    let patches = construct_tri(&tri, kernels)?;
-    evaluate(&patches, level)
 }
 
 /// The triangle mesh a triangle scheme runs on: quads split when asked,

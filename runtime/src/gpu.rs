@@ -11,6 +11,7 @@
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::mesh::topology::Topology;
+use crate::readback::GridReadback;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 
@@ -790,8 +791,7 @@ impl<'g> GpuMesh<'g> {
         }
         let spp = (self.scheme.grid_len)(level) as u64;
         let faces = self.patch_faces.len();
-        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
-        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
         // Patches per readback chunk: within the dispatch and binding limits.
         let by_dispatch = self.chunk(spp);
         let by_binding =
@@ -854,23 +854,11 @@ impl<'g> GpuMesh<'g> {
                     self.gpu.queue.submit([enc.finish()]);
                 })?;
                 let floats = self.read(&staging)?;
-                for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
-                    let patch = c.first + k + (i as u64 / spp) as u32;
-                    let face = self.patch_faces[patch as usize] as usize;
-                    let at = face * spp as usize + (i as u64 % spp) as usize;
-                    positions[at] = Vec3::new(s[0], s[1], s[2]);
-                    normals[at] = Vec3::new(s[3], s[4], s[5]);
-                }
+                grids.scatter(&floats, (c.first + k) as u64, &self.patch_faces);
                 k += count;
             }
         }
-        Ok(Tessellation {
-            level,
-            faces,
-            sides: self.scheme.sides,
-            positions,
-            normals,
-        })
+        Ok(grids.finish())
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a
@@ -1562,106 +1550,4 @@ impl<'g> GpuMesh<'g> {
     pub fn module(&self) -> &wgpu::ShaderModule {
         &self.module
     }
-}
-
-/// Load-free entry point, like [`cpu::tessellate_mesh`] but on the GPU:
-/// topology + scheme + level → grids read back in face order.
-pub fn tessellate_mesh(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-) -> Result<Tessellation, GpuError> {
-    let kernels = cpu::scheme(scheme)?;
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let gpu = Gpu::new()?;
-    GpuMesh::new(&gpu, &topo, &positions, kernels.name)?.evaluate(level)
-}
-
-/// Like [`cpu::tessellate_displaced`] on the GPU.
-pub fn tessellate_displaced(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    d: &crate::displace::Displacement,
-) -> Result<Tessellation, GpuError> {
-    let kernels = cpu::scheme(scheme)?;
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    if kernels.sides != 4 {
-        return tessellate_displaced_any(mesh, scheme, level, false, d);
-    }
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let gpu = Gpu::new()?;
-    GpuMesh::new_displaced(&gpu, mesh, &topo, &positions, kernels.name, d)?.evaluate(level)
-}
-
-/// Like [`cpu::tessellate_displaced_any`] on the GPU.
-pub fn tessellate_displaced_any(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-    d: &crate::displace::Displacement,
-) -> Result<Tessellation, GpuError> {
-    let kernels = cpu::scheme(scheme)?;
-    if kernels.sides == 4 {
-        return tessellate_displaced(mesh, scheme, level, d);
-    }
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let tri = cpu::tri_mesh(mesh, split_quads, None)?;
-    let gpu = Gpu::new()?;
-    GpuMesh::new_tri_displaced(&gpu, mesh, &tri, kernels.name, d)?.evaluate(level)
-}
-
-/// Like [`cpu::tessellate_any`] on the GPU: quad schemes through
-/// [`Topology`], triangle schemes through [`crate::mesh::trimesh::TriMesh`].
-pub fn tessellate_any(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-) -> Result<Tessellation, GpuError> {
-    tessellate_tagged(mesh, scheme, level, split_quads, None)
-}
-
-/// Like [`cpu::tessellate_tagged`] on the GPU.
-pub fn tessellate_tagged(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-    tags: Option<&crate::mesh::tags::TagFile>,
-) -> Result<Tessellation, GpuError> {
-    let kernels = cpu::scheme(scheme)?;
-    if tags.is_some() && kernels.name != "stpn" {
-        return Err(cpu::TessError::TagsUnused {
-            scheme: kernels.name.into(),
-        }
-        .into());
-    }
-    if kernels.sides == 4 {
-        return tessellate_mesh(mesh, scheme, level);
-    }
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
-    let gpu = Gpu::new()?;
-    GpuMesh::new_tri(&gpu, &tri, kernels.name)?.evaluate(level)
 }

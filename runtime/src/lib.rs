@@ -5,14 +5,18 @@
 //!   (stored once, canonical start) and every face's corner records.
 //! * [`kernels`] is the Rust code tessgen generated for the built-in schemes
 //!   (at build time, by this crate's `build.rs`) and its stencil table.
+//! * [`tessellate`] is the front door: a [`tessellate::Request`] (scheme,
+//!   level or adaptive metric, backend, displacement, tags) validated once
+//!   against the mesh, then run on the CPU, wgpu or the Vulkan harness.
 //! * [`cpu`] runs those kernels over a mesh, in parallel.
 //! * [`weld`] checks watertightness by exact-bit welding; [`obj`] writes grids.
 //!
 //! ```no_run
-//! use tessgen_runtime::{cpu, weld, Mesh};
+//! use tessgen_runtime::tessellate::{tessellate, Request};
+//! use tessgen_runtime::Mesh;
 //! let mesh = Mesh::from_obj_path("cube.obj")?;
-//! let grids = cpu::tessellate_mesh(&mesh, "pccm", 8)?;
-//! assert!(weld::weld(&grids).is_closed_manifold());
+//! let out = tessellate(&mesh, &Request::uniform("pccm", 8))?;
+//! assert!(out.weld().is_closed_manifold());
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -28,8 +32,11 @@ pub mod grid;
 pub mod kernels;
 pub mod mesh;
 pub mod pattern;
+#[cfg(any(feature = "gpu", feature = "vulkan"))]
+mod readback;
 #[cfg(feature = "gpu")]
 pub mod render;
+pub mod tessellate;
 pub mod upload;
 #[cfg(feature = "vulkan")]
 pub mod vulkan;

@@ -30,6 +30,7 @@ use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOAT
 use crate::cpu::{self, Tessellation};
 use crate::kernels::{self, common::SchemeKernels};
 use crate::mesh::topology::Topology;
+use crate::readback::GridReadback;
 use crate::upload::{
     f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
 };
@@ -1930,8 +1931,7 @@ impl<'v> VkMesh<'v> {
     ) -> Result<Tessellation, VkError> {
         self.write_buffer(binding::SAMPLES, samples);
         let faces = self.patch_faces.len();
-        let mut positions = vec![Vec3::ZERO; faces * spp as usize];
-        let mut normals = vec![Vec3::ZERO; faces * spp as usize];
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
         let nan: Vec<u8> = std::iter::repeat_n(
             f32::NAN.to_le_bytes(),
             (chunk * spp) as usize * abi::SAMPLE_LEN,
@@ -1945,22 +1945,10 @@ impl<'v> VkMesh<'v> {
             samples.write(&nan);
             run(p0, n)?;
             let floats = samples.read_f32((n * spp) as usize * abi::SAMPLE_LEN);
-            for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
-                let patch = p0 + i as u64 / spp;
-                let face = self.patch_faces[patch as usize] as usize;
-                let at = face * spp as usize + (i as u64 % spp) as usize;
-                positions[at] = Vec3::new(s[0], s[1], s[2]);
-                normals[at] = Vec3::new(s[3], s[4], s[5]);
-            }
+            grids.scatter(&floats, p0, &self.patch_faces);
             p0 += n;
         }
-        Ok(Tessellation {
-            level,
-            faces,
-            sides: self.scheme.sides,
-            positions,
-            normals,
-        })
+        Ok(grids.finish())
     }
 }
 
@@ -1996,91 +1984,6 @@ impl Drop for VkMesh<'_> {
     }
 }
 
-/// What the Vulkan pipeline produced: quad schemes a grid per patch (the
-/// tessellator's quad pattern is the integer grid), triangle schemes the
-/// triangles the tessellator emitted (its inner rings are not a grid).
-#[derive(Clone, Debug, PartialEq)]
-pub enum VkOutput {
-    Grid(Tessellation),
-    Triangles(TriangleCapture),
-}
-
-impl VkOutput {
-    /// OBJ text: [`crate::check::obj::to_obj`] or [`TriangleCapture::to_obj`].
-    pub fn to_obj(&self) -> String {
-        match self {
-            VkOutput::Grid(t) => crate::check::obj::to_obj(t),
-            VkOutput::Triangles(c) => c.to_obj(),
-        }
-    }
-    /// Exact-bit weld of the output (see [`crate::check::weld`]).
-    pub fn weld(&self) -> crate::check::weld::WeldReport {
-        match self {
-            VkOutput::Grid(t) => crate::check::weld::weld(t),
-            VkOutput::Triangles(c) => c.weld(),
-        }
-    }
-    /// `(patches, vertices, triangles)` for a summary line.
-    pub fn counts(&self) -> (usize, usize, usize) {
-        match self {
-            VkOutput::Grid(t) => (
-                t.faces,
-                t.positions.len(),
-                t.faces * t.local_triangles().len(),
-            ),
-            VkOutput::Triangles(c) => (c.patches.len(), c.vertex_count(), c.triangle_count()),
-        }
-    }
-}
-
-/// Like [`cpu::tessellate_any`] through the Vulkan tessellation pipeline:
-/// quad schemes through [`Topology`], triangle schemes through
-/// [`crate::mesh::trimesh::TriMesh`].
-pub fn tessellate_any(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-    options: &Options,
-) -> Result<VkOutput, VkError> {
-    tessellate_tagged(mesh, scheme, level, split_quads, None, options)
-}
-
-/// [`tessellate_any`] with `stpn`'s crease tags (see [`cpu::tessellate_tagged`]).
-pub fn tessellate_tagged(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-    tags: Option<&crate::mesh::tags::TagFile>,
-    options: &Options,
-) -> Result<VkOutput, VkError> {
-    let kernels = cpu::scheme(scheme)?;
-    if tags.is_some() && kernels.name != "stpn" {
-        return Err(cpu::TessError::TagsUnused {
-            scheme: kernels.name.into(),
-        }
-        .into());
-    }
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let vk = Vulkan::new()?;
-    if kernels.sides == 4 {
-        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
-        let positions: Vec<Vec3> = mesh
-            .positions
-            .iter()
-            .map(|p| Vec3::from_array(*p))
-            .collect();
-        let m = VkMesh::new(&vk, &topo, &positions, kernels.name, options)?;
-        return m.evaluate(level).map(VkOutput::Grid);
-    }
-    let tri = cpu::tri_mesh(mesh, split_quads, tags)?;
-    let m = VkMesh::new_tri(&vk, &tri, kernels.name, options)?;
-    m.evaluate_triangles(level).map(VkOutput::Triangles)
-}
-
 /// `options` with [`DISPLACE`] among its defines.
 fn displacing(options: &Options) -> Options {
     let mut options = options.clone();
@@ -2088,74 +1991,4 @@ fn displacing(options: &Options) -> Options {
         options.defines.push(DISPLACE.into());
     }
     options
-}
-
-/// [`tessellate_displaced`] for any built-in scheme: quad schemes as
-/// there, triangle schemes on [`cpu::tri_mesh`]`(mesh, split_quads, None)`
-/// ([`VkMesh::new_tri_displaced`], captured triangles). With
-/// [`Options::adaptive`] the draw is adaptive (captured triangles for both
-/// domains; `level` is then ignored).
-pub fn tessellate_displaced_any(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    split_quads: bool,
-    d: &crate::displace::Displacement,
-    options: &Options,
-) -> Result<VkOutput, VkError> {
-    let kernels = cpu::scheme(scheme)?;
-    if options.adaptive.is_none() && (level == 0 || level > cpu::MAX_LEVEL) {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let vk = Vulkan::new()?;
-    let m = if kernels.sides == 4 {
-        let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
-        let positions: Vec<Vec3> = mesh
-            .positions
-            .iter()
-            .map(|p| Vec3::from_array(*p))
-            .collect();
-        let m = VkMesh::new_displaced(&vk, mesh, &topo, &positions, kernels.name, d, options)?;
-        if options.adaptive.is_none() {
-            return m.evaluate(level).map(VkOutput::Grid);
-        }
-        m
-    } else {
-        let tri = cpu::tri_mesh(mesh, split_quads, None)?;
-        VkMesh::new_tri_displaced(&vk, mesh, &tri, kernels.name, d, options)?
-    };
-    if options.adaptive.is_some() {
-        m.evaluate_adaptive().map(VkOutput::Triangles)
-    } else {
-        m.evaluate_triangles(level).map(VkOutput::Triangles)
-    }
-}
-
-/// Like [`cpu::tessellate_displaced`] through the Vulkan tessellation
-/// pipeline (quad schemes; any scheme through [`tessellate_displaced_any`]):
-/// the emitted evaluation stage built with [`DISPLACE`] displaces every
-/// sample (see [`VkMesh::new_displaced`]).
-pub fn tessellate_displaced(
-    mesh: &crate::Mesh,
-    scheme: &str,
-    level: u32,
-    d: &crate::displace::Displacement,
-    options: &Options,
-) -> Result<Tessellation, VkError> {
-    let kernels = cpu::scheme(scheme)?;
-    if kernels.sides != 4 {
-        return Err(cpu::facet_error(kernels).into());
-    }
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(cpu::TessError::Level(level).into());
-    }
-    let vk = Vulkan::new()?;
-    let topo = Topology::build(mesh, &cpu::topology_options()).map_err(cpu::TessError::from)?;
-    let positions: Vec<Vec3> = mesh
-        .positions
-        .iter()
-        .map(|p| Vec3::from_array(*p))
-        .collect();
-    let m = VkMesh::new_displaced(&vk, mesh, &topo, &positions, kernels.name, d, options)?;
-    m.evaluate(level)
 }

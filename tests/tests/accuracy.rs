@@ -8,6 +8,7 @@ use tessgen_runtime::accuracy::{
     boundary_geometric_normals, compare, geometric_normal_jump, markdown,
     patches_geometric_normal_jump, LimitError, LimitSamples, GEOMETRIC_JUMP_LEVEL,
 };
+use tessgen_runtime::tessellate::Request;
 use tessgen_runtime::{cpu, Topology};
 
 #[test]
@@ -156,7 +157,7 @@ fn geometric_normals_match_shading_normals() {
     }
     // Too coarse for the one-sided difference: nothing to estimate.
     let cube = common::mesh("catmark_cube");
-    let t = cpu::tessellate_mesh(&cube, "pccm", 3).expect("tessellate");
+    let t = common::grid(&cube, &Request::uniform("pccm", 3)).expect("tessellate");
     let topo = Topology::build(&cube, &cpu::topology_options()).expect("topology");
     assert!(boundary_geometric_normals(&topo, &t).is_empty());
 }

@@ -10,6 +10,7 @@ use common::{displacement, per_face_charts};
 
 use glam::Vec3;
 use tessgen_runtime::displace::{DisplaceData, Displacement, Ownership};
+use tessgen_runtime::tessellate::Request;
 use tessgen_runtime::{cpu, weld, Mesh, Topology};
 
 /// Quad schemes that apply to the cube (regular needs valence 4).
@@ -17,7 +18,8 @@ const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
 const LEVELS: &[u32] = &[1, 2, 3, 7, 16];
 
 fn cpu_displaced(mesh: &Mesh, scheme: &str, level: u32, d: &Displacement) -> cpu::Tessellation {
-    cpu::tessellate_displaced(mesh, scheme, level, d).expect("displaced tessellation")
+    common::grid(mesh, &Request::uniform(scheme, level).displaced(d))
+        .expect("displaced tessellation")
 }
 
 fn max_offset(a: &cpu::Tessellation, b: &cpu::Tessellation) -> f32 {
@@ -39,9 +41,11 @@ fn obj_texture_coordinates_are_read_per_corner() {
     assert_eq!(mesh.corner_texcoord(c), Some(mesh.texcoords[4]));
     // Without vt, displacement is a typed error naming the face and corner.
     let plain = common::mesh("catmark_cube");
-    let err =
-        cpu::tessellate_displaced(&plain, "pccm", 2, &displacement(Ownership::LowestFace, 0.5))
-            .unwrap_err();
+    let err = common::grid(
+        &plain,
+        &Request::uniform("pccm", 2).displaced(&displacement(Ownership::LowestFace, 0.5)),
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("face 0 corner 0"), "{err}");
 }
 
@@ -91,7 +95,7 @@ fn displaced_cube_with_uv_seams_welds_closed_on_the_cpu() {
                     report.is_closed_manifold(),
                     "{name} {scheme} L{level}: {report:?}"
                 );
-                let plain = cpu::tessellate_mesh(mesh, scheme, level).unwrap();
+                let plain = common::grid(mesh, &Request::uniform(scheme, level)).unwrap();
                 let moved = max_offset(&t, &plain);
                 assert!(moved > 0.01, "{name} {scheme} L{level}: moved {moved}");
                 println!("cpu {name} {scheme} L{level}: closed, max displacement {moved:.3}");

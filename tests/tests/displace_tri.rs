@@ -10,13 +10,20 @@ mod common;
 use common::{displacement, seam_meshes as meshes};
 
 use tessgen_runtime::displace::{DisplaceData, Displacement, Ownership};
+use tessgen_runtime::tessellate::Request;
 use tessgen_runtime::{cpu, weld, Mesh};
 
 const SCHEMES: &[&str] = &["pn", "stpn", "phong"];
 const LEVELS: &[u32] = &[1, 3, 8];
 
 fn cpu_displaced(mesh: &Mesh, scheme: &str, level: u32, d: &Displacement) -> cpu::Tessellation {
-    cpu::tessellate_displaced_any(mesh, scheme, level, true, d).expect("displaced tessellation")
+    common::grid(
+        mesh,
+        &Request::uniform(scheme, level)
+            .split_quads(true)
+            .displaced(d),
+    )
+    .expect("displaced tessellation")
 }
 
 fn max_offset(a: &cpu::Tessellation, b: &cpu::Tessellation) -> f32 {
@@ -41,7 +48,8 @@ fn displaced_triangle_schemes_weld_closed_on_the_cpu() {
                     report.is_closed_manifold(),
                     "{name} {scheme} L{level}: {report:?}"
                 );
-                let plain = cpu::tessellate_any(mesh, scheme, level, true).unwrap();
+                let plain =
+                    common::grid(mesh, &Request::uniform(scheme, level).split_quads(true)).unwrap();
                 let moved = max_offset(&t, &plain);
                 assert!(moved > 0.01, "{name} {scheme} L{level}: moved {moved}");
                 assert!(t.positions.iter().all(|p| p.is_finite()));
@@ -123,12 +131,11 @@ fn triangle_texture_coordinates_come_from_the_source_faces() {
         }
     }
     let plain = common::mesh("catmark_cube");
-    let err = cpu::tessellate_displaced_any(
+    let err = common::grid(
         &plain,
-        "pn",
-        2,
-        true,
-        &displacement(Ownership::LowestFace, 0.5),
+        &Request::uniform("pn", 2)
+            .split_quads(true)
+            .displaced(&displacement(Ownership::LowestFace, 0.5)),
     )
     .unwrap_err();
     assert!(err.to_string().contains("face 0 corner 0"), "{err}");

@@ -16,7 +16,8 @@ use std::path::PathBuf;
 use tessgen_codegen::backend::abi::{self, Access, EntryPoint};
 use tessgen_codegen::plan::{ConstValue, Entries, Module};
 use tessgen_codegen::{Builder, Target};
-use tessgen_runtime::{cpu, Mesh};
+use tessgen_runtime::tessellate::{tessellate, Request};
+use tessgen_runtime::Mesh;
 
 fn repo(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -541,8 +542,10 @@ fn run_scheme(
             .collect();
         staging.unmap();
 
-        let reference =
-            cpu::tessellate_mesh(&mesh, scheme, level).unwrap_or_else(|err| panic!("{err}"));
+        let reference = tessellate(&mesh, &Request::uniform(scheme, level))
+            .ok()
+            .and_then(|o| o.into_grid())
+            .unwrap_or_else(|| panic!("{scheme} L{level}: CPU reference"));
         let sf = abi::SAMPLE_FLOATS as usize;
         let mut compared = 0;
         for (p, &face) in inp.patch_faces.iter().enumerate() {

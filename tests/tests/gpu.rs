@@ -277,3 +277,47 @@ fn gpu_facet_mismatch_is_a_typed_error() {
         ))
     ));
 }
+
+/// The front door on wgpu runs the same upload and readback as `GpuMesh`
+/// (quads, and split quads for a triangle scheme), bit for bit, and one
+/// `Session` serves both requests with one device.
+#[test]
+fn front_door_on_wgpu_is_gpu_mesh_bit_for_bit() {
+    use tessgen_runtime::tessellate::{Backend, Request, Session};
+    let mesh = common::mesh("catmark_cube");
+    let (topo, positions, _) = load("catmark_cube");
+    let mut session = Session::new();
+    let quads = session
+        .tessellate(&mesh, &Request::uniform("pccm", 4).on(Backend::Wgpu))
+        .expect("front door")
+        .into_grid()
+        .expect("grid");
+    let direct = GpuMesh::new(gpu(), &topo, &positions, "pccm")
+        .and_then(|m| m.evaluate(4))
+        .expect("GpuMesh");
+    assert_eq!(bits(&quads), bits(&direct));
+    let tris = session
+        .tessellate(
+            &mesh,
+            &Request::uniform("pn", 3)
+                .split_quads(true)
+                .on(Backend::Wgpu),
+        )
+        .expect("front door")
+        .into_grid()
+        .expect("grid");
+    let tri = cpu::tri_mesh(&mesh, true, None).expect("split");
+    let direct = GpuMesh::new_tri(gpu(), &tri, "pn")
+        .and_then(|m| m.evaluate(3))
+        .expect("GpuMesh");
+    assert_eq!(bits(&tris), bits(&direct));
+}
+
+fn bits(t: &tessgen_runtime::Tessellation) -> Vec<u32> {
+    t.positions
+        .iter()
+        .chain(&t.normals)
+        .flat_map(|v| v.to_array())
+        .map(f32::to_bits)
+        .collect()
+}

@@ -7,6 +7,7 @@
 mod common;
 
 use glam::{DVec3, Vec3};
+use tessgen_runtime::tessellate::{Error, Request};
 use tessgen_runtime::{cpu, FaceClass, Topology};
 
 const LEVEL: u32 = 8;
@@ -27,7 +28,7 @@ fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
 fn boundary_normal_angles(name: &str, scheme: &str) -> [f64; 3] {
     let mesh = common::mesh(name);
     let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
-    let t = cpu::tessellate_mesh(&mesh, scheme, LEVEL).expect("tessellate");
+    let t = common::grid(&mesh, &Request::uniform(scheme, LEVEL)).expect("tessellate");
     let per = t.grid_len() as u32;
     // [bicubic|bicubic, c-patch|bicubic, c-patch|c-patch]
     let mut worst = [0.0f64; 3];
@@ -275,7 +276,7 @@ fn regular_torus_is_the_catmull_clark_limit() {
     let diag = common::bbox_diagonal(&mesh) as f64;
     let (n, limit) = common::cc_limit("catmark_torus");
     for scheme in ["regular", "pccm", "acc", "gregory", "gregory_osd"] {
-        let t = cpu::tessellate_mesh(&mesh, scheme, (n - 1) as u32).expect("tessellate");
+        let t = common::grid(&mesh, &Request::uniform(scheme, (n - 1) as u32)).expect("tessellate");
         assert_eq!(t.positions.len(), limit.len());
         let (mut dp, mut da) = (0.0f64, 0.0f64);
         for (k, [p, nrm]) in limit.iter().enumerate() {
@@ -299,19 +300,19 @@ fn regular_torus_is_the_catmull_clark_limit() {
 #[test]
 fn regular_scheme_rejects_extraordinary_faces() {
     let mesh = common::mesh("catmark_cube");
-    match cpu::tessellate_mesh(&mesh, "regular", 4) {
-        Err(cpu::TessError::ExtraordinaryFace { face, scheme }) => {
+    match common::grid(&mesh, &Request::uniform("regular", 4)) {
+        Err(Error::Tess(cpu::TessError::ExtraordinaryFace { face, scheme })) => {
             assert_eq!(face, 0);
             assert_eq!(scheme, "regular");
         }
         other => panic!("expected ExtraordinaryFace, got {other:?}"),
     }
     assert!(matches!(
-        cpu::tessellate_mesh(&mesh, "nope", 4),
-        Err(cpu::TessError::UnknownScheme { .. })
+        common::grid(&mesh, &Request::uniform("nope", 4)),
+        Err(Error::UnknownScheme { .. })
     ));
     assert!(matches!(
-        cpu::tessellate_mesh(&mesh, "pccm", 0),
-        Err(cpu::TessError::Level(0))
+        common::grid(&mesh, &Request::uniform("pccm", 0)),
+        Err(Error::Level { level: 0 })
     ));
 }

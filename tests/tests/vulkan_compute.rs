@@ -14,7 +14,7 @@
 //! With displacement (the seam meshes, quads and split triangles) the
 //! compute evaluation displaces through `eval_displaced_global`: closed
 //! across every texture seam, within 1e-5 × diag of
-//! `cpu::tessellate_displaced_any`, and per-patch ownership opens.
+//! the CPU front door's displaced grids, and per-patch ownership opens.
 //!
 //! Rows print as `| scheme | backend | mesh | level | open edges | max |Δp|
 //! / diag |` (run with `--nocapture`) for docs/watertight.md.
@@ -24,6 +24,7 @@ mod common;
 use common::{displacement, seam_meshes};
 use glam::Vec3;
 use tessgen_runtime::displace::{Displacement, Ownership};
+use tessgen_runtime::tessellate::Request;
 use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
 use tessgen_runtime::{cpu, weld, Mesh, Tessellation, Topology};
 
@@ -102,7 +103,8 @@ fn compute_entries_weld_closed_and_match_the_cpu() {
             let mut m = upload(&vk, &mesh, scheme, None, language);
             for &level in LEVELS {
                 let t = m.evaluate_compute(level).expect("compute evaluation");
-                let cpu = cpu::tessellate_any(&mesh, scheme, level, true).expect("cpu");
+                let cpu = common::grid(&mesh, &Request::uniform(scheme, level).split_quads(true))
+                    .expect("cpu");
                 let report = weld::weld(&t);
                 let err = max_diff(&t, &cpu) / diag;
                 println!(
@@ -136,8 +138,13 @@ fn displaced_compute_entries_weld_closed_and_match_the_cpu() {
                 let mut m = upload(&vk, mesh, scheme, Some(&d), language);
                 for &level in LEVELS {
                     let t = m.evaluate_compute(level).expect("compute evaluation");
-                    let cpu =
-                        cpu::tessellate_displaced_any(mesh, scheme, level, true, &d).expect("cpu");
+                    let cpu = common::grid(
+                        mesh,
+                        &Request::uniform(scheme, level)
+                            .split_quads(true)
+                            .displaced(&d),
+                    )
+                    .expect("cpu");
                     let report = weld::weld(&t);
                     let err = max_diff(&t, &cpu) / diag;
                     println!(
@@ -155,7 +162,9 @@ fn displaced_compute_entries_weld_closed_and_match_the_cpu() {
                         "{name} {scheme} {} L{level}: parity {err}",
                         language.name()
                     );
-                    let plain = cpu::tessellate_any(mesh, scheme, level, true).expect("cpu");
+                    let plain =
+                        common::grid(mesh, &Request::uniform(scheme, level).split_quads(true))
+                            .expect("cpu");
                     assert!(max_diff(&t, &plain) > 0.01 * diag, "not displaced");
                 }
             }

@@ -8,7 +8,7 @@
 //!
 //! * the displaced surface welds closed bit for bit;
 //! * every captured position is within 1e-5 × bounding-box diagonal of
-//!   the CPU's `tessellate_displaced` (the maximum is printed);
+//!   the CPU's displaced grids (the maximum is printed);
 //! * scale 0 gives the plain (undisplaced) harness output bit for bit;
 //! * negative control: without ownership (`Ownership::PerPatch`) the weld
 //!   opens.
@@ -22,6 +22,7 @@ use common::{displacement, seam_meshes};
 
 use glam::Vec3;
 use tessgen_runtime::displace::{Displacement, Ownership};
+use tessgen_runtime::tessellate::Request;
 use tessgen_runtime::vulkan::{Language, Options, VkMesh, Vulkan};
 use tessgen_runtime::{cpu, weld, Mesh, Tessellation, Topology};
 
@@ -92,7 +93,8 @@ fn displaced_tessellation_stages_weld_closed_and_match_the_cpu() {
                 for &level in LEVELS {
                     let t = m.evaluate(level).expect("evaluate");
                     let report = weld::weld(&t);
-                    let cpu = cpu::tessellate_displaced(mesh, scheme, level, &d).unwrap();
+                    let cpu =
+                        common::grid(mesh, &Request::uniform(scheme, level).displaced(&d)).unwrap();
                     let err = max_diff(&t, &cpu) / diag;
                     println!(
                         "| {scheme} | {} | {name} | {level} | {} | {err:.1e} |",
@@ -110,7 +112,7 @@ fn displaced_tessellation_stages_weld_closed_and_match_the_cpu() {
                         language.name()
                     );
                     // Something moved: the displaced capture is not the plain one.
-                    let plain = cpu::tessellate_mesh(mesh, scheme, level).unwrap();
+                    let plain = common::grid(mesh, &Request::uniform(scheme, level)).unwrap();
                     assert!(max_diff(&t, &plain) > 0.01 * diag);
                 }
             }

@@ -5,6 +5,7 @@
 mod common;
 
 use tessgen_runtime::tags::{TagError, TagFile};
+use tessgen_runtime::tessellate::{Error, Request};
 use tessgen_runtime::{cpu, weld, Topology};
 
 const LEVELS: &[u32] = &[1, 2, 3, 7, 8, 16, 33, 64];
@@ -18,7 +19,7 @@ fn check_levels(name: &str, scheme: &str, levels: &[u32]) {
     let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
     let euler = topo.euler_characteristic();
     for &level in levels {
-        let t = cpu::tessellate_mesh(&mesh, scheme, level).expect("tessellate");
+        let t = common::grid(&mesh, &Request::uniform(scheme, level)).expect("tessellate");
         let r = weld::weld(&t);
         assert!(
             r.is_closed_manifold(),
@@ -68,7 +69,7 @@ fn regular_torus_welds_closed() {
 #[test]
 fn one_ulp_opens_the_weld() {
     let mesh = common::mesh("catmark_cube");
-    let mut t = cpu::tessellate_mesh(&mesh, "pccm", 4).expect("tessellate");
+    let mut t = common::grid(&mesh, &Request::uniform("pccm", 4)).expect("tessellate");
     assert!(weld::weld(&t).is_closed_manifold());
     // Sample (i, j) = (2, 0) of face 0 lies on edge 0, shared with a neighbour.
     let p = &mut t.positions[2];
@@ -94,7 +95,8 @@ fn pn_and_phong_split_meshes_weld_closed() {
                 .expect("topology")
                 .euler_characteristic();
             for &level in &[1, 2, 7, 8, 16] {
-                let t = cpu::tessellate_any(&mesh, scheme, level, true).expect("tessellate");
+                let t = common::grid(&mesh, &Request::uniform(scheme, level).split_quads(true))
+                    .expect("tessellate");
                 assert_eq!(t.sides, 3);
                 let r = weld::weld(&t);
                 assert!(
@@ -201,8 +203,8 @@ fn stpn_creased_torus_welds_closed_and_jumps_only_at_the_crease() {
         );
     }
     // Without the tags the same mesh is plain PN: smooth everywhere.
-    let plain = cpu::tessellate_any(&mesh, "stpn", 8, true).expect("plain");
-    let pn = cpu::tessellate_any(&mesh, "pn", 8, true).expect("pn");
+    let plain = common::grid(&mesh, &Request::uniform("stpn", 8).split_quads(true)).expect("plain");
+    let pn = common::grid(&mesh, &Request::uniform("pn", 8).split_quads(true)).expect("pn");
     let d = plain
         .positions
         .iter()
@@ -218,16 +220,24 @@ fn stpn_creased_torus_welds_closed_and_jumps_only_at_the_crease() {
 fn crease_tag_errors_are_typed() {
     let (mesh, tags) = creased_torus();
     assert!(matches!(
-        cpu::tessellate_tagged(&mesh, "pn", 2, true, Some(&tags)),
-        Err(cpu::TessError::TagsUnused { .. })
+        common::grid(
+            &mesh,
+            &Request::uniform("pn", 2).split_quads(true).tagged(&tags)
+        ),
+        Err(Error::TagsUnused { .. })
     ));
     let text = "tag 5 delta 0 1 0\ntag 6 delta 0 1 0\ntag 2 delta 0 1 0\n";
     let three = TagFile::parse(text, mesh.num_vertices(), mesh.num_faces(), |f| {
         mesh.face(f)
     })
     .expect("parses");
-    match cpu::tessellate_tagged(&mesh, "stpn", 2, true, Some(&three)) {
-        Err(cpu::TessError::Tags(TagError::ThreeCreaseCorners { face })) => assert_eq!(face, 1),
+    match common::grid(
+        &mesh,
+        &Request::uniform("stpn", 2).split_quads(true).tagged(&three),
+    ) {
+        Err(Error::Tess(cpu::TessError::Tags(TagError::ThreeCreaseCorners { face }))) => {
+            assert_eq!(face, 1)
+        }
         other => panic!("expected ThreeCreaseCorners, got {other:?}"),
     }
     // Flipping the side of one face at a crease vertex (1-based vertex 4)
@@ -266,8 +276,8 @@ fn crease_tag_errors_are_typed() {
 #[test]
 fn scheme_facet_mismatch_is_a_typed_error() {
     let mesh = common::mesh("catmark_cube");
-    match cpu::tessellate_any(&mesh, "pn", 4, false) {
-        Err(cpu::TessError::TriMesh(e)) => {
+    match common::grid(&mesh, &Request::uniform("pn", 4).split_quads(false)) {
+        Err(Error::Tess(cpu::TessError::TriMesh(e))) => {
             assert!(e.to_string().contains("face 0"), "{e}")
         }
         other => panic!("expected a TriMesh error, got {other:?}"),

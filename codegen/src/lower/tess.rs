@@ -12,10 +12,10 @@
 //! (`eval_main`'s), and how the factors are formed from the edges alone
 //! (watertight.md Rules 2 and 3).
 
-use crate::plan::{common_fn, ADAPTIVE_LEVEL};
 use crate::plan::abi::inside_edges;
 use crate::plan::build::*;
 use crate::plan::*;
+use crate::plan::{common_fn, ADAPTIVE_LEVEL};
 
 fn stage(s: StageIn) -> Expr {
     Expr::Stage(s)

@@ -134,3 +134,13 @@ pub fn seam_meshes() -> Vec<(&'static str, Mesh)> {
         ),
     ]
 }
+
+/// The front door's per-face grids for a uniform CPU request (the CPU
+/// always answers one with grids).
+pub fn grid(
+    mesh: &Mesh,
+    request: &tessgen_runtime::tessellate::Request<'_>,
+) -> Result<tessgen_runtime::Tessellation, tessgen_runtime::tessellate::Error> {
+    tessgen_runtime::tessellate::tessellate(mesh, request)
+        .map(|o| o.into_grid().expect("a uniform CPU request gives grids"))
+}

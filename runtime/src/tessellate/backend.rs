@@ -1,0 +1,122 @@
+//! Running a [`Validated`] request on its backend: the one place that picks
+//! the upload (quads or triangles, with or without displacement) and the
+//! evaluation (uniform grid, instanced adaptive, hardware capture). No
+//! check lives here: [`super::Request::validate`] made them all.
+
+use super::request::{Domain, Validated};
+use super::{Error, Output, Session};
+use crate::cpu;
+use crate::displace::DisplaceData;
+
+/// Dispatch on the request's backend.
+pub(crate) fn run(v: &Validated<'_>, session: &mut Session) -> Result<Output, Error> {
+    use super::Backend;
+    let _ = &session;
+    match v.request.backend {
+        Backend::Cpu => run_cpu(v),
+        #[cfg(feature = "gpu")]
+        Backend::Wgpu => run_wgpu(v, session.gpu()?),
+        #[cfg(feature = "vulkan")]
+        Backend::VulkanGlsl => run_vulkan(v, crate::vulkan::Language::Glsl, session.vulkan()?),
+        #[cfg(feature = "vulkan")]
+        Backend::VulkanHlsl => run_vulkan(v, crate::vulkan::Language::Hlsl, session.vulkan()?),
+    }
+}
+
+/// The uniform level of a validated request (adaptive requests have none).
+fn level(v: &Validated<'_>) -> u32 {
+    match v.request.sampling {
+        super::Sampling::Uniform(level) => level,
+        super::Sampling::Adaptive(_) => 0,
+    }
+}
+
+/// The CPU: construct in face order, then the grid walk or the adaptive walk.
+fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
+    let patches = match &v.domain {
+        Domain::Quads { topo, positions } => cpu::construct(topo, positions, v.kernels)?,
+        Domain::Triangles(tri) => cpu::construct_tri(tri, v.kernels)?,
+    };
+    let data: Option<DisplaceData> = match v.request.displacement {
+        None => None,
+        Some(d) => Some(match &v.domain {
+            Domain::Quads { topo, .. } => cpu::displacement_data(v.mesh, topo, &patches, d)?,
+            Domain::Triangles(tri) => cpu::displacement_data_tri(v.mesh, tri, &patches, d)?,
+        }),
+    };
+    let edges = v.domain.edges();
+    Ok(match (&v.adaptive, &data) {
+        (None, None) => Output::Grid(cpu::evaluate(&patches, level(v))?),
+        (None, Some(d)) => Output::Grid(cpu::evaluate_displaced(&patches, level(v), d)?),
+        (Some(a), None) => Output::Instanced(crate::adaptive::evaluate_cpu_adaptive(
+            &patches,
+            edges,
+            &a.adaptive,
+            a.max_level,
+        )?),
+        (Some(a), Some(d)) => Output::Instanced(crate::adaptive::evaluate_cpu_adaptive_displaced(
+            &patches,
+            edges,
+            &a.adaptive,
+            a.max_level,
+            d,
+        )?),
+    })
+}
+
+/// wgpu: upload (displacement owners in the upload's class-sorted layout),
+/// then `eval_main` read back, or the instanced adaptive buckets.
+#[cfg(feature = "gpu")]
+fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::Gpu) -> Result<Output, Error> {
+    use crate::gpu::GpuMesh;
+    let name = v.kernels.name;
+    let m = match (&v.domain, v.request.displacement) {
+        (Domain::Quads { topo, positions }, None) => GpuMesh::new(gpu, topo, positions, name)?,
+        (Domain::Quads { topo, positions }, Some(d)) => {
+            GpuMesh::new_displaced(gpu, v.mesh, topo, positions, name, d)?
+        }
+        (Domain::Triangles(tri), None) => GpuMesh::new_tri(gpu, tri, name)?,
+        (Domain::Triangles(tri), Some(d)) => GpuMesh::new_tri_displaced(gpu, v.mesh, tri, name, d)?,
+    };
+    Ok(match &v.adaptive {
+        None => Output::Grid(m.evaluate(level(v))?),
+        Some(a) => {
+            Output::Instanced(m.evaluate_adaptive(v.domain.edges(), &a.adaptive, a.max_level)?)
+        }
+    })
+}
+
+/// The Vulkan harness: quad schemes at a uniform level read back as grids
+/// (the tessellator's quad pattern is the integer grid); triangle schemes
+/// and adaptive draws as the captured triangles. Displacement builds the
+/// evaluation stage with `TESSGEN_DISPLACE` (inside `VkMesh::new_displaced`).
+#[cfg(feature = "vulkan")]
+fn run_vulkan(
+    v: &Validated<'_>,
+    language: crate::vulkan::Language,
+    vk: &crate::vulkan::Vulkan,
+) -> Result<Output, Error> {
+    use crate::vulkan::{Options, VkMesh};
+    let options = Options {
+        adaptive: v.adaptive.as_ref().map(|a| a.adaptive.clone()),
+        ..Options::new(language)
+    };
+    let name = v.kernels.name;
+    let m = match (&v.domain, v.request.displacement) {
+        (Domain::Quads { topo, positions }, None) => {
+            VkMesh::new(vk, topo, positions, name, &options)?
+        }
+        (Domain::Quads { topo, positions }, Some(d)) => {
+            VkMesh::new_displaced(vk, v.mesh, topo, positions, name, d, &options)?
+        }
+        (Domain::Triangles(tri), None) => VkMesh::new_tri(vk, tri, name, &options)?,
+        (Domain::Triangles(tri), Some(d)) => {
+            VkMesh::new_tri_displaced(vk, v.mesh, tri, name, d, &options)?
+        }
+    };
+    Ok(match (&v.adaptive, &v.domain) {
+        (Some(_), _) => Output::Captured(m.evaluate_adaptive()?),
+        (None, Domain::Quads { .. }) => Output::Grid(m.evaluate(level(v))?),
+        (None, Domain::Triangles(_)) => Output::Captured(m.evaluate_triangles(level(v))?),
+    })
+}

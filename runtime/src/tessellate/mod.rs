@@ -1,0 +1,203 @@
+//! The one front door: `tessellate(&mesh, &request)` on any backend.
+//!
+//! A [`Request`] names the scheme, the sampling (a uniform level, or an
+//! adaptive metric with its partitioning), the [`Backend`], and the
+//! options (displacement, crease tags, split quads). [`Request::validate`]
+//! checks it against the mesh once — scheme, level, tags, partitioning,
+//! quads vs triangles, texture coordinates — so the backends only upload
+//! and evaluate, and every backend refuses the same requests with the same
+//! [`Error`].
+//!
+//! ```no_run
+//! use tessgen_runtime::tessellate::{tessellate, Request};
+//! use tessgen_runtime::{weld, Mesh};
+//! let mesh = Mesh::from_obj_path("cube.obj")?;
+//! let out = tessellate(&mesh, &Request::uniform("pccm", 8))?;
+//! assert!(out.weld().is_closed_manifold());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Opening a GPU device is slow (hundreds of ms on lavapipe): a caller
+//! that tessellates more than once keeps a [`Session`], which opens each
+//! device on first use and reuses it.
+
+mod backend;
+mod request;
+
+pub use request::{
+    power_of_two_level, AdaptiveRequest, Backend, EdgeMetric, Error, Request, Sampling, Validated,
+};
+
+use crate::adaptive::AdaptiveTessellation;
+use crate::capture::TriangleCapture;
+use crate::check::weld::WeldReport;
+use crate::cpu::Tessellation;
+use crate::mesh::Mesh;
+use glam::Vec3;
+
+/// What a backend produced.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Output {
+    /// One grid per face in face order (uniform levels; on the Vulkan
+    /// harness, quad schemes only).
+    Grid(Tessellation),
+    /// The triangles a hardware tessellator emitted (Vulkan: triangle
+    /// schemes at a uniform level, every adaptive draw).
+    Captured(TriangleCapture),
+    /// Adaptive grids of the instanced path (CPU, wgpu): power-of-two
+    /// buckets with snapped transitions.
+    Instanced(AdaptiveTessellation),
+}
+
+impl Output {
+    /// The per-face grids, if this is a grid.
+    pub fn grid(&self) -> Option<&Tessellation> {
+        match self {
+            Output::Grid(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The per-face grids, if this is a grid.
+    pub fn into_grid(self) -> Option<Tessellation> {
+        match self {
+            Output::Grid(t) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// Every triangle as world positions (a triangle soup).
+    pub fn triangles(&self) -> Vec<[Vec3; 3]> {
+        match self {
+            Output::Grid(t) => {
+                let (per, local) = (t.grid_len(), t.local_triangles());
+                (0..t.faces)
+                    .flat_map(|f| {
+                        local
+                            .iter()
+                            .map(move |tri| tri.map(|k| t.positions[f * per + k as usize]))
+                    })
+                    .collect()
+            }
+            Output::Captured(c) => c.triangles(),
+            Output::Instanced(a) => a.triangles(),
+        }
+    }
+
+    /// OBJ text: grids and captures in their own group layout
+    /// ([`crate::check::obj::to_obj`], [`TriangleCapture::to_obj`]), the instanced
+    /// adaptive grids as a triangle soup (`v` per triangle corner).
+    pub fn to_obj(&self) -> String {
+        match self {
+            Output::Grid(t) => crate::check::obj::to_obj(t),
+            Output::Captured(c) => c.to_obj(),
+            Output::Instanced(_) => soup_obj(&self.triangles()),
+        }
+    }
+
+    /// Exact-bit weld (see [`crate::check::weld`]).
+    pub fn weld(&self) -> WeldReport {
+        match self {
+            Output::Grid(t) => crate::check::weld::weld(t),
+            Output::Captured(c) => c.weld(),
+            Output::Instanced(_) => {
+                let soup: Vec<Vec3> = self.triangles().into_iter().flatten().collect();
+                crate::check::weld::weld_triangles(&soup, 3, &[[0, 1, 2]])
+            }
+        }
+    }
+
+    /// `(patches, vertices, triangles)` for a summary line.
+    pub fn counts(&self) -> (usize, usize, usize) {
+        match self {
+            Output::Grid(t) => (
+                t.faces,
+                t.positions.len(),
+                t.faces * t.local_triangles().len(),
+            ),
+            Output::Captured(c) => (c.patches.len(), c.vertex_count(), c.triangle_count()),
+            Output::Instanced(a) => (a.levels.len(), a.positions.len(), a.triangles().len()),
+        }
+    }
+}
+
+/// A triangle soup as OBJ: `v` per triangle corner, `f` per triangle.
+pub fn soup_obj(tris: &[[Vec3; 3]]) -> String {
+    let mut text = String::new();
+    for t in tris {
+        for p in t {
+            text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
+        }
+    }
+    for k in 0..tris.len() {
+        text.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
+    }
+    text
+}
+
+/// The devices a caller reuses across requests: each opened on first use.
+#[derive(Default)]
+pub struct Session {
+    #[cfg(feature = "gpu")]
+    gpu: Option<crate::gpu::Gpu>,
+    #[cfg(feature = "vulkan")]
+    vulkan: Option<crate::vulkan::Vulkan>,
+}
+
+impl Session {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// A session around a wgpu device the caller already has.
+    #[cfg(feature = "gpu")]
+    pub fn with_gpu(gpu: crate::gpu::Gpu) -> Self {
+        Session {
+            gpu: Some(gpu),
+            ..Self::default()
+        }
+    }
+
+    /// The wgpu device, opened on first use (`TESSGEN_ADAPTER` picks one).
+    #[cfg(feature = "gpu")]
+    pub fn gpu(&mut self) -> Result<&crate::gpu::Gpu, Error> {
+        let gpu = match self.gpu.take() {
+            Some(g) => g,
+            None => crate::gpu::Gpu::new()?,
+        };
+        Ok(self.gpu.insert(gpu))
+    }
+
+    /// The Vulkan device, opened on first use (`TESSGEN_VK_DEVICE` picks one).
+    #[cfg(feature = "vulkan")]
+    pub fn vulkan(&mut self) -> Result<&crate::vulkan::Vulkan, Error> {
+        let vk = match self.vulkan.take() {
+            Some(v) => v,
+            None => crate::vulkan::Vulkan::new()?,
+        };
+        Ok(self.vulkan.insert(vk))
+    }
+
+    /// Validate `request` against `mesh`, then run it on its backend with
+    /// this session's devices. Nothing is opened for a request that fails
+    /// validation.
+    pub fn tessellate(&mut self, mesh: &Mesh, request: &Request<'_>) -> Result<Output, Error> {
+        let v = request.validate(mesh)?;
+        backend::run(&v, self)
+    }
+}
+
+/// [`Session::tessellate`] with a fresh session (opens a device per call
+/// on the GPU backends; keep a [`Session`] to reuse one).
+pub fn tessellate(mesh: &Mesh, request: &Request<'_>) -> Result<Output, Error> {
+    Session::new().tessellate(mesh, request)
+}
+
+/// [`Session::tessellate`], spelled as a function.
+pub fn tessellate_with(
+    mesh: &Mesh,
+    request: &Request<'_>,
+    session: &mut Session,
+) -> Result<Output, Error> {
+    session.tessellate(mesh, request)
+}
