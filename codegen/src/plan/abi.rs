@@ -507,6 +507,19 @@ pub fn rust_module(plan: &Plan) -> String {
     }
     let _ = writeln!(
         w,
+        "/// Fixed-point denominator of adaptive hardware tessellation: the evaluation stage reads the\n/// tessellator's coordinate on the 2^-16 grid (`level` = this).\npub const ADAPTIVE_LEVEL: u32 = {};",
+        crate::plan::ADAPTIVE_LEVEL
+    );
+    let _ = writeln!(
+        w,
+        "/// Per scheme: the `vec4` slots of the packed per-patch control points between the\n/// tessellation stages (KMAX4 = ⌈3·KMAX / 4⌉, `TessStages::slots`).\npub const TESS_PATCH_SLOTS: &[(&str, u32)] = &["
+    );
+    for (m, e) in &plan.schemes {
+        let _ = writeln!(w, "    ({:?}, {}),", m.name, e.tess.slots);
+    }
+    let _ = writeln!(w, "];");
+    let _ = writeln!(
+        w,
         "/// Bytes per evaluated sample.\npub const SAMPLE_BYTES: u64 = {};",
         SAMPLE_FLOATS * ELEMENT_BYTES
     );
