@@ -574,43 +574,6 @@ pub fn rust_module(plan: &Plan) -> String {
     s
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// No two ABI bindings share a number, and none takes the harness's.
-    #[test]
-    fn binding_numbers_are_unique() {
-        let mut seen: Vec<u32> = BINDINGS.iter().map(|b| b.binding).collect();
-        seen.push(HARNESS_TRIANGLES);
-        let n = seen.len();
-        seen.sort_unstable();
-        seen.dedup();
-        assert_eq!(seen.len(), n);
-    }
-
-    /// Every entry list names ABI bindings only, in binding order.
-    #[test]
-    fn entry_lists_name_abi_bindings() {
-        for e in WGSL_ENTRIES {
-            for (b, _) in e.bindings {
-                assert!(BINDINGS.iter().any(|x| x.binding == *b), "{}: {b}", e.name);
-            }
-            assert!(e.bindings.windows(2).all(|w| w[0].0 < w[1].0), "{}", e.name);
-        }
-    }
-
-    /// Params offsets are consecutive u32s after the matrix and fill PARAMS_SIZE.
-    #[test]
-    fn params_layout() {
-        let last = PARAMS[PARAMS.len() - 1].0;
-        assert_eq!(params_offset(last) + 4, PARAMS_SIZE);
-        let mut slots: Vec<(u32, u32)> = ADAPTIVE.iter().map(|a| (a.1, a.2)).collect();
-        slots.sort_unstable();
-        assert_eq!(slots.last().map(|(f, c)| f + c), Some(ADAPTIVE_LEN));
-    }
-}
-
 // Tessellation factor slots of the hardware tessellators (Vulkan, D3D).
 
 /// Which patch edges feed a hardware tessellator's factors in adaptive
@@ -673,5 +636,42 @@ pub fn factor_slot(sides: u32, o: StageOut, first_is_u: bool) -> Option<usize> {
         StageOut::EdgeFactor(k) => outer.iter().position(|&x| x == k as usize),
         StageOut::InsideFactor(d) => inner.iter().position(|x| *x == inside_edges(sides, d)),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// No two ABI bindings share a number, and none takes the harness's.
+    #[test]
+    fn binding_numbers_are_unique() {
+        let mut seen: Vec<u32> = BINDINGS.iter().map(|b| b.binding).collect();
+        seen.push(HARNESS_TRIANGLES);
+        let n = seen.len();
+        seen.sort_unstable();
+        seen.dedup();
+        assert_eq!(seen.len(), n);
+    }
+
+    /// Every entry list names ABI bindings only, in binding order.
+    #[test]
+    fn entry_lists_name_abi_bindings() {
+        for e in WGSL_ENTRIES {
+            for (b, _) in e.bindings {
+                assert!(BINDINGS.iter().any(|x| x.binding == *b), "{}: {b}", e.name);
+            }
+            assert!(e.bindings.windows(2).all(|w| w[0].0 < w[1].0), "{}", e.name);
+        }
+    }
+
+    /// Params offsets are consecutive u32s after the matrix and fill PARAMS_SIZE.
+    #[test]
+    fn params_layout() {
+        let last = PARAMS[PARAMS.len() - 1].0;
+        assert_eq!(params_offset(last) + 4, PARAMS_SIZE);
+        let mut slots: Vec<(u32, u32)> = ADAPTIVE.iter().map(|a| (a.1, a.2)).collect();
+        slots.sort_unstable();
+        assert_eq!(slots.last().map(|(f, c)| f + c), Some(ADAPTIVE_LEN));
     }
 }
