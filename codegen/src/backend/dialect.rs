@@ -88,7 +88,7 @@ pub trait Dialect: Sized {
     /// Memory, stage inputs and the other expressions each target spells
     /// its own way: [`Expr::Fetch`], [`Expr::Float`], [`Expr::TableWeight`],
     /// [`Expr::Texel`], [`Expr::Stage`], [`Expr::PatchSlot`],
-    /// [`Expr::PatchCp`].
+    /// [`Expr::PatchCp`], [`Expr::Columns`].
     fn special(&self, e: &Expr) -> String;
 }
 
@@ -124,6 +124,7 @@ pub fn expr<D: Dialect>(d: &D, e: &Expr) -> String {
         Expr::NamedIndex(n, i) => d.const_index(d.ident(n.name()), expr(d, i)),
         Expr::Fetch(..)
         | Expr::PatchCp(..)
+        | Expr::Columns(_)
         | Expr::Float(..)
         | Expr::TableWeight(..)
         | Expr::Texel(..)

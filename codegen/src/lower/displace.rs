@@ -424,7 +424,8 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
             | Expr::Local(_)
             | Expr::Const(_)
             | Expr::Stage(_)
-            | Expr::Named(_) => {}
+            | Expr::Named(_)
+            | Expr::Columns(_) => {}
         }
     }
     fn stmts(s: &mut [Stmt], map: &[(usize, usize)]) {

@@ -8,6 +8,7 @@
 //! printers disagree on a result, the bug is in a printer.
 
 pub mod abi;
+pub mod flat;
 pub mod form;
 mod walk;
 pub use walk::{binding, called, resources_of, walk, walk_expr, Node};
@@ -404,6 +405,9 @@ pub enum Expr {
     Named(Named),
     /// Element `index` of a named constant array: `CONTROL_POINTS[class]`.
     NamedIndex(Named, Box<Expr>),
+    /// `u32` columns of a 2-D texture resource held as a row-major slice
+    /// (Rust: `inputs.displace_width`): [`flat::flat_index`] only.
+    Columns(Resource),
     /// `vec3` control point `j` of the packed per-patch storage between the
     /// tessellation stages, through [`TessStages::load_cp`] (the domain
     /// stage's unpacking into its patch-local array, [`TessStages::unpack`]).
@@ -422,6 +426,9 @@ pub enum Named {
     Kmax4,
     /// `CONTROL_POINTS[class]`: control points per patch of each class.
     ControlPoints,
+    /// `TABLE_WIDTH`: columns of the stencil table held as a row-major
+    /// slice (Rust; [`flat::flat_index`]).
+    TableWidth,
 }
 
 impl Named {
@@ -431,6 +438,7 @@ impl Named {
             Named::Kmax => "KMAX",
             Named::Kmax4 => "KMAX4",
             Named::ControlPoints => "CONTROL_POINTS",
+            Named::TableWidth => "TABLE_WIDTH",
         }
     }
 }

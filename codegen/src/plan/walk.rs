@@ -91,7 +91,8 @@ pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
         | Expr::Local(_)
         | Expr::Const(_)
         | Expr::Stage(_)
-        | Expr::Named(_) => {}
+        | Expr::Named(_)
+        | Expr::Columns(_) => {}
     }
 }
 
