@@ -222,9 +222,9 @@ impl<'a> Writer<'a> {
             "params",
             "Params",
             "ParamsBlock",
-            "KMAX",
-            "KMAX4",
-            "CONTROL_POINTS",
+            Named::Kmax.name(),
+            Named::Kmax4.name(),
+            Named::ControlPoints.name(),
             "load_patch_cp",
             "store_patch_cp",
             "cp",
@@ -398,7 +398,8 @@ impl<'a> Writer<'a> {
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
         self.line(&format!(
-            "static const uint KMAX = {}u;",
+            "static const uint {} = {}u;",
+            Named::Kmax.name(),
             self.entries.tess.points
         ));
         self.line(
@@ -406,7 +407,8 @@ impl<'a> Writer<'a> {
         );
         self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
         self.line(&format!(
-            "static const uint KMAX4 = {}u;",
+            "static const uint {} = {}u;",
+            Named::Kmax4.name(),
             self.entries.tess.slots
         ));
         self.line("// Control points per patch of each class (index = Params.class).");
@@ -417,7 +419,8 @@ impl<'a> Writer<'a> {
             .map(|p| format!("{}u", p.control_points))
             .collect();
         self.line(&format!(
-            "static const uint CONTROL_POINTS[{}] = {{{}}};",
+            "static const uint {}[{}] = {{{}}};",
+            Named::ControlPoints.name(),
             ks.len().max(1),
             if ks.is_empty() {
                 "0u".to_string()
