@@ -973,7 +973,7 @@ void vertex_stage_main(uint3 global_id : SV_DispatchThreadID) {
 [numthreads(64, 1, 1)]
 void patch_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
-    if (k >= params.count) {
+    if ((k >= params.count)) {
         return;
     }
     uint face = patch_faces[(params.first + k)];
@@ -982,7 +982,7 @@ void patch_main(uint3 global_id : SV_DispatchThreadID) {
     for (uint i = 0u; i < KMAX; i += 1u) {
         cp_out[i] = float3(0.0f, 0.0f, 0.0f);
     }
-    if (params.class_ == 0u) {
+    if ((params.class_ == 0u)) {
         ordinary_patch(cp_out, face, 0u);
     } else {
         extraordinary_patch(cp_out, face, 0u);

@@ -737,7 +737,7 @@ void vertex_stage_main(uint3 global_id : SV_DispatchThreadID) {
 [numthreads(64, 1, 1)]
 void patch_main(uint3 global_id : SV_DispatchThreadID) {
     uint k = global_id.x;
-    if (k >= params.count) {
+    if ((k >= params.count)) {
         return;
     }
     uint face = patch_faces[(params.first + k)];

@@ -296,7 +296,7 @@ pub mod regular {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -459,8 +459,8 @@ pub mod regular {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -754,7 +754,7 @@ pub mod pccm {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -849,10 +849,10 @@ pub mod pccm {
         let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + sector_3)) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + ((sector_3 + 1u32) % n_3))) as usize];
         let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
-        let s_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (1u32)) as usize];
-        let s_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (1u32)) as usize];
-        let s_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (1u32)) as usize];
-        let s_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (1u32)) as usize];
+        let s_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let s_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let s_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let s_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
         let t_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
         let t_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
         let t_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
@@ -861,10 +861,10 @@ pub mod pccm {
         let t_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let t_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
         let t_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let gstar: Vec3 = (((((((v_0 + (3.0f32 * e_0_0)) + (3.0f32 * e_0_1)) + (9.0f32 * f_0_0)) + (((v_1 + (3.0f32 * e_1_0)) + (3.0f32 * e_1_1)) + (9.0f32 * f_1_0))) + (((v_2 + (3.0f32 * e_2_0)) + (3.0f32 * e_2_1)) + (9.0f32 * f_2_0))) + (((v_3 + (3.0f32 * e_3_0)) + (3.0f32 * e_3_1)) + (9.0f32 * f_3_0))) / 64.0f32);
         let kappa_0: f32 = (3.0f32 / (4.0f32 * (s_0 + s_1)));
         let kappa_1: f32 = (3.0f32 / (4.0f32 * (s_1 + s_2)));
@@ -1104,8 +1104,8 @@ pub mod pccm {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -1402,7 +1402,7 @@ pub mod acc {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -1505,10 +1505,10 @@ pub mod acc {
         let t_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let t_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let t_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         out[((cp_base + 0u32)) as usize] = v_0;
         out[((cp_base + 12u32)) as usize] = v_1;
         out[((cp_base + 15u32)) as usize] = v_2;
@@ -1702,8 +1702,8 @@ pub mod acc {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -2000,7 +2000,7 @@ pub mod gregory {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -2091,12 +2091,12 @@ pub mod gregory {
         let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
         let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
         let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
@@ -2325,8 +2325,8 @@ pub mod gregory {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -2623,7 +2623,7 @@ pub mod gregory_osd {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -2714,12 +2714,12 @@ pub mod gregory_osd {
         let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32)) * TABLE_WIDTH) + (0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
         let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
         let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
@@ -2948,8 +2948,8 @@ pub mod gregory_osd {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -3246,7 +3246,7 @@ pub mod pn {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -3437,8 +3437,8 @@ pub mod pn {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -3734,7 +3734,7 @@ pub mod stpn {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -3964,8 +3964,8 @@ pub mod stpn {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     
@@ -4257,7 +4257,7 @@ pub mod phong {
         for r in (0u32)..(rows) {
             let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r)) * TABLE_WIDTH) + (k)) as usize];
+                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
                 if (w != 0.0f32) {
                     acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
                 }
@@ -4442,8 +4442,8 @@ pub mod phong {
         let fy: f32 = (y - yf);
         let gx: f32 = (1.0f32 - fx);
         let gy: f32 = (1.0f32 - fy);
-        let a: f32 = ((inputs.displace_map[(((y0) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y0) * inputs.displace_width) + (x1)) as usize] * fx));
-        let b: f32 = ((inputs.displace_map[(((y1) * inputs.displace_width) + (x0)) as usize] * gx) + (inputs.displace_map[(((y1) * inputs.displace_width) + (x1)) as usize] * fx));
+        let a: f32 = ((inputs.displace_map[(((y0 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y0 * inputs.displace_width) + x1)) as usize] * fx));
+        let b: f32 = ((inputs.displace_map[(((y1 * inputs.displace_width) + x0)) as usize] * gx) + (inputs.displace_map[(((y1 * inputs.displace_width) + x1)) as usize] * fx));
         return ((a * gy) + (b * fy));
     }
     

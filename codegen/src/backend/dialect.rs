@@ -81,12 +81,14 @@ pub trait Dialect: Sized {
         false
     }
     /// The statements each target spells its own way: memory writes
-    /// ([`Stmt::Store`], [`Stmt::StoreFloat`], [`Stmt::StorePatchSlot`]),
-    /// stage outputs and barriers.
+    /// ([`Stmt::Store`], [`Stmt::StoreFloat`], [`Stmt::StorePatchSlot`],
+    /// [`Stmt::StorePatchCp`], [`Stmt::ClearPatchSlot`]), patch-local
+    /// arrays ([`Stmt::PatchLocal`]), stage outputs and barriers.
     fn special_stmt(&self, s: &Stmt, out: &mut Lines);
     /// Memory, stage inputs and the other expressions each target spells
     /// its own way: [`Expr::Fetch`], [`Expr::Float`], [`Expr::TableWeight`],
-    /// [`Expr::Texel`], [`Expr::Stage`], [`Expr::PatchSlot`].
+    /// [`Expr::Texel`], [`Expr::Stage`], [`Expr::PatchSlot`],
+    /// [`Expr::PatchCp`], [`Expr::Columns`].
     fn special(&self, e: &Expr) -> String;
 }
 
@@ -118,7 +120,11 @@ pub fn expr<D: Dialect>(d: &D, e: &Expr) -> String {
             format!("{}.{field}", expr(d, a))
         }
         Expr::Make(s, xs) => d.make(*s, args(d, xs)),
+        Expr::Named(n) => d.ident(n.name()),
+        Expr::NamedIndex(n, i) => d.const_index(d.ident(n.name()), expr(d, i)),
         Expr::Fetch(..)
+        | Expr::PatchCp(..)
+        | Expr::Columns(_)
         | Expr::Float(..)
         | Expr::TableWeight(..)
         | Expr::Texel(..)
@@ -255,6 +261,9 @@ pub fn stmts<D: Dialect>(d: &D, body: &[Stmt], out: &mut Lines) {
             Stmt::Store(..)
             | Stmt::StoreFloat(..)
             | Stmt::StorePatchSlot(..)
+            | Stmt::StorePatchCp(..)
+            | Stmt::ClearPatchSlot(_)
+            | Stmt::PatchLocal
             | Stmt::Output(..)
             | Stmt::Barrier(_) => d.special_stmt(s, out),
         }

@@ -24,12 +24,15 @@
 //! numbers. `vec3` buffers are packed `float` triples read and written
 //! through `fetch_<name>`/`store_<name>` helpers.
 //!
-//! The bodies of `hs_patch_constants` and `ds_main` are the Plan's
-//! ([`TessStages`]); this printer adds the entry points' signatures, the
-//! `HsConstants`/`DsOut` structs with their semantics, the names of the
-//! stage inputs and outputs (`SV_DomainLocation`, the factor slots), and the
-//! copy of the control points into and out of the packed `float4`
-//! patch constants.
+//! Every entry body is the Plan's: `hs_patch_constants` prints
+//! [`TessStages::hull`] (the control stage into a patch-local array, then
+//! packed into the `float4` patch constants), `ds_main`
+//! [`TessStages::unpack`] and [`TessStages::evaluation`], `patch_main`
+//! [`Entries::compute_patch_local`]. This printer adds the entry points'
+//! signatures, the `HsConstants`/`DsOut` structs with their semantics, the
+//! declarations of the patch-local arrays and their constants ([`Named`]),
+//! and the names of the stage inputs and outputs (`SV_DomainLocation`, the
+//! factor slots).
 //!
 //! Spelling only: every Binary is printed fully parenthesised as in the
 //! Plan, f32 literals with Rust's shortest round-trip digits and an `f`
@@ -219,9 +222,9 @@ impl<'a> Writer<'a> {
             "params",
             "Params",
             "ParamsBlock",
-            "KMAX",
-            "KMAX4",
-            "CONTROL_POINTS",
+            Named::Kmax.name(),
+            Named::Kmax4.name(),
+            Named::ControlPoints.name(),
             "load_patch_cp",
             "store_patch_cp",
             "cp",
@@ -395,7 +398,8 @@ impl<'a> Writer<'a> {
         self.line("");
         self.line("// Most control points of any class of this scheme (size of every control-point array).");
         self.line(&format!(
-            "static const uint KMAX = {}u;",
+            "static const uint {} = {}u;",
+            Named::Kmax.name(),
             self.entries.tess.points
         ));
         self.line(
@@ -403,7 +407,8 @@ impl<'a> Writer<'a> {
         );
         self.line("// outputs are counted in 4-component locations (maxTessellationControlPerPatchOutputComponents / 4).");
         self.line(&format!(
-            "static const uint KMAX4 = {}u;",
+            "static const uint {} = {}u;",
+            Named::Kmax4.name(),
             self.entries.tess.slots
         ));
         self.line("// Control points per patch of each class (index = Params.class).");
@@ -414,7 +419,8 @@ impl<'a> Writer<'a> {
             .map(|p| format!("{}u", p.control_points))
             .collect();
         self.line(&format!(
-            "static const uint CONTROL_POINTS[{}] = {{{}}};",
+            "static const uint {}[{}] = {{{}}};",
+            Named::ControlPoints.name(),
             ks.len().max(1),
             if ks.is_empty() {
                 "0u".to_string()
@@ -528,16 +534,17 @@ impl<'a> Writer<'a> {
 
     /// The functions the entry points of this file reach, as `FnRef`s
     /// (`Common(i)`, `Local(i)` of the scheme module): the Plan's stage
-    /// bodies ([`TessStages`], the compute vertex stage and evaluation),
-    /// the patch functions `patch_main` calls (printer text), and
-    /// everything those call.
+    /// bodies ([`TessStages`], the compute vertex stage, patch stage and
+    /// evaluation), and everything those call.
     fn used_functions(&self) -> Vec<FnRef> {
         let e = self.entries;
-        let mut todo: Vec<FnRef> = e.patches.iter().map(|p| FnRef::Local(p.function)).collect();
+        let mut todo: Vec<FnRef> = Vec::new();
         for body in [
-            &e.tess.control,
+            &e.tess.hull,
+            &e.tess.unpack,
             &e.tess.evaluation,
             &e.compute_vertex,
+            &e.compute_patch_local,
             &e.compute_eval,
         ] {
             todo.extend(called(body));
@@ -652,43 +659,10 @@ impl<'a> Writer<'a> {
         }
     }
 
-    // ---- entry points: the only code the printer adds beyond the Plan ----
-
-    /// `if (params.class == 0u) { … } else if … else { … }` over the classes,
-    /// the last class unconditional (as the Plan's `eval` dispatches).
-    fn class_dispatch(&mut self, call: impl Fn(&Self, &PatchEntry) -> String) {
-        let entries = self.entries;
-        let patches = &entries.patches;
-        let class = ident("class");
-        let n = patches.len();
-        for (k, p) in patches.iter().enumerate() {
-            let body = call(self, p);
-            if n == 1 {
-                self.line(&format!("{body};"));
-                break;
-            }
-            if k == 0 {
-                self.line(&format!("if (params.{class} == {k}u) {{"));
-            } else if k + 1 < n {
-                self.line(&format!("}} else if (params.{class} == {k}u) {{"));
-            } else {
-                self.line("} else {");
-            }
-            self.line(&format!("    {body};"));
-            if k + 1 == n {
-                self.line("}");
-            }
-        }
-    }
-
-    fn patch_call(&self, p: &PatchEntry, cp: &str, face: &str) -> String {
-        let f = &self.module.functions[p.function];
-        format!("{}({cp}, {face}, 0u)", ident(&f.name))
-    }
+    // ---- entry points: signatures and stage I/O around the Plan's bodies ----
 
     fn compute_entries(&mut self) {
         let wg = abi::WORKGROUP_SIZE;
-        let class = ident("class");
         self.line("// ---- compute entry points ----");
         self.line("");
         self.line("// Vertex stage of vertices params.first .. params.first + params.count");
@@ -700,7 +674,7 @@ impl<'a> Writer<'a> {
         ));
         self.indent += 1;
         let entries = self.entries;
-        self.tess_body(&entries.compute_vertex, "patch_id");
+        self.tess_body(&entries.compute_vertex, "patch_id", None, &[]);
         self.indent -= 1;
         self.line("}");
 
@@ -714,21 +688,7 @@ impl<'a> Writer<'a> {
             abi::entry::PATCH_STAGE
         ));
         self.indent += 1;
-        self.line("uint k = global_id.x;");
-        self.line("if (k >= params.count) {");
-        self.line("    return;");
-        self.line("}");
-        self.line("uint face = patch_faces[(params.first + k)];");
-        self.line(&format!("uint points = CONTROL_POINTS[params.{class}];"));
-        self.line("float3 cp_out[KMAX];");
-        self.line("for (uint i = 0u; i < KMAX; i += 1u) {");
-        self.line("    cp_out[i] = float3(0.0f, 0.0f, 0.0f);");
-        self.line("}");
-        self.class_dispatch(|w, p| w.patch_call(p, "cp_out", "face"));
-        self.line("uint cp_base = (params.cp_base + (k * points));");
-        self.line("for (uint j = 0u; j < points; j += 1u) {");
-        self.line("    store_control_points((cp_base + j), cp_out[j]);");
-        self.line("}");
+        self.tess_body(&entries.compute_patch_local, "patch_id", None, &[]);
         self.indent -= 1;
         self.line("}");
 
@@ -747,19 +707,28 @@ impl<'a> Writer<'a> {
             abi::entry::EVAL
         ));
         self.indent += 1;
-        self.tess_body(&entries.compute_eval, "patch_id");
+        self.tess_body(&entries.compute_eval, "patch_id", None, &[]);
         self.indent -= 1;
         self.line("}");
     }
 
-    /// A tessellation stage body of the Plan ([`TessStages`]) inside its
-    /// entry point; `patch` spells [`StageIn::PatchInDraw`] there.
-    fn tess_body(&mut self, f: &Function, patch: &'static str) {
+    /// An entry body of the Plan ([`TessStages`], the compute bodies) inside
+    /// its entry point; `patch` spells [`StageIn::PatchInDraw`] there, `cp`
+    /// (default: as the body uses it) names the patch-local array, and
+    /// `taken` holds the names of an earlier body in the same scope. Returns
+    /// the local names used.
+    fn tess_body(
+        &mut self,
+        f: &Function,
+        patch: &'static str,
+        cp: Option<Cp>,
+        taken: &[String],
+    ) -> Vec<String> {
         let module = self.module;
         let mut names = self.local_names(f);
         // The entry point's own names.
         for n in names.iter_mut() {
-            while ["c", "o", "uv", "ctrl", "patch_id", "i", "j", "j4"].contains(&n.as_str()) {
+            while ["c", "o", "uv", "ctrl", "patch_id"].contains(&n.as_str()) || taken.contains(n) {
                 n.push('_');
             }
         }
@@ -767,10 +736,11 @@ impl<'a> Writer<'a> {
             m: module,
             f,
             names,
-            cp: self.cp_of(module, f),
+            cp: cp.unwrap_or_else(|| self.cp_of(module, f)),
             patch,
         };
         self.stmts(&cx, &f.body);
+        cx.names
     }
 
     /// The Plan's packing function `f` ([`TessStages::store_cp`],
@@ -808,8 +778,6 @@ impl<'a> Writer<'a> {
     }
 
     fn tessellation_entries(&mut self) {
-        let store = ident(&self.entries.tess.store_cp.name);
-        let load = ident(&self.entries.tess.load_cp.name);
         let tri = self.entries.sides == 3;
         let (domain, edges, uv_ty) = if tri {
             ("tri", 3, "float3")
@@ -894,29 +862,16 @@ struct HsConstants {{
         self.line("");
         self.patch_slot_function(&entries.tess.load_cp, "HsConstants c");
         self.line("");
-        let text = format!(
-            r#"// The patch stage, once per patch, and the tessellation factors.
-HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{
-    HsConstants c;
-    float3 cp_out[KMAX];
-    for (uint i = 0u; i < KMAX; i += 1u) {{
-        cp_out[i] = float3(0.0f, 0.0f, 0.0f);
-    }}"#
-        );
-        for l in text.lines() {
-            self.line(l);
-        }
+        self.line("// The patch stage, once per patch, and the tessellation factors.");
+        self.line(&format!(
+            "HsConstants {HS_PATCH_CONSTANTS}(uint patch_id : SV_PrimitiveID) {{"
+        ));
         self.indent += 1;
-        self.tess_body(&entries.tess.control, "patch_id");
+        self.line("HsConstants c;");
+        self.tess_body(&entries.tess.hull, "patch_id", None, &[]);
         self.indent -= 1;
         let text = format!(
-            r#"    for (uint j4 = 0u; j4 < KMAX4; j4 += 1u) {{
-        c.cp[j4] = float4(0.0f, 0.0f, 0.0f, 0.0f);
-    }}
-    for (uint j = 0u; j < KMAX; j += 1u) {{
-        {store}(c, j, cp_out[j]);
-    }}
-    c.patch_id = patch_id;
+            r#"    c.patch_id = patch_id;
     return c;
 }}
 
@@ -944,18 +899,16 @@ struct DsOut {{
 
 {domain_doc}
 [domain("{domain}")]
-DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{
-    float3 cp[KMAX];
-    for (uint j = 0u; j < KMAX; j += 1u) {{
-        cp[j] = {load}(c, j);
-    }}
-    DsOut o;"#
+DsOut {DS_MAIN}(HsConstants c, {uv_ty} uv : SV_DomainLocation, const OutputPatch<HsControlPoint, 1> ctrl) {{"#
         );
         for l in text.lines() {
             self.line(l);
         }
         self.indent += 1;
-        self.tess_body(&entries.tess.evaluation, "c.patch_id");
+        // The array the evaluation reads, filled from the patch constants.
+        let taken = self.tess_body(&entries.tess.unpack, "c.patch_id", Some(Cp::In), &[]);
+        self.line("DsOut o;");
+        self.tess_body(&entries.tess.evaluation, "c.patch_id", None, &taken);
         self.line("return o;");
         self.indent -= 1;
         self.line("}");

@@ -512,17 +512,16 @@ impl Dialect for Cx<'_, '_> {
                     other => format!("inputs.{}[({idx}) as usize]", other.name()),
                 }
             }
-            Expr::Texel(r, a, b) => format!(
-                "inputs.{}[((({}) * inputs.displace_width) + ({})) as usize]",
-                r.name(),
-                x(b),
-                x(a)
-            ),
-            Expr::TableWeight(row, col) => format!(
-                "inputs.table[((({}) * TABLE_WIDTH) + ({})) as usize]",
-                x(row),
-                x(col)
-            ),
+            // The 2-D resources are row-major slices: the Plan's flat index.
+            Expr::Texel(..) | Expr::TableWeight(..) => {
+                let name = match e {
+                    Expr::Texel(r, ..) => r.name(),
+                    _ => "table",
+                };
+                let i = crate::plan::flat::flat_index(e).expect("a texel read");
+                format!("inputs.{name}[({}) as usize]", x(&i))
+            }
+            Expr::Columns(Resource::DisplaceMap) => "inputs.displace_width".into(),
             // Only in the tessellation stage bodies (`Entries::tess`) and
             // the packed accessors of the shader printers.
             _ => unreachable!("tessellation-stage input outside Entries::tess"),

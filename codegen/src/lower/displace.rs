@@ -406,9 +406,12 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 xs.iter_mut().for_each(|x| expr(x, map));
             }
             Expr::Call(_, xs) | Expr::Make(_, xs) => xs.iter_mut().for_each(|x| expr(x, map)),
-            Expr::ConstIndex(_, a) | Expr::Neg(a) | Expr::Field(a, _) | Expr::Float(_, a) => {
-                expr(a, map)
-            }
+            Expr::ConstIndex(_, a)
+            | Expr::NamedIndex(_, a)
+            | Expr::PatchCp(a)
+            | Expr::Neg(a)
+            | Expr::Field(a, _)
+            | Expr::Float(_, a) => expr(a, map),
             Expr::Binary(_, a, b)
             | Expr::TableWeight(a, b)
             | Expr::Texel(_, a, b)
@@ -416,7 +419,13 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                 expr(a, map);
                 expr(b, map);
             }
-            Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
+            Expr::F32(_)
+            | Expr::U32(_)
+            | Expr::Local(_)
+            | Expr::Const(_)
+            | Expr::Stage(_)
+            | Expr::Named(_)
+            | Expr::Columns(_) => {}
         }
     }
     fn stmts(s: &mut [Stmt], map: &[(usize, usize)]) {
@@ -454,7 +463,12 @@ pub fn global_variants(m: &mut Module, root: usize) -> Vec<(usize, usize)> {
                     xs.iter_mut().for_each(|x| expr(x, map));
                 }
                 Stmt::Output(_, e) => expr(e, map),
-                Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
+                Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) | Stmt::PatchLocal => {}
+                Stmt::StorePatchCp(j, v) => {
+                    expr(j, map);
+                    expr(v, map);
+                }
+                Stmt::ClearPatchSlot(a) => expr(a, map),
                 Stmt::StorePatchSlot(a, b, v) => {
                     expr(a, map);
                     expr(b, map);

@@ -266,6 +266,8 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         tess: TessStages {
             control: Function::new("", ""),
             evaluation: Function::new("", ""),
+            hull: Function::new("", ""),
+            unpack: Function::new("", ""),
             store_cp: Function::new("", ""),
             load_cp: Function::new("", ""),
             points: 0,
@@ -274,6 +276,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
         compute_vertex: Function::new("", ""),
         compute_eval: Function::new("", ""),
         compute_patch: Function::new("", ""),
+        compute_patch_local: Function::new("", ""),
         instanced: Vec::new(),
     };
     // The hardware tessellation stages' bodies call the functions above.
@@ -281,6 +284,7 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     entries.compute_vertex = crate::lower::tess::compute_vertex(&entries);
     entries.compute_eval = crate::lower::tess::compute_eval(&entries);
     entries.compute_patch = crate::lower::entries::patch_main(&entries);
+    entries.compute_patch_local = crate::lower::tess::compute_patch_local(&entries);
     entries.instanced = crate::lower::entries::instanced(&entries);
     (m, entries)
 }

@@ -54,8 +54,10 @@ pub fn stages(entries: &Entries, curve_const: usize) -> TessStages {
         .unwrap_or(1)
         .max(1);
     TessStages {
-        control: control(entries, curve_const),
+        control: control(entries, curve_const, false),
         evaluation: evaluation(entries),
+        hull: control(entries, curve_const, true),
+        unpack: unpack(),
         store_cp: store_cp(),
         load_cp: load_cp(),
         points,
@@ -247,17 +249,95 @@ fn load_cp() -> Function {
     f
 }
 
-fn control(entries: &Entries, curve_const: usize) -> Function {
-    let sides = entries.sides;
+/// `float3 cp[KMAX]` zeroed: the patch-local array a patch function
+/// fills (the components a class with fewer points leaves are defined).
+fn zeroed_patch_local(f: &mut Function) -> Vec<Stmt> {
+    let i = f.local("i", Ty::U32);
+    let zero = Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]);
+    vec![
+        Stmt::PatchLocal,
+        Stmt::For(
+            i,
+            u(0),
+            Expr::Named(Named::Kmax),
+            vec![Stmt::Store(Resource::ControlPoints, l(i), zero)],
+        ),
+    ]
+}
+
+/// The domain stage's patch-local array ([`TessStages::unpack`]): point
+/// `j` from the packed per-patch storage for `j < KMAX`.
+fn unpack() -> Function {
     let mut f = Function::new(
-        "tess_control",
-        "The patch stage of the draw's class, once per patch, into the patch's control points (cp_base 0), then the tessellation factors.",
+        "tess_unpack",
+        "The patch's control points from the packed per-patch storage into the patch-local array.",
     );
+    let j = f.local("j", Ty::U32);
+    f.body = vec![
+        Stmt::PatchLocal,
+        Stmt::For(
+            j,
+            u(0),
+            Expr::Named(Named::Kmax),
+            vec![Stmt::Store(
+                Resource::ControlPoints,
+                l(j),
+                Expr::PatchCp(Box::new(l(j))),
+            )],
+        ),
+    ];
+    f
+}
+
+/// The body of `patch_main` for targets whose patch functions write a
+/// patch-local array (HLSL; see [`Entries::compute_patch_local`]).
+pub fn compute_patch_local(entries: &Entries) -> Function {
+    let mut f = Function::new(
+        "compute_patch_local",
+        "Patch stage of patches params.first .. params.first + params.count, all of class params.class: the class's patch function fills a patch-local array (cp_base 0), copied to control_points from params.cp_base + k·CONTROL_POINTS[class].",
+    );
+    let k = f.local("k", Ty::U32);
     let face = f.local("face", Ty::U32);
-    f.body
-        .push(Stmt::Let(face, fetch(Resource::PatchFaces, patch_index())));
-    // `if (class == 0) {…} else if … else {…}`, the last class unconditional
-    // (like `eval`'s dispatch).
+    let points = f.local("points", Ty::U32);
+    let cp_base = f.local("cp_base", Ty::U32);
+    let j = f.local("j", Ty::U32);
+    f.body = vec![
+        Stmt::Let(k, stage(StageIn::GlobalId)),
+        Stmt::If(
+            bin(BinOp::Ge, l(k), param("count")),
+            vec![Stmt::ReturnVoid],
+            vec![],
+        ),
+        Stmt::Let(face, fetch(Resource::PatchFaces, add(param("first"), l(k)))),
+        Stmt::Let(
+            points,
+            Expr::NamedIndex(Named::ControlPoints, Box::new(param("class"))),
+        ),
+    ];
+    let zero = zeroed_patch_local(&mut f);
+    f.body.extend(zero);
+    f.body.extend(class_calls(entries, face));
+    f.body.push(Stmt::Let(
+        cp_base,
+        add(param("cp_base"), mul(l(k), l(points))),
+    ));
+    f.body.push(Stmt::For(
+        j,
+        u(0),
+        l(points),
+        vec![Stmt::Store(
+            Resource::GlobalControlPoints,
+            add(l(cp_base), l(j)),
+            fetch(Resource::ControlPoints, l(j)),
+        )],
+    ));
+    f
+}
+
+/// `if (class == 0) {…} else if … else {…}` over the classes, each
+/// calling its patch function on `face` at cp_base 0, the last class
+/// unconditional (like `eval`'s dispatch).
+fn class_calls(entries: &Entries, face: LocalId) -> Vec<Stmt> {
     let mut chain: Vec<Stmt> = Vec::new();
     for (k, p) in entries.patches.iter().enumerate().rev() {
         let call = Stmt::Call(FnRef::Local(p.function), vec![l(face), u(0)]);
@@ -271,7 +351,25 @@ fn control(entries: &Entries, curve_const: usize) -> Function {
             )]
         };
     }
-    f.body.extend(chain);
+    chain
+}
+
+/// The control stage (`local`: [`TessStages::hull`], through a patch-local
+/// array copied into the packed storage).
+fn control(entries: &Entries, curve_const: usize, local: bool) -> Function {
+    let sides = entries.sides;
+    let mut f = Function::new(
+        "tess_control",
+        "The patch stage of the draw's class, once per patch, into the patch's control points (cp_base 0), then the tessellation factors.",
+    );
+    let face = f.local("face", Ty::U32);
+    if local {
+        let zero = zeroed_patch_local(&mut f);
+        f.body.extend(zero);
+    }
+    f.body
+        .push(Stmt::Let(face, fetch(Resource::PatchFaces, patch_index())));
+    f.body.extend(class_calls(entries, face));
     f.body.push(comment(
         "One factor per edge that depends only on the edge, so both patches of an edge get the\n\
          same parameters (watertight.md Rule 3): the uniform level, or in adaptive builds a\n\
@@ -338,6 +436,25 @@ fn control(entries: &Entries, curve_const: usize) -> Function {
     }
     f.body
         .push(Stmt::IfDef(Define::Adaptive, adaptive, uniform));
+    if local {
+        let j4 = f.local("j4", Ty::U32);
+        let j = f.local("j", Ty::U32);
+        f.body.push(Stmt::For(
+            j4,
+            u(0),
+            Expr::Named(Named::Kmax4),
+            vec![Stmt::ClearPatchSlot(l(j4))],
+        ));
+        f.body.push(Stmt::For(
+            j,
+            u(0),
+            Expr::Named(Named::Kmax),
+            vec![Stmt::StorePatchCp(
+                l(j),
+                fetch(Resource::ControlPoints, l(j)),
+            )],
+        ));
+    }
     f
 }
 

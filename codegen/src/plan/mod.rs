@@ -8,6 +8,7 @@
 //! printers disagree on a result, the bug is in a printer.
 
 pub mod abi;
+pub mod flat;
 pub mod form;
 mod walk;
 pub use walk::{binding, called, resources_of, walk, walk_expr, Node};
@@ -51,7 +52,9 @@ pub enum Resource {
     /// [`Resource::ControlPoints`] is the patch's own array (`tcs_cp`, HLSL
     /// `cp`). The displacing evaluation stage reads the *owner* patch's
     /// control points through it (watertight.md Rule 4); the buffer must
-    /// have been filled by the compute patch stage (`patch_main`).
+    /// have been filled by the compute patch stage (`patch_main`; HLSL's
+    /// writes it through this resource, copying its patch-local array:
+    /// [`Entries::compute_patch_local`]).
     GlobalControlPoints,
     /// `vec3` unit normal, by vertex (triangle schemes).
     Normals,
@@ -323,9 +326,11 @@ pub enum StageOut {
 /// The bodies of the hardware tessellation stages (GLSL `.tesc`/`.tese`
 /// `main`, HLSL `hs_patch_constants`/`ds_main`), built once in the Plan so
 /// the GLSL and HLSL printers print the same statements and only add their
-/// API's declarations around them (stage I/O, attributes, and the packing of
-/// the per-patch control points into `vec4` slots). Targets without
-/// tessellation stages (WGSL, Rust) never print them.
+/// API's declarations around them (stage I/O, attributes, the per-patch
+/// storage). The packing of the control points into its `vec4` slots is
+/// Plan code too ([`TessStages::store_cp`], [`TessStages::load_cp`], and
+/// HLSL's patch-local copies [`TessStages::hull`], [`TessStages::unpack`]).
+/// Targets without tessellation stages (WGSL, Rust) never print them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TessStages {
     /// Control stage, once per patch: the class's patch function into the
@@ -342,6 +347,16 @@ pub struct TessStages {
     pub store_cp: Function,
     /// `load_patch_cp(j) -> vec3`: the inverse of [`TessStages::store_cp`].
     pub load_cp: Function,
+    /// The HLSL hull's patch-constant body: [`TessStages::control`] into a
+    /// zeroed patch-local array ([`Stmt::PatchLocal`]), then every slot of
+    /// the packed per-patch storage zeroed and control point `j` stored
+    /// into it for `j < KMAX` (targets whose control stage writes the
+    /// packed storage directly, GLSL, print `control`).
+    pub hull: Function,
+    /// The HLSL domain stage's prologue: the patch-local array that
+    /// [`TessStages::evaluation`] reads, filled from the packed per-patch
+    /// storage.
+    pub unpack: Function,
     /// `KMAX`: control points of the largest class (at least 1), the
     /// length of the per-patch control-point arrays.
     pub points: u32,
@@ -385,6 +400,47 @@ pub enum Expr {
     /// `f32` number `k` of the packed storage of a `vec3` resource (3 per
     /// element): the packed accessors only (`crate::lower::entries::packed_load`).
     Float(Resource, Box<Expr>),
+    /// A `u32` constant of the patch-local arrays ([`Named`]), declared by
+    /// the printers that have them.
+    Named(Named),
+    /// Element `index` of a named constant array: `CONTROL_POINTS[class]`.
+    NamedIndex(Named, Box<Expr>),
+    /// `u32` columns of a 2-D texture resource held as a row-major slice
+    /// (Rust: `inputs.displace_width`): [`flat::flat_index`] only.
+    Columns(Resource),
+    /// `vec3` control point `j` of the packed per-patch storage between the
+    /// tessellation stages, through [`TessStages::load_cp`] (the domain
+    /// stage's unpacking into its patch-local array, [`TessStages::unpack`]).
+    PatchCp(Box<Expr>),
+}
+
+/// The constants of the patch-local control-point arrays
+/// ([`Stmt::PatchLocal`]): printed as declarations by the targets whose
+/// patch functions take such an array (HLSL), from [`TessStages::points`],
+/// [`TessStages::slots`] and the classes' control-point counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Named {
+    /// `KMAX`: the length of every patch-local control-point array.
+    Kmax,
+    /// `KMAX4`: the `vec4` slots of the packed per-patch storage.
+    Kmax4,
+    /// `CONTROL_POINTS[class]`: control points per patch of each class.
+    ControlPoints,
+    /// `TABLE_WIDTH`: columns of the stencil table held as a row-major
+    /// slice (Rust; [`flat::flat_index`]).
+    TableWidth,
+}
+
+impl Named {
+    /// The declared name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Named::Kmax => "KMAX",
+            Named::Kmax4 => "KMAX4",
+            Named::ControlPoints => "CONTROL_POINTS",
+            Named::TableWidth => "TABLE_WIDTH",
+        }
+    }
 }
 
 /// Reference to a function: in the scheme's own module or the common one.
@@ -484,6 +540,19 @@ pub enum Stmt {
     /// Write [`Expr::Float`] `k` of a packed `vec3` resource
     /// (`crate::lower::entries::packed_store` only).
     StoreFloat(Resource, Expr, Expr),
+    /// Declare the patch-local array of `KMAX` control points that
+    /// [`Resource::ControlPoints`] names in this body, for targets whose
+    /// patch functions take the control points as an array (HLSL):
+    /// [`Entries::compute_patch_local`], [`TessStages::hull`],
+    /// [`TessStages::unpack`].
+    PatchLocal,
+    /// `j`, `p`: control point `j` into the packed per-patch storage,
+    /// through [`TessStages::store_cp`] ([`TessStages::hull`] only).
+    StorePatchCp(Expr, Expr),
+    /// Zero `vec4` slot `slot` of the packed per-patch storage
+    /// ([`TessStages::hull`] only: the components no control point fills
+    /// are defined too).
+    ClearPatchSlot(Expr),
 }
 
 /// What a [`Stmt::Barrier`] orders.
@@ -683,6 +752,12 @@ pub struct Entries {
     /// patch function for patch `params.first + k`, control points from
     /// `params.cp_base + k·points` (see `crate::lower::entries::patch_main`).
     pub compute_patch: Function,
+    /// The body of `patch_main` for targets whose patch functions write a
+    /// patch-local array (HLSL): the class's patch function into a zeroed
+    /// array (cp_base 0), copied to the global buffer
+    /// ([`Resource::GlobalControlPoints`]) from `params.cp_base +
+    /// k·CONTROL_POINTS[class]` (see `crate::lower::tess::compute_patch_local`).
+    pub compute_patch_local: Function,
     /// The WGSL module's entry points and the declarations between them,
     /// in order (targets without a tessellator: compute construction,
     /// instanced evaluation, adaptive buckets; see `crate::lower::entries`).

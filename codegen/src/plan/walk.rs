@@ -55,7 +55,12 @@ pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
                 walk_expr(b, f);
                 walk_expr(v, f);
             }
-            Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) => {}
+            Stmt::StorePatchCp(j, v) => {
+                walk_expr(j, f);
+                walk_expr(v, f);
+            }
+            Stmt::ClearPatchSlot(a) => walk_expr(a, f),
+            Stmt::Comment(_) | Stmt::ReturnVoid | Stmt::Barrier(_) | Stmt::PatchLocal => {}
         }
     }
 }
@@ -67,6 +72,8 @@ pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
         Expr::Fetch(_, a)
         | Expr::Float(_, a)
         | Expr::ConstIndex(_, a)
+        | Expr::NamedIndex(_, a)
+        | Expr::PatchCp(a)
         | Expr::Neg(a)
         | Expr::Field(a, _) => walk_expr(a, f),
         Expr::Binary(_, a, b)
@@ -79,7 +86,13 @@ pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
         Expr::Call(_, xs) | Expr::CallFn(_, xs) | Expr::Make(_, xs) => {
             xs.iter().for_each(|x| walk_expr(x, f))
         }
-        Expr::F32(_) | Expr::U32(_) | Expr::Local(_) | Expr::Const(_) | Expr::Stage(_) => {}
+        Expr::F32(_)
+        | Expr::U32(_)
+        | Expr::Local(_)
+        | Expr::Const(_)
+        | Expr::Stage(_)
+        | Expr::Named(_)
+        | Expr::Columns(_) => {}
     }
 }
 

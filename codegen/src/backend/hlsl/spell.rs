@@ -107,6 +107,18 @@ impl Dialect for Hx<'_, '_> {
             Stmt::StorePatchSlot(a, b, v) => {
                 out.line(&format!("c.cp[{}][{}] = {};", x(a), x(b), x(v)))
             }
+            Stmt::StorePatchCp(j, v) => out.line(&format!(
+                "{}(c, {}, {});",
+                ident(&self.w.entries.tess.store_cp.name),
+                x(j),
+                x(v)
+            )),
+            Stmt::ClearPatchSlot(a) => {
+                out.line(&format!("c.cp[{}] = float4(0.0f, 0.0f, 0.0f, 0.0f);", x(a)))
+            }
+            Stmt::PatchLocal => {
+                out.line(&format!("float3 {}[{}];", cx.cp.name(), Named::Kmax.name()))
+            }
             Stmt::Output(o, e) => {
                 let v = dialect::expr(self, e);
                 let sides = self.w.entries.sides;
@@ -180,6 +192,9 @@ impl Dialect for Hx<'_, '_> {
                 | StageIn::Varying(_),
             ) => unreachable!("entry input outside Entries::instanced"),
             Expr::PatchSlot(a, b) => format!("c.cp[{}][{}]", x(a), x(b)),
+            Expr::PatchCp(j) => {
+                format!("{}(c, {})", ident(&self.w.entries.tess.load_cp.name), x(j))
+            }
             Expr::Stage(StageIn::Param(n)) => format!("params.{}", ident(n)),
             Expr::Texel(r, a, b) => {
                 format!("{}.Load(int3(int({}), int({}), 0))", r.name(), x(a), x(b))
