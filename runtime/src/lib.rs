@@ -21,29 +21,23 @@
 //! ```
 
 pub mod abi;
-pub mod adaptive;
-pub mod capture;
 pub mod check;
 pub mod cpu;
-pub mod displace;
-#[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod grid;
 pub mod kernels;
 pub mod mesh;
-pub mod pattern;
-#[cfg(any(feature = "gpu", feature = "vulkan"))]
-mod readback;
-#[cfg(feature = "gpu")]
-pub mod render;
 pub mod tessellate;
-pub mod upload;
-#[cfg(feature = "vulkan")]
-pub mod vulkan;
 
-/// The mesh and check modules at their long-standing public paths
-/// (`tessgen_runtime::topology`, `::weld`, …).
+/// The mesh, check, cpu and gpu modules at their long-standing public paths
+/// (`tessgen_runtime::topology`, `::weld`, `::adaptive`, `::vulkan`, …).
 pub use check::{accuracy, obj, stats, weld};
+pub use cpu::{adaptive, displace};
+#[cfg(feature = "gpu")]
+pub use gpu::render;
+#[cfg(feature = "vulkan")]
+pub use gpu::vulkan;
+pub use gpu::{capture, pattern, upload};
 pub use mesh::{tags, topology, trimesh};
 
 pub use cpu::{TessError, Tessellation};

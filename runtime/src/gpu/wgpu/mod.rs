@@ -9,15 +9,15 @@
 //! dispatches and readbacks into chunks, never by truncating.
 
 use crate::cpu::{self, Tessellation};
+use crate::gpu::readback::GridReadback;
 use crate::kernels::{self, common::SchemeKernels};
 use crate::mesh::topology::Topology;
-use crate::readback::GridReadback;
 use glam::{Mat4, Vec3};
 use std::collections::HashMap;
 
 use crate::abi::{self, binding, PARAMS_SIZE};
-pub use crate::upload::ClassRange;
-use crate::upload::{params_bytes, vec3_bytes, Upload, UploadError};
+pub use crate::gpu::upload::ClassRange;
+use crate::gpu::upload::{params_bytes, vec3_bytes, Upload, UploadError};
 use wgpu::naga;
 
 /// Bucket slots per class range of the GPU-driven adaptive buffers (slot
@@ -106,7 +106,7 @@ pub enum GpuError {
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
     #[error(transparent)]
-    Adaptive(#[from] crate::adaptive::AdaptiveError),
+    Adaptive(#[from] crate::cpu::adaptive::AdaptiveError),
 }
 
 impl From<UploadError> for GpuError {
@@ -349,7 +349,7 @@ impl<'g> GpuMesh<'g> {
         Self::build(gpu, limits, upload)
     }
 
-    /// Upload a quad mesh with displacement ([`crate::displace`]): the
+    /// Upload a quad mesh with displacement ([`crate::cpu::displace`]): the
     /// texture coordinates come from `mesh` (the OBJ's `vt`), owners are
     /// recorded in this upload's class-sorted control-point layout.
     pub fn new_displaced(
@@ -358,11 +358,11 @@ impl<'g> GpuMesh<'g> {
         topo: &Topology,
         positions: &[Vec3],
         scheme_name: &str,
-        d: &crate::displace::Displacement,
+        d: &crate::cpu::displace::Displacement,
     ) -> Result<Self, GpuError> {
         let upload = Upload::quad(topo, positions, scheme_name)?;
         let (class, cp_base) = upload.face_layout();
-        let data = crate::displace::build(mesh, topo, &class, &cp_base, d)
+        let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
             .map_err(cpu::TessError::from)?;
         Self::build(gpu, gpu.limits, upload.with_displacement(&data))
     }
@@ -381,17 +381,17 @@ impl<'g> GpuMesh<'g> {
     /// Upload a triangle mesh with displacement: 12 texture coordinates per
     /// triangle from `mesh` (the mesh `tri` was made from), owners recorded
     /// in this upload's class-sorted control-point layout
-    /// ([`crate::displace::build_tri`]).
+    /// ([`crate::cpu::displace::build_tri`]).
     pub fn new_tri_displaced(
         gpu: &'g Gpu,
         mesh: &crate::Mesh,
         tri: &crate::mesh::trimesh::TriMesh,
         scheme_name: &str,
-        d: &crate::displace::Displacement,
+        d: &crate::cpu::displace::Displacement,
     ) -> Result<Self, GpuError> {
         let upload = Upload::tri(tri, scheme_name)?;
         let (class, cp_base) = upload.face_layout();
-        let data = crate::displace::build_tri(mesh, tri, &class, &cp_base, d)
+        let data = crate::cpu::displace::build_tri(mesh, tri, &class, &cp_base, d)
             .map_err(cpu::TessError::from)?;
         Self::build(gpu, gpu.limits, upload.with_displacement(&data))
     }
@@ -575,12 +575,12 @@ impl<'g> GpuMesh<'g> {
     /// (`MeshMismatch`) — and the edge inputs (factors, face edges, params).
     pub(crate) fn adaptive_inputs(
         &self,
-        mesh: crate::adaptive::AdaptiveMesh<'_>,
-        a: &crate::adaptive::Adaptive,
+        mesh: crate::cpu::adaptive::AdaptiveMesh<'_>,
+        a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
-    ) -> Result<crate::adaptive::EdgeInputs, GpuError> {
-        crate::adaptive::check_mesh(self.scheme, &mesh, self.patch_faces.len())?;
-        Ok(crate::adaptive::edge_inputs(mesh, a, max_level)?)
+    ) -> Result<crate::cpu::adaptive::EdgeInputs, GpuError> {
+        crate::cpu::adaptive::check_mesh(self.scheme, &mesh, self.patch_faces.len())?;
+        Ok(crate::cpu::adaptive::edge_inputs(mesh, a, max_level)?)
     }
 
     /// Per-face bucket levels, edge levels and sample offsets from the
@@ -864,7 +864,7 @@ impl<'g> GpuMesh<'g> {
     /// Adaptive tessellation on the instanced path (quad schemes on a
     /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
-    /// [`crate::adaptive::evaluate_cpu_adaptive`] bit for bit:
+    /// [`crate::cpu::adaptive::evaluate_cpu_adaptive`] bit for bit:
     ///
     /// 1. `adaptive_classify_main`, one dispatch per class: every patch's
     ///    four power-of-two edge levels (triangles: three, slot 3 is 1) (the metric of `a`, computed on the
@@ -885,7 +885,7 @@ impl<'g> GpuMesh<'g> {
     /// uploaded with displacement ([`GpuMesh::new_displaced`],
     /// [`GpuMesh::new_tri_displaced`]) the result is displaced with
     /// ownership (measured: the same bits as
-    /// [`crate::adaptive::evaluate_cpu_adaptive_displaced`] for pccm, pn
+    /// [`crate::cpu::adaptive::evaluate_cpu_adaptive_displaced`] for pccm, pn
     /// and phong; gregory within 2.4e-8 × diagonal, its interior normal);
     /// otherwise (scale 0) it is the undisplaced tessellation bit for bit.
     ///
@@ -894,15 +894,15 @@ impl<'g> GpuMesh<'g> {
     /// samples buffer (every patch at `max_level`) fits the binding limit.
     pub fn evaluate_adaptive_host_lists<'m>(
         &self,
-        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
-        a: &crate::adaptive::Adaptive,
+        mesh: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
-    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+    ) -> Result<crate::cpu::adaptive::AdaptiveTessellation, GpuError> {
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let faces = self.patch_faces.len();
         let dev = &self.gpu.device;
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
-        use crate::upload::{f32_bytes, u32_bytes};
+        use crate::gpu::upload::{f32_bytes, u32_bytes};
         let patches = self.patch_faces.len() as u64;
         check(&self.limits, "patch_levels", patches * abi::LEVELS_BYTES)?;
         let face_edges = storage(
@@ -1093,7 +1093,7 @@ impl<'g> GpuMesh<'g> {
             }
             start += n;
         }
-        Ok(crate::adaptive::AdaptiveTessellation {
+        Ok(crate::cpu::adaptive::AdaptiveTessellation {
             sides: self.scheme.sides,
             levels,
             edge_levels,
@@ -1106,7 +1106,7 @@ impl<'g> GpuMesh<'g> {
     /// Adaptive tessellation on the instanced path (quad schemes on a
     /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
-    /// [`crate::adaptive::evaluate_cpu_adaptive`] (or `_displaced`, on a
+    /// [`crate::cpu::adaptive::evaluate_cpu_adaptive`] (or `_displaced`, on a
     /// mesh uploaded with displacement): GPU-driven buckets
     /// ([`GpuMesh::evaluate_adaptive_gpu_driven`], no readback before the
     /// evaluation) when every patch's samples at `max_level` fit one
@@ -1115,10 +1115,10 @@ impl<'g> GpuMesh<'g> {
     /// dispatches at the limits). Both give the same bits.
     pub fn evaluate_adaptive<'m>(
         &self,
-        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
-        a: &crate::adaptive::Adaptive,
+        mesh: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
-    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+    ) -> Result<crate::cpu::adaptive::AdaptiveTessellation, GpuError> {
         let bytes = self.patch_faces.len() as u64
             * (self.scheme.grid_len)(max_level) as u64
             * abi::SAMPLE_BYTES;
@@ -1153,7 +1153,7 @@ impl<'g> GpuMesh<'g> {
     ///    per slot up to `max_level` (empty slots dispatch nothing).
     ///
     /// Then one readback of `patch_levels`, the lists and the samples,
-    /// reassembled per face: the same [`crate::adaptive::AdaptiveTessellation`]
+    /// reassembled per face: the same [`crate::cpu::adaptive::AdaptiveTessellation`]
     /// as [`GpuMesh::evaluate_adaptive_host_lists`], bit for bit. The samples buffer
     /// is sized for every patch at `max_level` (the host does not know the
     /// buckets before the evaluation): `BufferTooLarge` beyond the binding
@@ -1161,10 +1161,10 @@ impl<'g> GpuMesh<'g> {
     /// patches.
     pub fn evaluate_adaptive_gpu_driven<'m>(
         &self,
-        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
-        a: &crate::adaptive::Adaptive,
+        mesh: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
-    ) -> Result<crate::adaptive::AdaptiveTessellation, GpuError> {
+    ) -> Result<crate::cpu::adaptive::AdaptiveTessellation, GpuError> {
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let faces = self.patch_faces.len();
         let dev = &self.gpu.device;
@@ -1266,7 +1266,7 @@ impl<'g> GpuMesh<'g> {
                 }
             }
         }
-        Ok(crate::adaptive::AdaptiveTessellation {
+        Ok(crate::cpu::adaptive::AdaptiveTessellation {
             sides: self.scheme.sides,
             levels,
             edge_levels,
@@ -1282,9 +1282,9 @@ impl<'g> GpuMesh<'g> {
     /// binding limit.
     pub(crate) fn bucket_buffers(
         &self,
-        inp: &crate::adaptive::EdgeInputs,
+        inp: &crate::cpu::adaptive::EdgeInputs,
     ) -> Result<Buckets, GpuError> {
-        use crate::upload::{f32_bytes, u32_bytes};
+        use crate::gpu::upload::{f32_bytes, u32_bytes};
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         let patches = self.patch_faces.len() as u64;
         let slots = SLOTS * self.classes.len() as u32;

@@ -11,12 +11,12 @@
 //!   the `samples` buffer at `eval_main`'s layout; for triangle schemes (whose
 //!   hardware inner vertices are not grid points) it exports its domain point
 //!   and patch, and a harness geometry shader records every emitted triangle
-//!   ([`VkMesh::evaluate_triangles`], [`crate::capture`]).
+//!   ([`VkMesh::evaluate_triangles`], [`crate::gpu::capture`]).
 //! * Quad schemes run the vertex stage as a compute dispatch first; then, per
 //!   facet class, one draw of `count` patches (patch size 1, rasterizer
 //!   discard, a render pass without attachments) with
 //!   `Params { first, count, class, cp_base, level, out_base }`.
-//! * The data uploaded is [`crate::upload::Upload`], the same as the wgpu
+//! * The data uploaded is [`crate::gpu::upload::Upload`], the same as the wgpu
 //!   path's.
 //!
 //! The Vulkan loader is opened at run time (`ash::Entry::load`), so a build
@@ -25,15 +25,15 @@
 //! (`glslang-tools`).
 
 use crate::abi::{self, binding, PARAMS_SIZE};
-use crate::adaptive::{self, Adaptive, Metric};
-use crate::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
+use crate::cpu::adaptive::{self, Adaptive, Metric};
 use crate::cpu::{self, Tessellation};
-use crate::kernels::{self, common::SchemeKernels};
-use crate::mesh::topology::Topology;
-use crate::readback::GridReadback;
-use crate::upload::{
+use crate::gpu::capture::{CaptureError, TriangleCapture, ADAPTIVE_LEVEL, VERTEX_FLOATS};
+use crate::gpu::readback::GridReadback;
+use crate::gpu::upload::{
     f32_bytes, params_bytes, u32_bytes, ClassRange, Upload, UploadBuffer, UploadError,
 };
+use crate::kernels::{self, common::SchemeKernels};
+use crate::mesh::topology::Topology;
 use ash::vk;
 use glam::{Mat4, Vec3};
 use std::ffi::CStr;
@@ -864,7 +864,7 @@ pub struct VkMesh<'v> {
     eval_pipeline: vk::Pipeline,
     draw_pipeline: vk::Pipeline,
     /// The displacement map to upload (taken from the [`Upload`]).
-    displace_map: crate::displace::DisplaceMap,
+    displace_map: crate::cpu::displace::DisplaceMap,
 }
 
 impl<'v> VkMesh<'v> {
@@ -880,7 +880,7 @@ impl<'v> VkMesh<'v> {
         Self::build(vk, upload, options)
     }
 
-    /// A quad mesh with displacement ([`crate::displace`]): the texture
+    /// A quad mesh with displacement ([`crate::cpu::displace`]): the texture
     /// coordinates come from `mesh` (the OBJ's `vt`), the owners are
     /// recorded in this upload's class-sorted control-point layout, and the
     /// shaders are built with [`DISPLACE`]: the harness runs the compute
@@ -892,19 +892,19 @@ impl<'v> VkMesh<'v> {
         topo: &Topology,
         positions: &[Vec3],
         scheme: &str,
-        d: &crate::displace::Displacement,
+        d: &crate::cpu::displace::Displacement,
         options: &Options,
     ) -> Result<Self, VkError> {
         let upload = Self::quad_upload(vk, topo, positions, scheme, options)?;
         let (class, cp_base) = upload.face_layout();
-        let data = crate::displace::build(mesh, topo, &class, &cp_base, d)
+        let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
             .map_err(cpu::TessError::from)?;
         Self::build(vk, upload.with_displacement(&data), &displacing(options))
     }
 
     /// A triangle mesh for a triangle scheme with displacement: 12 texture
     /// coordinates per triangle from `source` (the mesh `tri` was made
-    /// from, [`crate::displace::build_tri`]), owners in this upload's
+    /// from, [`crate::cpu::displace::build_tri`]), owners in this upload's
     /// layout, shaders built with [`DISPLACE`]. The harness runs the
     /// compute patch stage into the global control-point buffer before the
     /// draws; the evaluation stage's `eval_domain_displaced_tess` displaces
@@ -916,12 +916,12 @@ impl<'v> VkMesh<'v> {
         source: &crate::Mesh,
         tri: &crate::mesh::trimesh::TriMesh,
         scheme: &str,
-        d: &crate::displace::Displacement,
+        d: &crate::cpu::displace::Displacement,
         options: &Options,
     ) -> Result<Self, VkError> {
         let upload = Self::tri_upload(vk, tri, scheme, options)?;
         let (class, cp_base) = upload.face_layout();
-        let data = crate::displace::build_tri(source, tri, &class, &cp_base, d)
+        let data = crate::cpu::displace::build_tri(source, tri, &class, &cp_base, d)
             .map_err(cpu::TessError::from)?;
         Self::build(vk, upload.with_displacement(&data), &displacing(options))
     }
