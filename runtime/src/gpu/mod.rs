@@ -7,7 +7,7 @@
 //!   per-face grids (crate-internal).
 //! * [`capture`]: a hardware tessellator's output as triangles (always
 //!   built: the front door's `Output::Captured` holds one).
-//! * [`wgpu`](self::wgpu) (feature `gpu`): the generated WGSL in compute
+//! * [`wgpu`] (feature `gpu`): the generated WGSL in compute
 //!   passes and instanced draws; [`render`] and its instanced [`pattern`]
 //!   draw with it.
 //! * `vulkan` (feature `vulkan`): the emitted GLSL/HLSL tessellation shaders

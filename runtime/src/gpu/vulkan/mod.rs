@@ -25,11 +25,11 @@
 //! (`glslang-tools`).
 //!
 //! The structs ([`Vulkan`], [`VkMesh`], and the buffer and image handles)
-//! are here, their methods split by concern: [`device`] (instance, device,
-//! errors, limits), [`memory`] (buffers, images), [`shaders`]
-//! (glslangValidator, the capture geometry shader), [`mesh`] (`VkMesh`
-//! creation, descriptors, pipelines), [`evaluate`] (the stages, uniform
-//! evaluation) and [`triangles`] (captured draws, adaptive).
+//! are here, their methods split by concern: `device` (instance, device,
+//! errors, limits), `memory` (buffers, images), `shaders`
+//! (glslangValidator, the capture geometry shader), `mesh` (`VkMesh`
+//! creation, descriptors, pipelines), `evaluate` (the stages, uniform
+//! evaluation) and `triangles` (captured draws, adaptive).
 
 mod device;
 mod evaluate;

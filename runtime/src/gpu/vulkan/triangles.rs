@@ -71,7 +71,7 @@ impl<'v> VkMesh<'v> {
         )
     }
 
-    /// Run an adaptive draw ([`Options::adaptive`], quad or triangle
+    /// Run an adaptive draw ([`Options::adaptive`](super::Options::adaptive), quad or triangle
     /// scheme) and capture every tessellated triangle with the same
     /// geometry shader as [`Self::evaluate_triangles`]: per vertex the
     /// position, normal, domain point (quads `(u, v, 0)`, triangles

@@ -52,7 +52,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a
-    /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
+    /// [`Topology`](crate::mesh::topology::Topology), triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
     /// [`crate::cpu::adaptive::evaluate_cpu_adaptive`] bit for bit:
     ///
@@ -294,7 +294,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Adaptive tessellation on the instanced path (quad schemes on a
-    /// [`Topology`], triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
+    /// [`Topology`](crate::mesh::topology::Topology), triangle schemes on the [`crate::mesh::trimesh::TriMesh`]
     /// uploaded with [`GpuMesh::new_tri`]), the same result as
     /// [`crate::cpu::adaptive::evaluate_cpu_adaptive`] (or `_displaced`, on a
     /// mesh uploaded with displacement): GPU-driven buckets

@@ -327,7 +327,7 @@ impl<'g> GpuMesh<'g> {
         self.construct()
     }
 
-    /// Read back the control points (class-sorted layout, see [`ClassRange`]).
+    /// Read back the control points (class-sorted layout, see [`ClassRange`](super::ClassRange)).
     pub fn control_points(&self) -> Result<Vec<Vec3>, GpuError> {
         let Some(src) = self.buffers.get(&binding::CONTROL_POINTS) else {
             return Ok(Vec::new());

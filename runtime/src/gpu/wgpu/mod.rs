@@ -8,10 +8,10 @@
 //! dispatch (or one instanced draw). Device limits are respected by splitting
 //! dispatches and readbacks into chunks, never by truncating.
 //!
-//! The struct is here; its methods are split by concern: [`device`] (the
-//! device, limits, errors), [`mesh`] (upload and construction), `pass` (what
-//! every pass shares), [`evaluate`] (uniform grids), [`adaptive`] (host
-//! lists and the choice of path) and [`buckets`] (the GPU-driven buckets).
+//! The struct is here; its methods are split by concern: `device` (the
+//! device, limits, errors), `mesh` (upload and construction), `pass` (what
+//! every pass shares), `evaluate` (uniform grids), `adaptive` (host
+//! lists and the choice of path) and `buckets` (the GPU-driven buckets).
 
 mod adaptive;
 mod buckets;
