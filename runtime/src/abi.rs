@@ -27,8 +27,8 @@ pub const LEVELS_BUCKET: usize = PATCH_LEVELS_BUCKET as usize;
 pub const WORD_BYTES: u64 = ELEMENT_BYTES as u64;
 
 // Records the runtime spells as Rust values follow the ABI or fail to
-// compile: a sample is read as two `Vec3` (position, normal) in gpu.rs and
-// vulkan.rs, a `bucket_patches` entry is built as six `u32` (patch, first
+// compile: a sample is read as two `Vec3` (position, normal) in gpu/wgpu and
+// gpu/vulkan, a `bucket_patches` entry is built as six `u32` (patch, first
 // control point, four edge levels) in `GpuMesh::evaluate_adaptive`, and a
 // `patch_levels` record is read as four edge levels then the bucket.
 const _: () = assert!(SAMPLE_FLOATS == 6);

@@ -70,7 +70,7 @@ pub struct Mesh {
     /// `..Default::default()` stay valid. [`Mesh::corner_normal`] reads it either way.
     pub face_normals: Vec<u32>,
     /// Texture coordinates `(u, v)` as written in the OBJ (`vt`, first two values); index `k`
-    /// is the `(k+1)`-th `vt` line. Read for displacement mapping ([`crate::displace`]).
+    /// is the `(k+1)`-th `vt` line. Read for displacement mapping ([`crate::cpu::displace`]).
     pub texcoords: Vec<[f32; 2]>,
     /// Parallel to [`Mesh::face_vertices`]: the 0-based [`Mesh::texcoords`] index of each face
     /// corner (`f v/vt`), or [`NO_NORMAL`] (the same marker) for a corner without one. May be

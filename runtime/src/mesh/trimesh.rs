@@ -267,7 +267,7 @@ impl TriMesh {
     /// `3t + k`, numbered in order of first use; the two triangles of an
     /// edge get the same id. Returns `(ids, number of edges)`: the
     /// `face_edges` buffer of adaptive tessellation (the triangle
-    /// counterpart of [`crate::adaptive::edge_ids`]).
+    /// counterpart of [`crate::cpu::adaptive::edge_ids`]).
     pub fn edge_ids(&self) -> (Vec<u32>, u32) {
         let mut ids = Vec::with_capacity(3 * self.triangles.len());
         let mut seen: std::collections::HashMap<(u32, u32), u32> = Default::default();

@@ -6,7 +6,7 @@
 use super::request::{Domain, Validated};
 use super::{Error, Output, Session};
 use crate::cpu;
-use crate::displace::DisplaceData;
+use crate::cpu::displace::DisplaceData;
 
 /// Dispatch on the request's backend.
 pub(crate) fn run(v: &Validated<'_>, session: &mut Session) -> Result<Output, Error> {
@@ -17,9 +17,9 @@ pub(crate) fn run(v: &Validated<'_>, session: &mut Session) -> Result<Output, Er
         #[cfg(feature = "gpu")]
         Backend::Wgpu => run_wgpu(v, session.gpu()?),
         #[cfg(feature = "vulkan")]
-        Backend::VulkanGlsl => run_vulkan(v, crate::vulkan::Language::Glsl, session.vulkan()?),
+        Backend::VulkanGlsl => run_vulkan(v, crate::gpu::vulkan::Language::Glsl, session.vulkan()?),
         #[cfg(feature = "vulkan")]
-        Backend::VulkanHlsl => run_vulkan(v, crate::vulkan::Language::Hlsl, session.vulkan()?),
+        Backend::VulkanHlsl => run_vulkan(v, crate::gpu::vulkan::Language::Hlsl, session.vulkan()?),
     }
 }
 
@@ -48,27 +48,29 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
     Ok(match (&v.adaptive, &data) {
         (None, None) => Output::Grid(cpu::evaluate(&patches, level(v))?),
         (None, Some(d)) => Output::Grid(cpu::evaluate_displaced(&patches, level(v), d)?),
-        (Some(a), None) => Output::Instanced(crate::adaptive::evaluate_cpu_adaptive(
+        (Some(a), None) => Output::Instanced(crate::cpu::adaptive::evaluate_cpu_adaptive(
             &patches,
             edges,
             &a.adaptive,
             a.max_level,
         )?),
-        (Some(a), Some(d)) => Output::Instanced(crate::adaptive::evaluate_cpu_adaptive_displaced(
-            &patches,
-            edges,
-            &a.adaptive,
-            a.max_level,
-            d,
-        )?),
+        (Some(a), Some(d)) => {
+            Output::Instanced(crate::cpu::adaptive::evaluate_cpu_adaptive_displaced(
+                &patches,
+                edges,
+                &a.adaptive,
+                a.max_level,
+                d,
+            )?)
+        }
     })
 }
 
 /// wgpu: upload (displacement owners in the upload's class-sorted layout),
 /// then `eval_main` read back, or the instanced adaptive buckets.
 #[cfg(feature = "gpu")]
-fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::Gpu) -> Result<Output, Error> {
-    use crate::gpu::GpuMesh;
+fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Error> {
+    use crate::gpu::wgpu::GpuMesh;
     let name = v.kernels.name;
     let m = match (&v.domain, v.request.displacement) {
         (Domain::Quads { topo, positions }, None) => GpuMesh::new(gpu, topo, positions, name)?,
@@ -93,10 +95,10 @@ fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::Gpu) -> Result<Output, Error> {
 #[cfg(feature = "vulkan")]
 fn run_vulkan(
     v: &Validated<'_>,
-    language: crate::vulkan::Language,
-    vk: &crate::vulkan::Vulkan,
+    language: crate::gpu::vulkan::Language,
+    vk: &crate::gpu::vulkan::Vulkan,
 ) -> Result<Output, Error> {
-    use crate::vulkan::{Options, VkMesh};
+    use crate::gpu::vulkan::{Options, VkMesh};
     let options = Options {
         adaptive: v.adaptive.as_ref().map(|a| a.adaptive.clone()),
         ..Options::new(language)

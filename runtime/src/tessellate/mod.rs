@@ -28,10 +28,10 @@ pub use request::{
     power_of_two_level, AdaptiveRequest, Backend, EdgeMetric, Error, Request, Sampling, Validated,
 };
 
-use crate::adaptive::AdaptiveTessellation;
-use crate::capture::TriangleCapture;
 use crate::check::weld::WeldReport;
+use crate::cpu::adaptive::AdaptiveTessellation;
 use crate::cpu::Tessellation;
+use crate::gpu::capture::TriangleCapture;
 use crate::mesh::Mesh;
 use glam::Vec3;
 
@@ -139,9 +139,9 @@ pub fn soup_obj(tris: &[[Vec3; 3]]) -> String {
 #[derive(Default)]
 pub struct Session {
     #[cfg(feature = "gpu")]
-    gpu: Option<crate::gpu::Gpu>,
+    gpu: Option<crate::gpu::wgpu::Gpu>,
     #[cfg(feature = "vulkan")]
-    vulkan: Option<crate::vulkan::Vulkan>,
+    vulkan: Option<crate::gpu::vulkan::Vulkan>,
 }
 
 impl Session {
@@ -151,7 +151,7 @@ impl Session {
 
     /// A session around a wgpu device the caller already has.
     #[cfg(feature = "gpu")]
-    pub fn with_gpu(gpu: crate::gpu::Gpu) -> Self {
+    pub fn with_gpu(gpu: crate::gpu::wgpu::Gpu) -> Self {
         Session {
             gpu: Some(gpu),
             ..Self::default()
@@ -160,20 +160,20 @@ impl Session {
 
     /// The wgpu device, opened on first use (`TESSGEN_ADAPTER` picks one).
     #[cfg(feature = "gpu")]
-    pub fn gpu(&mut self) -> Result<&crate::gpu::Gpu, Error> {
+    pub fn gpu(&mut self) -> Result<&crate::gpu::wgpu::Gpu, Error> {
         let gpu = match self.gpu.take() {
             Some(g) => g,
-            None => crate::gpu::Gpu::new()?,
+            None => crate::gpu::wgpu::Gpu::new()?,
         };
         Ok(self.gpu.insert(gpu))
     }
 
     /// The Vulkan device, opened on first use (`TESSGEN_VK_DEVICE` picks one).
     #[cfg(feature = "vulkan")]
-    pub fn vulkan(&mut self) -> Result<&crate::vulkan::Vulkan, Error> {
+    pub fn vulkan(&mut self) -> Result<&crate::gpu::vulkan::Vulkan, Error> {
         let vk = match self.vulkan.take() {
             Some(v) => v,
-            None => crate::vulkan::Vulkan::new()?,
+            None => crate::gpu::vulkan::Vulkan::new()?,
         };
         Ok(self.vulkan.insert(vk))
     }

@@ -6,9 +6,9 @@
 //! is opened, so a wrong flag costs no GPU start-up and every backend
 //! refuses the same things with the same words.
 
-use crate::adaptive::{self, Adaptive, AdaptiveMesh, Metric, Partitioning};
+use crate::cpu::adaptive::{self, Adaptive, AdaptiveMesh, Metric, Partitioning};
+use crate::cpu::displace::{DisplaceError, Displacement};
 use crate::cpu::{self, TessError, MAX_LEVEL};
-use crate::displace::{DisplaceError, Displacement};
 use crate::kernels::common::SchemeKernels;
 use crate::mesh::tags::TagFile;
 use crate::mesh::topology::Topology;
@@ -350,10 +350,10 @@ pub enum Error {
     Adaptive(#[from] adaptive::AdaptiveError),
     #[cfg(feature = "gpu")]
     #[error(transparent)]
-    Gpu(#[from] crate::gpu::GpuError),
+    Gpu(#[from] crate::gpu::wgpu::GpuError),
     #[cfg(feature = "vulkan")]
     #[error(transparent)]
-    Vulkan(#[from] crate::vulkan::VkError),
+    Vulkan(#[from] crate::gpu::vulkan::VkError),
 }
 
 impl From<DisplaceError> for Error {
@@ -365,7 +365,7 @@ impl From<DisplaceError> for Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::displace::{DisplaceMap, Ownership};
+    use crate::cpu::displace::{DisplaceMap, Ownership};
 
     fn mesh(obj: &str) -> Mesh {
         Mesh::from_obj_str(obj).expect("mesh")

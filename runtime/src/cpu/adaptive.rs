@@ -452,7 +452,7 @@ pub fn evaluate_cpu_adaptive<'m>(
 /// [`evaluate_cpu_adaptive`] through the displacement step
 /// (`eval_adaptive_displaced`: the same snap, then `p + scale · h(tc) · n`
 /// with the owner's normal and texture coordinate on shared edges and
-/// corners, evaluated at the edge's own level, see `crate::displace`).
+/// corners, evaluated at the edge's own level, see `crate::cpu::displace`).
 /// `data` must be built for these patches in the CPU layout
 /// ([`crate::cpu::displacement_data`], [`crate::cpu::displacement_data_tri`]);
 /// with a zero scale the result is [`evaluate_cpu_adaptive`]'s, bit for
@@ -462,7 +462,7 @@ pub fn evaluate_cpu_adaptive_displaced<'m>(
     mesh: impl Into<AdaptiveMesh<'m>>,
     a: &Adaptive,
     max_level: u32,
-    data: &crate::displace::DisplaceData,
+    data: &crate::cpu::displace::DisplaceData,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
     adaptive_cpu(patches, mesh.into(), a, max_level, Some(data))
 }
@@ -477,7 +477,7 @@ fn adaptive_cpu(
     mesh: AdaptiveMesh<'_>,
     a: &Adaptive,
     max_level: u32,
-    displace: Option<&crate::displace::DisplaceData>,
+    displace: Option<&crate::cpu::displace::DisplaceData>,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
     use crate::kernels::common::Sample;
     use rayon::prelude::*;
@@ -488,7 +488,7 @@ fn adaptive_cpu(
     let corner_vertex = mesh.corner_vertex();
     let sides = kernels.sides as usize;
     let faces = patches.face_class.len();
-    let off = crate::displace::DisplaceData::off();
+    let off = crate::cpu::displace::DisplaceData::off();
     let data = displace.unwrap_or(&off);
     if data.info[0] != 0.0 {
         let stride = 8 * sides;

@@ -3,8 +3,18 @@
 //!
 //! Each stage writes a disjoint slice per vertex/face, so the parallel result
 //! is bit-identical to a sequential run.
+//!
+//! This folder is the CPU side that every backend shares: the GPU backends
+//! and the checks take their scheme lookup, [`Tessellation`] grids,
+//! [`adaptive`] host data (edge ids, metrics, factors) and [`displace`]
+//! ownership tables from here, and the front door ([`crate::tessellate`])
+//! sits above them all. Keeping these out of `tessellate/` keeps the folder
+//! graph free of circles (`tessellate → gpu → cpu`, `check → cpu`).
 
-use crate::displace::{DisplaceData, Displacement};
+pub mod adaptive;
+pub mod displace;
+
+use crate::cpu::displace::{DisplaceData, Displacement};
 use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
 use crate::mesh::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
 use crate::mesh::Mesh;
@@ -35,7 +45,7 @@ pub enum TessError {
     #[error(transparent)]
     Tags(#[from] crate::mesh::tags::TagError),
     #[error(transparent)]
-    Displace(#[from] crate::displace::DisplaceError),
+    Displace(#[from] crate::cpu::displace::DisplaceError),
 }
 
 /// The error for a scheme given the wrong kind of facet.
@@ -406,7 +416,7 @@ fn evaluate_grid(
 
 /// [`evaluate`] through the displacement step: `p + scale · h(tc) · n` with
 /// the owner's normal and texture coordinate on shared edges and corners
-/// ([`crate::displace`]). `data` must be built with this [`Patches`]'
+/// ([`crate::cpu::displace`]). `data` must be built with this [`Patches`]'
 /// layout ([`displacement_data`]). With [`DisplaceData::off`] the result is
 /// [`evaluate`]'s, bit for bit.
 pub fn evaluate_displaced(
@@ -442,7 +452,7 @@ pub fn displacement_data(
     patches: &Patches,
     d: &Displacement,
 ) -> Result<DisplaceData, TessError> {
-    Ok(crate::displace::build(
+    Ok(crate::cpu::displace::build(
         mesh,
         topo,
         &patches.face_class,
@@ -460,7 +470,7 @@ pub fn displacement_data_tri(
     patches: &Patches,
     d: &Displacement,
 ) -> Result<DisplaceData, TessError> {
-    Ok(crate::displace::build_tri(
+    Ok(crate::cpu::displace::build_tri(
         mesh,
         tri,
         &patches.face_class,

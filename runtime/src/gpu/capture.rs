@@ -201,7 +201,7 @@ impl TriangleCapture {
     pub fn max_deviation_displaced(
         &self,
         patches: &crate::cpu::Patches,
-        data: &crate::displace::DisplaceData,
+        data: &crate::cpu::displace::DisplaceData,
     ) -> Result<f32, usize> {
         let k = patches.scheme;
         let level = self.level;

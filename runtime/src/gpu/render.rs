@@ -5,8 +5,8 @@
 //! PCCM paper's figures. Renders offscreen and reads the image back.
 
 use crate::abi;
-use crate::gpu::{GpuError, GpuMesh};
-use crate::pattern;
+use crate::gpu::pattern;
+use crate::gpu::wgpu::{GpuError, GpuMesh};
 use glam::{Mat4, Vec3};
 
 /// A look-at perspective camera.
@@ -194,8 +194,8 @@ impl GpuMesh<'_> {
     pub fn render_adaptive<'m>(
         &self,
         opts: &RenderOptions,
-        mesh: impl Into<crate::adaptive::AdaptiveMesh<'m>>,
-        a: &crate::adaptive::Adaptive,
+        mesh: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<Image, GpuError> {
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
@@ -204,7 +204,7 @@ impl GpuMesh<'_> {
         let slots = self.bucket_slots(max_level);
         // One index buffer per level 2^j: exactly the cells of the grid
         // (the plan pass writes 6·L² (quads) or 3·L² (triangles) indices).
-        let levels: Vec<u32> = (0..crate::gpu::SLOTS)
+        let levels: Vec<u32> = (0..crate::gpu::wgpu::SLOTS)
             .map(|j| 1u32 << j)
             .take_while(|&l| l <= max_level)
             .collect();

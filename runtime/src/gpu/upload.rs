@@ -1,7 +1,7 @@
 //! What every GPU backend uploads for a mesh, backend-neutral: one byte
 //! buffer per binding of the ABI (`tessgen-codegen`'s `backend::abi`), the
 //! patches sorted by facet class, and each class's range. The wgpu path
-//! ([`crate::gpu`]) and the Vulkan tessellation harness ([`crate::vulkan`])
+//! ([`crate::gpu`]) and the Vulkan tessellation harness ([`crate::gpu::vulkan`])
 //! both build their buffers from an [`Upload`], so they run the emitted
 //! shaders on the same data.
 
@@ -66,7 +66,7 @@ pub struct Upload {
     pub buffers: Vec<UploadBuffer>,
     /// The displacement map (binding 24, an `R32Float` texture); a 1×1 zero
     /// map while displacement is off.
-    pub displace_map: crate::displace::DisplaceMap,
+    pub displace_map: crate::cpu::displace::DisplaceMap,
 }
 
 /// The Params block (`abi::PARAMS`), each field at its generated offset
@@ -235,13 +235,13 @@ impl Upload {
             ],
             patch_faces,
             classes,
-            displace_map: crate::displace::DisplaceMap::flat(),
+            displace_map: crate::cpu::displace::DisplaceMap::flat(),
         }
-        .with_displacement(&crate::displace::DisplaceData::off()))
+        .with_displacement(&crate::cpu::displace::DisplaceData::off()))
     }
 
     /// Class and first control point of every face in this upload's layout
-    /// (patches sorted by class): what [`crate::displace::build`] records
+    /// (patches sorted by class): what [`crate::cpu::displace::build`] records
     /// for the owners.
     pub fn face_layout(&self) -> (Vec<u32>, Vec<u32>) {
         let mut class = vec![0u32; self.patch_faces.len()];
@@ -258,7 +258,7 @@ impl Upload {
 
     /// Replace the displacement data (bindings 21–24). Built for this
     /// upload's [`Upload::face_layout`].
-    pub fn with_displacement(mut self, d: &crate::displace::DisplaceData) -> Self {
+    pub fn with_displacement(mut self, d: &crate::cpu::displace::DisplaceData) -> Self {
         self.buffers.retain(|b| {
             ![binding::TEXCOORDS, binding::OWNERS, binding::DISPLACE_INFO].contains(&b.binding)
         });
@@ -322,9 +322,9 @@ impl Upload {
             ],
             patch_faces,
             classes,
-            displace_map: crate::displace::DisplaceMap::flat(),
+            displace_map: crate::cpu::displace::DisplaceMap::flat(),
         }
-        .with_displacement(&crate::displace::DisplaceData::off()))
+        .with_displacement(&crate::cpu::displace::DisplaceData::off()))
     }
 
     /// Samples per patch at `level` (the scheme's `grid_len`).

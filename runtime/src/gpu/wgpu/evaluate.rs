@@ -1,0 +1,92 @@
+//! Uniform evaluation: `eval_main` over every patch at one level, one
+//! dispatch per facet class split at the device limits, read back through
+//! the one readback scatter into per-face grids ([`Tessellation`]).
+
+use crate::abi;
+use crate::cpu::{self, Tessellation};
+use crate::gpu::readback::GridReadback;
+use crate::gpu::upload::params_bytes;
+use glam::Mat4;
+
+use super::{GpuError, GpuMesh};
+
+impl<'g> GpuMesh<'g> {
+    /// Evaluate every patch on its `level` grid (the scheme's `grid_len`
+    /// samples) with `eval_main` and read it back, in face order (the same
+    /// layout as the CPU path).
+    pub fn evaluate(&self, level: u32) -> Result<Tessellation, GpuError> {
+        if level == 0 || level > cpu::MAX_LEVEL {
+            return Err(cpu::TessError::Level(level).into());
+        }
+        let spp = (self.scheme.grid_len)(level) as u64;
+        let faces = self.patch_faces.len();
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
+        // Patches per readback chunk: within the dispatch and binding limits.
+        let by_dispatch = self.chunk(spp);
+        let by_binding =
+            (self.limits.max_storage_buffer_binding_size / (spp * abi::SAMPLE_BYTES)).max(1);
+        if spp * abi::SAMPLE_BYTES > self.limits.max_storage_buffer_binding_size {
+            return Err(GpuError::BufferTooLarge {
+                what: "samples of one patch",
+                needed: spp * abi::SAMPLE_BYTES,
+                max: self.limits.max_storage_buffer_binding_size,
+            });
+        }
+        let chunk = by_dispatch.min(by_binding) as u32;
+        let dev = &self.gpu.device;
+        for c in &self.classes {
+            let mut k = 0;
+            while k < c.count {
+                let count = chunk.min(c.count - k);
+                let bytes = count as u64 * spp * abi::SAMPLE_BYTES;
+                let samples = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
+                });
+                let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("samples readback"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                self.gpu.scoped(|| {
+                    let p = self.params_buffer(&params_bytes(
+                        Mat4::IDENTITY,
+                        c.first + k,
+                        count,
+                        c.class,
+                        c.cp_base + k * c.points,
+                        level,
+                        0,
+                    ));
+                    let layout = self.eval_pipeline.get_bind_group_layout(0);
+                    let group = self.bind_group("eval_main", &layout, &p, Some(&samples));
+                    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                        label: Some("eval"),
+                    });
+                    {
+                        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("eval"),
+                            timestamp_writes: None,
+                        });
+                        pass.set_pipeline(&self.eval_pipeline);
+                        pass.set_bind_group(0, &group, &[]);
+                        pass.dispatch_workgroups(
+                            ((count as u64 * spp).div_ceil(abi::WORKGROUP)) as u32,
+                            1,
+                            1,
+                        );
+                    }
+                    enc.copy_buffer_to_buffer(&samples, 0, &staging, 0, bytes);
+                    self.gpu.queue.submit([enc.finish()]);
+                })?;
+                let floats = self.read(&staging)?;
+                grids.scatter(&floats, (c.first + k) as u64, &self.patch_faces);
+                k += count;
+            }
+        }
+        Ok(grids.finish())
+    }
+}
