@@ -16,11 +16,11 @@ use glam::Vec3;
 use std::collections::HashMap;
 use std::fmt::Write;
 
-/// The fixed-point denominator of adaptive evaluation (`2^16`, codegen's
-/// `lower::ADAPTIVE_LEVEL`): the hardware tessellator's domain coordinates
+/// The fixed-point denominator of adaptive evaluation (`2^16`, from the
+/// generated ABI, codegen's `plan::ADAPTIVE_LEVEL`): the hardware tessellator's domain coordinates
 /// are 16.16 fixed point, so the evaluation stages of adaptive builds pass
 /// `round(coordinate · 2^16)` and level `2^16` to `eval` / `eval_domain`.
-pub const ADAPTIVE_LEVEL: u32 = 1 << 16;
+pub const ADAPTIVE_LEVEL: u32 = crate::abi::ADAPTIVE_LEVEL;
 
 /// Floats per captured vertex: position xyz, normal xyz, domain xyz, patch
 /// (its u32 bits).

@@ -333,13 +333,15 @@ impl Drop for Vulkan {
 /// `maxTessellationControlPerPatchOutputComponents / 4` locations (Vulkan's
 /// "Shader Input and Output Locations" table).
 pub fn per_patch_locations(scheme: &SchemeKernels) -> u32 {
-    let kmax = scheme
-        .classes
+    // The packing is the Plan's (`TessStages::slots`), printed into the
+    // generated ABI per scheme. The harness runs built-in schemes only, all
+    // in the table; a scheme missing from it cannot be laid out, so it
+    // reports as not fitting any device.
+    let slots = crate::abi::TESS_PATCH_SLOTS
         .iter()
-        .map(|c| c.control_points)
-        .max()
-        .unwrap_or(1);
-    (3 * kmax).div_ceil(4) + 1
+        .find(|(name, _)| *name == scheme.name)
+        .map_or(u32::MAX - 1, |(_, slots)| *slots);
+    slots + 1
 }
 
 /// Check that a scheme's tessellation pipeline fits the device.
