@@ -385,22 +385,7 @@ impl<'a> Writer<'a> {
         if f.precise {
             self.line("// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).");
         }
-        self.name_locals(f);
-        let args: Vec<String> = f
-            .params
-            .iter()
-            .map(|id| format!("{}: {}", self.locals[id.0], self.ty(&f.locals[id.0].ty)))
-            .collect();
-        let ret = f
-            .ret
-            .as_ref()
-            .map(|t| format!(" -> {}", self.ty(t)))
-            .unwrap_or_default();
-        self.line(&format!(
-            "fn {}({}){ret} {{",
-            ident(&f.name),
-            args.join(", ")
-        ));
+        self.fn_head(f);
         let written: Vec<Resource> = resources_of(self.plan, m, f)
             .0
             .into_iter()
@@ -410,10 +395,8 @@ impl<'a> Writer<'a> {
         self.body(m, f, &written);
     }
 
-    /// `f` with the buffers it writes given (the packed accessors, whose
-    /// variable is chosen by name).
-    fn function_in(&mut self, m: &Module, f: &Function, written: &[Resource]) {
-        self.doc(&f.doc);
+    /// `fn name(params) -> ret {`, naming `f`'s locals first.
+    fn fn_head(&mut self, f: &Function) {
         self.name_locals(f);
         let args: Vec<String> = f
             .params
@@ -430,6 +413,13 @@ impl<'a> Writer<'a> {
             ident(&f.name),
             args.join(", ")
         ));
+    }
+
+    /// `f` with the buffers it writes given (the packed accessors, whose
+    /// variable is chosen by name).
+    fn function_in(&mut self, m: &Module, f: &Function, written: &[Resource]) {
+        self.doc(&f.doc);
+        self.fn_head(f);
         self.body(m, f, written);
     }
 
