@@ -39,18 +39,7 @@ impl<'g> GpuMesh<'g> {
             while k < c.count {
                 let count = chunk.min(c.count - k);
                 let bytes = count as u64 * spp * abi::SAMPLE_BYTES;
-                let samples = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("samples"),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                });
-                let staging = dev.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("samples readback"),
-                    size: bytes,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
+                let (samples, staging) = self.sample_buffers(bytes);
                 self.gpu.scoped(|| {
                     let p = self.params_buffer(&params_bytes(
                         Mat4::IDENTITY,

@@ -36,6 +36,25 @@ impl<'g> GpuMesh<'g> {
 
     /// A storage buffer holding `bytes` (at least 16 bytes), with `extra`
     /// usages on top of STORAGE | COPY_DST.
+    /// A `samples` storage buffer of `bytes` for one evaluation dispatch and
+    /// the mappable buffer it is copied into for readback.
+    pub(super) fn sample_buffers(&self, bytes: u64) -> (wgpu::Buffer, wgpu::Buffer) {
+        let dev = &self.gpu.device;
+        let samples = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("samples"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("samples readback"),
+            size: bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        (samples, staging)
+    }
+
     pub(super) fn storage_init(
         &self,
         label: &'static str,
