@@ -183,10 +183,27 @@ def ov_zero(P, m, j):
     return 0 * P[0]
 
 
+
+def _t_exact(P, m, j):
+    """cos(pi j/m) T_along + sin(pi j/m) T_across, T_across = boundary.md 3.3 exact mask (its scale)."""
+    X = exact_across_mask(m)
+    Tx = sum(X[k] * P[k] for k in range(2 * m + 2))       # partial-ring slots = virtual slots 0..2m+1
+    Ta = (P[1] - P[1 + 2 * m]) / 2
+    return math.cos(math.pi * j / m) * Ta + math.sin(math.pi * j / m) * Tx
+
+
+def ov_t_exact_vec(P, m, j):
+    return _t_exact(P, m, j)
+
+
+def ov_t_exact_point(P, m, j):          # pccm t / gregory_osd e: a point v + T/3
+    return ov_crease_v(P, m, j) + _t_exact(P, m, j) / 3
+
+
 DSL = {}
 
 
-def overrides(scheme, kind, variant='proposed'):
+def overrides(scheme, kind, variant='proposed', m=None):
     """the sector block of `scheme` for `kind` ('crease'|'corner').  variant 'doc' = the typical
     block of docs/boundaries.md section 3 (v + sharp e) for every scheme."""
     o = {'v': (False, ov_crease_v if kind == 'crease' else ov_corner_v), 'e': (True, ov_sharp_e)}
@@ -196,6 +213,13 @@ def overrides(scheme, kind, variant='proposed'):
         o['t'] = (True, ov_acc_t_crease if kind == 'crease' else ov_acc_t_corner)
     if scheme == 'pccm':
         o['t'] = (True, ov_sharp_e)
+    if variant == 'exact' and kind == 'crease' and m is not None and m >= 2:
+        if scheme in ('acc', 'gregory'):
+            o['t'] = (False, ov_t_exact_vec)
+        elif scheme == 'pccm':
+            o['t'] = (False, ov_t_exact_point)
+        elif scheme == 'gregory_osd':
+            o['e'] = (False, ov_t_exact_point)
     if variant == 'r0' and scheme in ('gregory', 'gregory_osd'):
         o['r'] = (True, ov_zero)
     return o
@@ -272,7 +296,7 @@ def sector_rows(scheme, kind, m, variant='proposed'):
     if key not in _SECTOR_CACHE:
         Phi = virtual_ring(m)
         n = virtual_valence(m)
-        out = run_block(scheme, Phi, n, overrides(scheme, kind, variant), m)
+        out = run_block(scheme, Phi, n, overrides(scheme, kind, variant, m), m)
         rows = {}
         for name, val in out.items():
             rows[name] = np.array(val[:m + 1]) if name in PER_POS else np.array(val)
@@ -878,17 +902,21 @@ def layout_and_r(names):
                   % (name.replace('catmark_', ''), scheme, fmt(a), fmt(b), fmt(c)), flush=True)
 
 
+EXACT = {}
+
+
 def override_effect(names):
-    print('\n== effect of the scheme-specific overrides (irregular faces): doc block (v + sharp e only) vs proposed ==')
+    print('\n== overrides, all faces: doc block (v + sharp e only) | proposed (+ acc/pccm sharp t) | '
+          'proposed + exact crease tangents for m >= 3 (boundary.md 3.3) ==')
     for name in names:
         mesh = Mesh(name, 'sharp')
         gt = load_gt(name + '.bin')
-        for scheme in ('acc', 'pccm'):
-            a = summarise(measure(mesh, gt, scheme, 'doc'), lambda f, r: not r[2])
-            b = summarise(measure(mesh, gt, scheme, 'proposed'), lambda f, r: not r[2])
-            if a is None:
-                continue
-            print('  %-20s %-5s doc block %s | proposed %s' % (name.replace('catmark_', ''), scheme, fmt(a), fmt(b)), flush=True)
+        for scheme in ('acc', 'gregory', 'gregory_osd', 'pccm'):
+            a = summarise(measure(mesh, gt, scheme, 'doc'))
+            b = summarise(measure(mesh, gt, scheme, 'proposed'))
+            c = summarise(measure(mesh, gt, scheme, 'exact'))
+            EXACT[(name, scheme)] = c
+            print('  %-14s %-11s %s | %s | %s' % (name.replace('catmark_', ''), scheme, fmt(a), fmt(b), fmt(c)), flush=True)
 
 
 def semi_sharp(names):
@@ -1018,10 +1046,21 @@ def golden():
              'the scheme\'s vertex block evaluated on the virtual ring of docs/boundaries.md section 3 '
              'with the sector overrides of "overrides" (DSL lines) applied; rows in table order = '
              'outputs in order, each output\'s rows j = 0..m. "virtual_ring"[m]: the (2n\'+1) x (2m+2) '
-             'matrix giving [p, p_0 .. p_{2n\'-1}] from the partial ring.')
+             'matrix giving [p, p_0 .. p_{2n\'-1}] from the partial ring. "schemes_exact_crease_tangent"[scheme][m] '
+             '(crease, m = 2..4; proposal, not in the .tess files yet): as "schemes", plus the crease tangents '
+             't[j] = cos(pi j/m) (q_0 - q_m)/2 + sin(pi j/m) X, X = boundary.md 3.3 across mask, used for every '
+             'position (acc t, gregory let t, pccm t = v + t/3, gregory_osd e = v + t/3); m = 2 equals "schemes".')
     out = {'format': fmt_s, 'virtual_ring': {}, 'schemes': {}}
     for m in range(1, 5):
         out['virtual_ring'][str(m)] = virtual_ring(m).tolist()
+    out['schemes_exact_crease_tangent'] = {}
+    for scheme, (_, outs) in SCHEMES.items():
+        X = out['schemes_exact_crease_tangent'][scheme] = {}
+        for m in range(2, 5):
+            R = sector_rows(scheme, 'crease', m, 'exact')
+            X[str(m)] = {'virtual_valence': virtual_valence(m), 'outputs': [
+                {'name': name, 'vector': bool(vec), 'per_position': name in PER_POS,
+                 'rows': np.atleast_2d(R[name]).tolist()} for name, vec in outs]}
     for scheme, (_, outs) in SCHEMES.items():
         S = out['schemes'][scheme] = {'overrides': {}}
         for kind in ('crease', 'corner'):
@@ -1044,6 +1083,91 @@ def dsl_block(scheme, kind):
     return lines
 
 
+def exact_across_mask(k):
+    """boundary.md 3.3: exact across-crease limit tangent over the partial ring, k >= 2."""
+    th = math.pi / k
+    c = math.cos(2 * math.pi / (2 * k))
+    lam = (c + 5 + math.sqrt((c + 9) * (c + 1))) / 16
+    F = 1.0 / (k * (3.0 + math.cos(th))); E = 4.0 * (4.0 * lam - 1.0) * F
+    sn = math.sin(th); C = 1.0 / math.tan(th / 2)
+    w = np.zeros(2 * k + 2)
+    for i in range(1, k):
+        w[1 + 2 * i] = E * math.sin(i * th)
+    for i in range(k):
+        w[2 + 2 * i] = F * (math.sin(i * th) + math.sin((i + 1) * th))
+    wc = ((3 * E / 8 + F / 2) * C + (lam - 0.75) * (E / 2 + 2 * F) * sn) / (8 * (lam - 0.75) * (lam - 0.5) - 1)
+    w[0] = 8 * (wc * (lam - 0.5) - E * sn / 16 - F * sn / 4); w[1] = w[1 + 2 * k] = wc
+    return w
+
+
+def face_class(mesh, f):
+    cls = set()
+    for x in mesh.F[f]:
+        c = mesh.info[x]
+        if mesh.corner_regular(x, f):
+            continue
+        if c['rule'] == 'smooth':
+            cls.add('EV n=%d' % c['n_layout'])
+        elif c['rule'] == 'dart':
+            cls.add('dart')
+        else:
+            k, _ = mesh.sector_of(x, f)
+            cls.add('%s m=%d' % (c['rule'], c['sectors'][k]['m']))
+    return ', '.join(sorted(cls)) or 'regular'
+
+
+def diagnose(names):
+    print('\n== diagnosis: irregular faces by corner class (pos rms/max %%, normal rms/max deg) ==')
+    for name in names:
+        mesh = Mesh(name, 'sharp'); gt = load_gt(name + '.bin')
+        classes = {}
+        for f in range(len(mesh.F)):
+            if mesh.face_touches_semi(f) == 0:
+                classes.setdefault(face_class(mesh, f), []).append(f)
+        for scheme in ('gregory', 'pccm', 'acc'):
+            res = measure(mesh, gt, scheme)
+            for cl, fs in sorted(classes.items()):
+                if cl == 'regular':
+                    continue
+                sm = summarise(res, lambda f, r, fs=set(fs): f in fs)
+                print('  %-16s %-8s %-34s %3d faces %s' % (name.replace('catmark_', ''), scheme, cl[:34], sm['n'], fmt(sm)))
+    print('\n== crease sectors m >= 3: normal at the vertex (corner sample) vs cc_limit [deg] ==')
+    for name in names:
+        mesh = Mesh(name, 'sharp'); gt = load_gt(name + '.bin')
+        stats = {}
+        vsg = {s: VertexStage(mesh, s) for s in ('gregory', 'pccm', 'acc')}
+        for x, c in mesh.info.items():
+            if c['rule'] != 'crease' or c['semi']:
+                continue
+            for sec in c['sectors']:
+                m = sec['m']
+                if m < 3:
+                    continue
+                R = mesh.V[sec['ring']]
+                Ta = (R[1] - R[2 * m + 1]) / 2
+                Tx = exact_across_mask(m) @ R
+                for jl in range(m):
+                    f = c['faces'][(sec['j0'] + jl) % len(c['faces'])]
+                    i = mesh.F[f].index(x)
+                    jj, ii = [(0, 0), (0, 8), (8, 8), (8, 0)][i]
+                    g = gt[f, jj, ii, 3:]
+                    st = stats.setdefault(m, {'exact': 0.0, 'gregory': 0.0, 'pccm': 0.0, 'acc': 0.0, 'n': 0})
+                    st['exact'] = max(st['exact'], float(angles_deg(np.cross(Ta, Tx), g)))
+                    st['n'] += 1
+                    for s_, vs in vsg.items():
+                        d = vs.corner(f, i)
+                        if s_ == 'acc':
+                            N = np.cross(d['t0'], d['t1'])
+                        elif s_ == 'gregory':
+                            N = np.cross(d['e0'] - d['v'], d['e1'] - d['v'])
+                        else:
+                            N = np.cross(d['t0'] - d['v'], d['t1'] - d['v'])
+                        st[s_] = max(st[s_], float(angles_deg(N, g)))
+        for m, st in sorted(stats.items()):
+            print('  %-16s m=%d (%2d face corners): exact mask (boundary.md 3.3) %.2e | virtual ring: gregory %.3f  '
+                  'pccm %.3f  acc %.3f' % (name.replace('catmark_', ''), m, st['n'], st['exact'], st['gregory'], st['pccm'], st['acc']))
+
+
 def main():
     t0 = time.time()
     quick = '--quick' in sys.argv
@@ -1063,14 +1187,20 @@ def main():
                 bad += int(cov != list(range(c['n_layout'])))
     report('sector counts write every ring position exactly once (all meshes)', float(bad), 0.0)
     regmax = accuracy(names + CLOSED)
-    override_effect([n for n in names if n != 'catmark_car'])
+    if '--diagnose' in sys.argv:
+        diagnose([n for n in names if n not in ('catmark_car', 'catmark_pawn', 'catmark_single_crease')])
+    override_effect(names)
     layout_and_r([n for n in names if n in ('catmark_single_crease', 'catmark_pawn', 'catmark_car')])
     semi_sharp([n for n in names if n in ('catmark_single_crease', 'catmark_pawn', 'catmark_car')])
     print('\n== targets: RMS distance <= 3 %, RMS normal <= 8 deg for pccm and gregory on every mesh ==')
     for name, scheme, tot, reg in TABLE:
         if scheme in ('pccm', 'gregory') and name in OPEN:
             ok = tot['rms'] <= 3 and tot['nrms'] <= 8
-            print('  %-22s %-8s rms %.3f %% / %.3f deg  %s' % (name, scheme, tot['rms'], tot['nrms'], 'met' if ok else 'NOT MET'))
+            x = EXACT.get((name, scheme))
+            okx = x is not None and x['rms'] <= 3 and x['nrms'] <= 8
+            print('  %-22s %-8s rms %.3f %% / %.3f deg  %-8s | with exact crease tangents: %.3f %% / %.3f deg  %s'
+                  % (name, scheme, tot['rms'], tot['nrms'], 'met' if ok else 'NOT MET',
+                     x['rms'], x['nrms'], 'met' if okx else 'NOT MET'))
     if '--json' in sys.argv:
         path = sys.argv[sys.argv.index('--json') + 1]
         with open(path, 'w') as fh:
