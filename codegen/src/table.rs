@@ -5,8 +5,14 @@
 //! Plain flat data (OpenSubdiv `Far` style): a `rows × width` f32 matrix and
 //! a manifest that says what each row is. On the GPU it is an `R32Float`
 //! texture (row = y, slot = x); on the CPU a slice.
+//!
+//! Sector rows (crease and corner vertices, docs/boundaries.md §3) live in a
+//! second column region of the same texture, from [`StencilTable::sector_column`]
+//! on: a sector of `m` faces has `2m + 2` partial-ring slots, and keeping
+//! them beside the per-valence rows rather than below keeps the height under
+//! WebGPU's default 8192-texel limit and the bindings unchanged.
 
-use crate::front::scheme::Scheme;
+use crate::front::scheme::{max_sector_faces, virtual_valence, Scheme, SectorKind};
 use serde::Serialize;
 
 /// Default largest valence.
@@ -24,6 +30,10 @@ pub struct SchemeRows {
     pub consts: Vec<String>,
     /// Vertex-stage outputs in row order within a valence block.
     pub outputs: Vec<OutputInfo>,
+    /// `sector_row_base[kind · max_sector_faces + m − 1]` = first row of the
+    /// sector block (kind, m faces) in the sector column region (all 0 for
+    /// schemes without a vertex stage).
+    pub sector_row_base: Vec<u32>,
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -50,17 +60,33 @@ pub struct RowInfo {
     pub length: u32,
     /// Non-zero mask over the row's columns, as a string of '0'/'1'.
     pub nonzero: String,
+    /// Sector rows: `crease` or `corner` (the row's columns start at
+    /// `sector_column`; `valence` is then the virtual valence n'(m)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<&'static str>,
+    /// Sector rows: faces m of the sector.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub faces: Option<u32>,
 }
 
 /// The table and its manifest.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StencilTable {
     pub max_valence: u32,
-    /// Columns: 2·max_valence + 1.
+    /// Columns: 2·max_valence + 1 ring slots, then the sector region's
+    /// 2·max_sector_faces + 2 partial-ring slots.
     pub width: u32,
-    /// `rows × width` weights, row-major.
+    /// First column of the sector region (= 2·max_valence + 1).
+    pub sector_column: u32,
+    /// Largest sector in faces (max_valence / 2).
+    pub max_sector_faces: u32,
+    /// `height × width` weights, row-major.
     pub weights: Vec<f32>,
+    /// Per-valence rows and constants (columns from 0).
     pub rows: Vec<RowInfo>,
+    /// Sector rows (columns from `sector_column`); row `r` of this list is
+    /// texture row `r`.
+    pub sector_rows: Vec<RowInfo>,
     pub schemes: Vec<SchemeRows>,
 }
 
@@ -71,10 +97,13 @@ struct Manifest<'a> {
     max_valence: u32,
     width: u32,
     height: u32,
+    sector_column: u32,
+    max_sector_faces: u32,
     texel: &'static str,
     layout: &'static str,
     schemes: &'a [SchemeRows],
     rows: &'a [RowInfo],
+    sector_rows: &'a [RowInfo],
 }
 
 impl StencilTable {
@@ -82,8 +111,12 @@ impl StencilTable {
     /// computed in f64 from the symbolic expressions and rounded once to f32.
     pub fn build(schemes: &[Scheme], max_valence: u32) -> StencilTable {
         let width = 2 * max_valence + 1;
+        let max_m = max_sector_faces(max_valence);
+        let sector_width = 2 * max_m + 2;
         let mut weights = Vec::new();
         let mut rows = Vec::new();
+        let mut sector_weights: Vec<f32> = Vec::new();
+        let mut sector_rows: Vec<RowInfo> = Vec::new();
         let mut infos = Vec::new();
         let push_row =
             |weights: &mut Vec<f32>, rows: &mut Vec<RowInfo>, info: RowInfo, w: &[f64]| {
@@ -111,6 +144,8 @@ impl StencilTable {
                             .iter()
                             .map(|x| if *x as f32 != 0.0 { '1' } else { '0' })
                             .collect(),
+                        kind: None,
+                        faces: None,
                     };
                     push_row(&mut weights, &mut rows, info, &w);
                 }
@@ -133,13 +168,51 @@ impl StencilTable {
                         .iter()
                         .map(|x| if *x as f32 != 0.0 { '1' } else { '0' })
                         .collect(),
+                    kind: None,
+                    faces: None,
                 };
                 push_row(&mut weights, &mut rows, info, &vals);
+            }
+            // Every scheme declares the full index (triangle schemes: zeros,
+            // no rows), so the constant array is never empty.
+            let mut sector_row_base = Vec::new();
+            let quad = s.vertex.iter().any(|d| d.exported());
+            for kind in SectorKind::ALL {
+                for m in 1..=max_m {
+                    sector_row_base.push(if quad { sector_rows.len() as u32 } else { 0 });
+                    if !quad {
+                        continue;
+                    }
+                    for (def, j, w) in s.sector_rows(kind, m) {
+                        let d = &s.vertex[def];
+                        let info = RowInfo {
+                            row: sector_rows.len() as u32,
+                            scheme: s.name.clone(),
+                            output: d.name.clone(),
+                            sector: d.indexed.then_some(j),
+                            valence: virtual_valence(m),
+                            length: 2 * m + 2,
+                            nonzero: w
+                                .iter()
+                                .map(|x| if *x as f32 != 0.0 { '1' } else { '0' })
+                                .collect(),
+                            kind: Some(kind.name()),
+                            faces: Some(m),
+                        };
+                        let mut line = vec![0f32; sector_width as usize];
+                        for (dst, src) in line.iter_mut().zip(&w) {
+                            *dst = *src as f32;
+                        }
+                        sector_weights.extend_from_slice(&line);
+                        sector_rows.push(info);
+                    }
+                }
             }
             infos.push(SchemeRows {
                 scheme: s.name.clone(),
                 valence_row_base,
                 const_row_base,
+                sector_row_base,
                 consts: s.consts.iter().map(|c| c.name.clone()).collect(),
                 outputs: s
                     .outputs()
@@ -155,17 +228,35 @@ impl StencilTable {
                     .collect(),
             });
         }
+        // Place the sector region beside the per-valence rows.
+        let height = rows.len().max(sector_rows.len());
+        let total = (width + sector_width) as usize;
+        let mut merged = vec![0f32; height * total];
+        for (r, line) in weights.chunks(width as usize).enumerate() {
+            merged[r * total..r * total + width as usize].copy_from_slice(line);
+        }
+        for (r, line) in sector_weights.chunks(sector_width as usize).enumerate() {
+            merged[r * total + width as usize..(r + 1) * total].copy_from_slice(line);
+        }
         StencilTable {
             max_valence,
-            width,
-            weights,
+            width: total as u32,
+            sector_column: width,
+            max_sector_faces: max_m,
+            weights: merged,
             rows,
+            sector_rows,
             schemes: infos,
         }
     }
 
     pub fn height(&self) -> u32 {
-        self.rows.len() as u32
+        self.rows.len().max(self.sector_rows.len()) as u32
+    }
+
+    /// Weight of sector row `row` at partial-ring slot `slot`.
+    pub fn sector_weight(&self, row: u32, slot: u32) -> f32 {
+        self.weight(row, self.sector_column + slot)
     }
 
     pub fn weight(&self, row: u32, col: u32) -> f32 {
@@ -185,12 +276,18 @@ impl StencilTable {
             max_valence: self.max_valence,
             width: self.width,
             height: self.height(),
+            sector_column: self.sector_column,
+            max_sector_faces: self.max_sector_faces,
             texel: "f32 little-endian (R32Float)",
-            layout: "row-major, height rows of width f32; row = (scheme, valence, output, sector) \
-                     as listed in `rows`, column = ring slot [p, p_0 .. p_{2n-1}] \
-                     (or constant index for `constants` rows); unused columns are 0",
+            layout: "row-major, height rows of width f32; columns 0 .. sector_column: \
+                     row = (scheme, valence, output, sector) as listed in `rows`, column = ring \
+                     slot [p, p_0 .. p_{2n-1}] (or constant index for `constants` rows); columns \
+                     sector_column ..: row = (scheme, kind, faces m, output, ring position) as \
+                     listed in `sector_rows`, column sector_column + k = partial-ring slot k of \
+                     [p, q_0, d_0, .., q_m]; unused columns are 0",
             schemes: &self.schemes,
             rows: &self.rows,
+            sector_rows: &self.sector_rows,
         };
         let mut s = serde_json::to_string_pretty(&m).unwrap_or_default();
         s.push('\n');

@@ -7,8 +7,8 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
@@ -24,6 +24,15 @@ const uint ROWS_PER_N = 3u;
 
 // See ROWS_PER_N.
 const uint ROWS_FIXED = 1u;
+
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+const uint SECTOR_ROW_BASE[32] = uint[32](1584u, 1591u, 1601u, 1614u, 1630u, 1649u, 1671u, 1696u, 1724u, 1755u, 1789u, 1826u, 1866u, 1909u, 1955u, 2004u, 2056u, 2063u, 2073u, 2086u, 2102u, 2121u, 2143u, 2168u, 2196u, 2227u, 2261u, 2298u, 2338u, 2381u, 2427u, 2476u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const uint SECTOR_MAX_FACES = 16u;
 
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 const uint EDGE_CURVE[32] = uint[32](0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u);
@@ -74,6 +83,9 @@ layout(std140, set = 0, binding = 10) uniform Params {
 
 // binding 11: face index of each patch, patches sorted by class
 layout(std430, set = 0, binding = 11) readonly buffer PatchFaces { uint patch_faces[]; };
+
+// binding 33: valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
+layout(std430, set = 0, binding = 33) readonly buffer CornerValence { uint corner_valence[]; };
 
 vec3 load_vertex_out(uint i) {
     return vec3(vertex_out[(3u * i)], vertex_out[((3u * i) + 1u)], vertex_out[((3u * i) + 2u)]);
@@ -179,10 +191,14 @@ void extraordinary_patch(uint face, uint cp_base) {
     vec3 t_1_1 = load_vertex_out(((out_base_1 + ((2u * n_1) + 1u)) + ((sector_1 + 1u) % n_1)));
     vec3 t_2_1 = load_vertex_out(((out_base_2 + ((2u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     vec3 t_3_1 = load_vertex_out(((out_base_3 + ((2u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
-    float c_0 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_0) - 3u))), 0).x;
-    float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_1) - 3u))), 0).x;
-    float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_2) - 3u))), 0).x;
-    float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_3) - 3u))), 0).x;
+    uint shape_0 = corner_valence[((face * 4u) + 0u)];
+    float c_0 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_0) - 3u))), 0).x;
+    uint shape_1 = corner_valence[((face * 4u) + 1u)];
+    float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_1) - 3u))), 0).x;
+    uint shape_2 = corner_valence[((face * 4u) + 2u)];
+    float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_2) - 3u))), 0).x;
+    uint shape_3 = corner_valence[((face * 4u) + 3u)];
+    float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_3) - 3u))), 0).x;
     store_control_points((cp_base + 0u), v_0);
     store_control_points((cp_base + 12u), v_1);
     store_control_points((cp_base + 15u), v_2);

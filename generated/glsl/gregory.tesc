@@ -7,8 +7,8 @@
 
 layout(vertices = 1) out;
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
@@ -24,6 +24,15 @@ const uint ROWS_PER_N = 3u;
 
 // See ROWS_PER_N.
 const uint ROWS_FIXED = 1u;
+
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+const uint SECTOR_ROW_BASE[32] = uint[32](2528u, 2535u, 2545u, 2558u, 2574u, 2593u, 2615u, 2640u, 2668u, 2699u, 2733u, 2770u, 2810u, 2853u, 2899u, 2948u, 3000u, 3007u, 3017u, 3030u, 3046u, 3065u, 3087u, 3112u, 3140u, 3171u, 3205u, 3242u, 3282u, 3325u, 3371u, 3420u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const uint SECTOR_MAX_FACES = 16u;
 
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 const uint EDGE_CURVE[32] = uint[32](0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 1u, 7u, 5u, 5u, 6u, 12u, 10u, 10u, 11u, 17u, 15u, 15u, 16u, 2u, 0u);
@@ -80,6 +89,9 @@ layout(std430, set = 0, binding = 18) readonly buffer EdgeFactors { float edge_f
 
 // binding 19: adaptive-tessellation parameters, ADAPTIVE_LEN f32 (layout in generated/README.md)
 layout(std430, set = 0, binding = 19) readonly buffer Adaptive { float adaptive[]; };
+
+// binding 33: valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
+layout(std430, set = 0, binding = 33) readonly buffer CornerValence { uint corner_valence[]; };
 
 // Control points of this patch, written once by the control stage, packed:
 // point j at floats 3j .. 3j+2 of KMAX4 vec4s. Per-patch outputs are counted
@@ -232,12 +244,16 @@ void extraordinary_patch(uint face, uint cp_base) {
     vec3 e_1_1 = load_vertex_out(((out_base_1 + ((1u * n_1) + 1u)) + ((sector_1 + 1u) % n_1)));
     vec3 e_2_1 = load_vertex_out(((out_base_2 + ((1u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     vec3 e_3_1 = load_vertex_out(((out_base_3 + ((1u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
-    float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_1) - 3u))), 0).x;
-    float c_0 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_0) - 3u))), 0).x;
+    uint shape_1 = corner_valence[((face * 4u) + 1u)];
+    float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_1) - 3u))), 0).x;
+    uint shape_0 = corner_valence[((face * 4u) + 0u)];
+    float c_0 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_0) - 3u))), 0).x;
     vec3 r_0_0 = load_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + sector_0));
-    float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_2) - 3u))), 0).x;
+    uint shape_2 = corner_valence[((face * 4u) + 2u)];
+    float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_2) - 3u))), 0).x;
     vec3 r_1_0 = load_vertex_out(((out_base_1 + ((2u * n_1) + 1u)) + sector_1));
-    float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + n_3) - 3u))), 0).x;
+    uint shape_3 = corner_valence[((face * 4u) + 3u)];
+    float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_3) - 3u))), 0).x;
     vec3 r_2_0 = load_vertex_out(((out_base_2 + ((2u * n_2) + 1u)) + sector_2));
     vec3 r_3_0 = load_vertex_out(((out_base_3 + ((2u * n_3) + 1u)) + sector_3));
     vec3 r_0_1 = load_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + ((sector_0 + 1u) % n_0)));

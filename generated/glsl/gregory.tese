@@ -23,8 +23,8 @@ layout(quads, fractional_even_spacing, ccw) in;
 layout(quads, equal_spacing, ccw) in;
 #endif
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
@@ -40,6 +40,15 @@ const uint ROWS_PER_N = 3u;
 
 // See ROWS_PER_N.
 const uint ROWS_FIXED = 1u;
+
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+const uint SECTOR_ROW_BASE[32] = uint[32](2528u, 2535u, 2545u, 2558u, 2574u, 2593u, 2615u, 2640u, 2668u, 2699u, 2733u, 2770u, 2810u, 2853u, 2899u, 2948u, 3000u, 3007u, 3017u, 3030u, 3046u, 3065u, 3087u, 3112u, 3140u, 3171u, 3205u, 3242u, 3282u, 3325u, 3371u, 3420u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const uint SECTOR_MAX_FACES = 16u;
 
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 const uint EDGE_CURVE[32] = uint[32](0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 1u, 7u, 5u, 5u, 6u, 12u, 10u, 10u, 11u, 17u, 15u, 15u, 16u, 2u, 0u);

@@ -7,8 +7,8 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
@@ -24,6 +24,15 @@ const uint ROWS_PER_N = 3u;
 
 // See ROWS_PER_N.
 const uint ROWS_FIXED = 1u;
+
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+const uint SECTOR_ROW_BASE[32] = uint[32](3472u, 3479u, 3489u, 3502u, 3518u, 3537u, 3559u, 3584u, 3612u, 3643u, 3677u, 3714u, 3754u, 3797u, 3843u, 3892u, 3944u, 3951u, 3961u, 3974u, 3990u, 4009u, 4031u, 4056u, 4084u, 4115u, 4149u, 4186u, 4226u, 4269u, 4315u, 4364u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const uint SECTOR_MAX_FACES = 16u;
 
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 const uint EDGE_CURVE[32] = uint[32](0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 1u, 7u, 5u, 5u, 6u, 12u, 10u, 10u, 11u, 17u, 15u, 15u, 16u, 2u, 0u);

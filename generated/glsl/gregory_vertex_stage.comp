@@ -7,8 +7,8 @@
 
 layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
@@ -24,6 +24,15 @@ const uint ROWS_PER_N = 3u;
 
 // See ROWS_PER_N.
 const uint ROWS_FIXED = 1u;
+
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+const uint SECTOR_ROW_BASE[32] = uint[32](2528u, 2535u, 2545u, 2558u, 2574u, 2593u, 2615u, 2640u, 2668u, 2699u, 2733u, 2770u, 2810u, 2853u, 2899u, 2948u, 3000u, 3007u, 3017u, 3030u, 3046u, 3065u, 3087u, 3112u, 3140u, 3171u, 3205u, 3242u, 3282u, 3325u, 3371u, 3420u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const uint SECTOR_MAX_FACES = 16u;
 
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 const uint EDGE_CURVE[32] = uint[32](0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 1u, 7u, 5u, 5u, 6u, 12u, 10u, 10u, 11u, 17u, 15u, 15u, 16u, 2u, 0u);
@@ -72,6 +81,12 @@ layout(std140, set = 0, binding = 10) uniform Params {
     layout(offset = 92) uint pad1;
 } params;
 
+// binding 31: first sector of each vertex in `sectors` (one per vertex plus a final total); an empty range is a smooth vertex, which uses the per-valence rows (docs/boundaries.md §2)
+layout(std430, set = 0, binding = 31) readonly buffer VertexSectors { uint vertex_sectors[]; };
+
+// binding 32: sector records of crease and corner vertices, SECTOR_WORDS u32 each: kind (0 crease, 1 corner; row block kind·SECTOR_MAX_FACES + m − 1), faces m, ring positions written (m, or m + 1 for the last sector of a boundary vertex), first ring position, start of its partial ring [p, q_0, d_0, .., q_m] in `ring`
+layout(std430, set = 0, binding = 32) readonly buffer Sectors { uint sectors[]; };
+
 vec3 load_positions(uint i) {
     return vec3(positions[(3u * i)], positions[((3u * i) + 1u)], positions[((3u * i) + 2u)]);
 }
@@ -82,22 +97,76 @@ void store_vertex_out(uint i, vec3 v) {
     vertex_out[((3u * i) + 2u)] = v.z;
 }
 
-// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
 void vertex_stage(uint vertex, uint out_base) {
     uint n = valence[vertex];
-    uint ring_base = ring_offsets[vertex];
-    uint row_base = ROW_BASE[n];
-    uint rows = ((3u * n) + 1u);
-    uint slots = ((2u * n) + 1u);
-    for (uint r = 0u; r < rows; r = (r + 1u)) {
-        vec3 acc = vec3(0.0, 0.0, 0.0);
-        for (uint k = 0u; k < slots; k = (k + 1u)) {
-            float w = texelFetch(stencil_table, ivec2(int(k), int((row_base + r))), 0).x;
-            if (w != 0.0) {
-                acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
+    uint first_sector = vertex_sectors[vertex];
+    uint end_sector = vertex_sectors[(vertex + 1u)];
+    if (first_sector == end_sector) {
+        uint ring_base = ring_offsets[vertex];
+        uint row_base = ROW_BASE[n];
+        uint rows = ((3u * n) + 1u);
+        uint slots = ((2u * n) + 1u);
+        for (uint r = 0u; r < rows; r = (r + 1u)) {
+            vec3 acc = vec3(0.0, 0.0, 0.0);
+            for (uint k = 0u; k < slots; k = (k + 1u)) {
+                float w = texelFetch(stencil_table, ivec2(int(k), int((row_base + r))), 0).x;
+                if (w != 0.0) {
+                    acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
+                }
+            }
+            store_vertex_out((out_base + r), acc);
+        }
+    } else {
+        for (uint s = first_sector; s < end_sector; s = (s + 1u)) {
+            uint record = (s * 5u);
+            uint m = sectors[(record + 1u)];
+            uint count = sectors[(record + 2u)];
+            uint j0 = sectors[(record + 3u)];
+            uint sector_ring = sectors[(record + 4u)];
+            uint sector_row = SECTOR_ROW_BASE[(((sectors[(record + 0u)] * SECTOR_MAX_FACES) + m) - 1u)];
+            uint sector_slots = ((2u * m) + 2u);
+            for (uint j = 0u; j < count; j = (j + 1u)) {
+                vec3 acc = vec3(0.0, 0.0, 0.0);
+                for (uint k = 0u; k < sector_slots; k = (k + 1u)) {
+                    float w = texelFetch(stencil_table, ivec2(int((SECTOR_COLUMN + k)), int(((sector_row + ((0u * (m + 1u)) + 0u)) + j))), 0).x;
+                    if (w != 0.0) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((0u * n) + 0u)) + (j0 + j)), acc);
+            }
+            if (j0 == 0u) {
+                vec3 acc = vec3(0.0, 0.0, 0.0);
+                for (uint k = 0u; k < sector_slots; k = (k + 1u)) {
+                    float w = texelFetch(stencil_table, ivec2(int((SECTOR_COLUMN + k)), int((sector_row + ((1u * (m + 1u)) + 0u)))), 0).x;
+                    if (w != 0.0) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out((out_base + ((1u * n) + 0u)), acc);
+            }
+            for (uint j = 0u; j < count; j = (j + 1u)) {
+                vec3 acc = vec3(0.0, 0.0, 0.0);
+                for (uint k = 0u; k < sector_slots; k = (k + 1u)) {
+                    float w = texelFetch(stencil_table, ivec2(int((SECTOR_COLUMN + k)), int(((sector_row + ((1u * (m + 1u)) + 1u)) + j))), 0).x;
+                    if (w != 0.0) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((1u * n) + 1u)) + (j0 + j)), acc);
+            }
+            for (uint j = 0u; j < count; j = (j + 1u)) {
+                vec3 acc = vec3(0.0, 0.0, 0.0);
+                for (uint k = 0u; k < sector_slots; k = (k + 1u)) {
+                    float w = texelFetch(stencil_table, ivec2(int((SECTOR_COLUMN + k)), int(((sector_row + ((2u * (m + 1u)) + 1u)) + j))), 0).x;
+                    if (w != 0.0) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((2u * n) + 1u)) + (j0 + j)), acc);
             }
         }
-        store_vertex_out((out_base + r), acc);
     }
 }
 

@@ -122,6 +122,15 @@ struct Params {
 // binding 30: GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused
 [[vk::binding(30, 0)]] RWStructuredBuffer<uint> bucket_chunks : register(u30);
 
+// binding 31: first sector of each vertex in `sectors` (one per vertex plus a final total); an empty range is a smooth vertex, which uses the per-valence rows (docs/boundaries.md §2)
+[[vk::binding(31, 0)]] StructuredBuffer<uint> vertex_sectors : register(t31);
+
+// binding 32: sector records of crease and corner vertices, SECTOR_WORDS u32 each: kind (0 crease, 1 corner; row block kind·SECTOR_MAX_FACES + m − 1), faces m, ring positions written (m, or m + 1 for the last sector of a boundary vertex), first ring position, start of its partial ring [p, q_0, d_0, .., q_m] in `ring`
+[[vk::binding(32, 0)]] StructuredBuffer<uint> sectors : register(t32);
+
+// binding 33: valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
+[[vk::binding(33, 0)]] StructuredBuffer<uint> corner_valence : register(t33);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -167,8 +176,8 @@ float3 fetch_crease(uint i) {
 // ---- module `common` ----
 // Shared by every scheme: the edge evaluator, the cubic de Casteljau step, table layout.
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-static const uint TABLE_WIDTH = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+static const uint TABLE_WIDTH = 99u;
 
 // Largest valence the table covers.
 static const uint MAX_VALENCE = 32u;
@@ -297,25 +306,78 @@ static const uint ROWS_PER_N = 2u;
 // See ROWS_PER_N.
 static const uint ROWS_FIXED = 1u;
 
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+static const uint SECTOR_ROW_BASE[32] = {0u, 5u, 12u, 21u, 32u, 45u, 60u, 77u, 96u, 117u, 140u, 165u, 192u, 221u, 252u, 285u, 320u, 325u, 332u, 341u, 352u, 365u, 380u, 397u, 416u, 437u, 460u, 485u, 512u, 541u, 572u, 605u};
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+static const uint SECTOR_COLUMN = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+static const uint SECTOR_MAX_FACES = 16u;
+
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 static const uint EDGE_CURVE[16] = {0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u};
 
-// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
 void vertex_stage(uint vertex, uint out_base) {
     uint n = valence[vertex];
-    uint ring_base = ring_offsets[vertex];
-    uint row_base = ROW_BASE[n];
-    uint rows = ((2u * n) + 1u);
-    uint slots = ((2u * n) + 1u);
-    for (uint r = 0u; r < rows; r += 1u) {
-        float3 acc = float3(0.0f, 0.0f, 0.0f);
-        for (uint k = 0u; k < slots; k += 1u) {
-            float w = stencil_table.Load(int3(int(k), int((row_base + r)), 0));
-            if ((w != 0.0f)) {
-                acc = (acc + (fetch_positions(ring[(ring_base + k)]) * w));
+    uint first_sector = vertex_sectors[vertex];
+    uint end_sector = vertex_sectors[(vertex + 1u)];
+    if ((first_sector == end_sector)) {
+        uint ring_base = ring_offsets[vertex];
+        uint row_base = ROW_BASE[n];
+        uint rows = ((2u * n) + 1u);
+        uint slots = ((2u * n) + 1u);
+        for (uint r = 0u; r < rows; r += 1u) {
+            float3 acc = float3(0.0f, 0.0f, 0.0f);
+            for (uint k = 0u; k < slots; k += 1u) {
+                float w = stencil_table.Load(int3(int(k), int((row_base + r)), 0));
+                if ((w != 0.0f)) {
+                    acc = (acc + (fetch_positions(ring[(ring_base + k)]) * w));
+                }
+            }
+            store_vertex_out((out_base + r), acc);
+        }
+    } else {
+        for (uint s = first_sector; s < end_sector; s += 1u) {
+            uint record = (s * 5u);
+            uint m = sectors[(record + 1u)];
+            uint count = sectors[(record + 2u)];
+            uint j0 = sectors[(record + 3u)];
+            uint sector_ring = sectors[(record + 4u)];
+            uint sector_row = SECTOR_ROW_BASE[(((sectors[(record + 0u)] * SECTOR_MAX_FACES) + m) - 1u)];
+            uint sector_slots = ((2u * m) + 2u);
+            for (uint j = 0u; j < count; j += 1u) {
+                float3 acc = float3(0.0f, 0.0f, 0.0f);
+                for (uint k = 0u; k < sector_slots; k += 1u) {
+                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int(((sector_row + ((0u * (m + 1u)) + 0u)) + j)), 0));
+                    if ((w != 0.0f)) {
+                        acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((0u * n) + 0u)) + (j0 + j)), acc);
+            }
+            for (uint j = 0u; j < count; j += 1u) {
+                float3 acc = float3(0.0f, 0.0f, 0.0f);
+                for (uint k = 0u; k < sector_slots; k += 1u) {
+                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int(((sector_row + ((1u * (m + 1u)) + 0u)) + j)), 0));
+                    if ((w != 0.0f)) {
+                        acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((1u * n) + 0u)) + (j0 + j)), acc);
+            }
+            if ((j0 == 0u)) {
+                float3 acc = float3(0.0f, 0.0f, 0.0f);
+                for (uint k = 0u; k < sector_slots; k += 1u) {
+                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int((sector_row + ((2u * (m + 1u)) + 0u))), 0));
+                    if ((w != 0.0f)) {
+                        acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out((out_base + ((2u * n) + 0u)), acc);
             }
         }
-        store_vertex_out((out_base + r), acc);
     }
 }
 

@@ -9,8 +9,8 @@
 pub mod common {
     use glam::Vec3;
     
-    /// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-    pub const TABLE_WIDTH: u32 = 65;
+    /// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+    pub const TABLE_WIDTH: u32 = 99;
     
     /// Largest valence the table covers.
     pub const MAX_VALENCE: u32 = 32;
@@ -38,6 +38,13 @@ pub mod common {
         pub vertex_out: &'a [Vec3],
         pub corner_vertex: &'a [u32],
         pub corner_sector: &'a [u32],
+        /// Crease and corner vertices (docs/boundaries.md §2): first sector of
+        /// each vertex (plus a final total), empty range = smooth vertex.
+        pub vertex_sectors: &'a [u32],
+        /// Sector records, SECTOR_WORDS u32 each (kind, m, count, j0, ring base).
+        pub sectors: &'a [u32],
+        /// Valence of the per-valence constants at corner i of face f, at 4f + i.
+        pub corner_valence: &'a [u32],
         /// Unit normal per vertex (triangle schemes; empty for quad schemes).
         pub normals: &'a [Vec3],
         /// Scalar-tagged PN: 4 f32 per vertex (tension, sharpness, bias, creased).
@@ -283,25 +290,78 @@ pub mod regular {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 1;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [0, 5, 12, 21, 32, 45, 60, 77, 96, 117, 140, 165, 192, 221, 252, 285, 320, 325, 332, 341, 352, 365, 380, 397, 416, 437, 460, 485, 512, 541, 572, 605];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
     
-    /// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((2u32 * n) + 1u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((2u32 * n) + 1u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
+                }
+                out[((out_base + r)) as usize] = acc;
+            }
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((0u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((0u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((1u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((1u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                if (j0 == 0u32) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[((((sector_row + ((2u32 * (m + 1u32)) + 0u32)) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[((out_base + ((2u32 * n) + 0u32))) as usize] = acc;
                 }
             }
-            out[((out_base + r)) as usize] = acc;
         }
     }
     
@@ -741,25 +801,88 @@ pub mod pccm {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 1;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [640, 647, 657, 670, 686, 705, 727, 752, 780, 811, 845, 882, 922, 965, 1011, 1060, 1112, 1119, 1129, 1142, 1158, 1177, 1199, 1224, 1252, 1283, 1317, 1354, 1394, 1437, 1483, 1532];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 8, 6, 6, 7, 14, 12, 12, 13, 20, 18, 18, 19, 2, 0];
     
-    /// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((3u32 * n) + 1u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((3u32 * n) + 1u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
+                }
+                out[((out_base + r)) as usize] = acc;
+            }
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((0u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((0u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((1u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((1u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                if (j0 == 0u32) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[((((sector_row + ((2u32 * (m + 1u32)) + 0u32)) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[((out_base + ((2u32 * n) + 0u32))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((2u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((2u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
                 }
             }
-            out[((out_base + r)) as usize] = acc;
         }
     }
     
@@ -849,10 +972,14 @@ pub mod pccm {
         let e_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + sector_3)) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 0u32)) + ((sector_3 + 1u32) % n_3))) as usize];
         let f_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((0u32 * n_3) + 0u32)) + sector_3)) as usize];
-        let s_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
-        let s_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
-        let s_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
-        let s_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let shape_0: u32 = inputs.corner_valence[(((face * 4u32) + 0u32)) as usize];
+        let s_0: f32 = inputs.table[(((((CONST_ROW_BASE + shape_0) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let shape_1: u32 = inputs.corner_valence[(((face * 4u32) + 1u32)) as usize];
+        let s_1: f32 = inputs.table[(((((CONST_ROW_BASE + shape_1) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let shape_2: u32 = inputs.corner_valence[(((face * 4u32) + 2u32)) as usize];
+        let s_2: f32 = inputs.table[(((((CONST_ROW_BASE + shape_2) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
+        let shape_3: u32 = inputs.corner_valence[(((face * 4u32) + 3u32)) as usize];
+        let s_3: f32 = inputs.table[(((((CONST_ROW_BASE + shape_3) - 3u32) * TABLE_WIDTH) + 1u32)) as usize];
         let t_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
         let t_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
         let t_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
@@ -861,10 +988,10 @@ pub mod pccm {
         let t_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let t_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
         let t_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + shape_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + shape_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + shape_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + shape_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let gstar: Vec3 = (((((((v_0 + (3.0f32 * e_0_0)) + (3.0f32 * e_0_1)) + (9.0f32 * f_0_0)) + (((v_1 + (3.0f32 * e_1_0)) + (3.0f32 * e_1_1)) + (9.0f32 * f_1_0))) + (((v_2 + (3.0f32 * e_2_0)) + (3.0f32 * e_2_1)) + (9.0f32 * f_2_0))) + (((v_3 + (3.0f32 * e_3_0)) + (3.0f32 * e_3_1)) + (9.0f32 * f_3_0))) / 64.0f32);
         let kappa_0: f32 = (3.0f32 / (4.0f32 * (s_0 + s_1)));
         let kappa_1: f32 = (3.0f32 / (4.0f32 * (s_1 + s_2)));
@@ -1389,25 +1516,88 @@ pub mod acc {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 1;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [1584, 1591, 1601, 1614, 1630, 1649, 1671, 1696, 1724, 1755, 1789, 1826, 1866, 1909, 1955, 2004, 2056, 2063, 2073, 2086, 2102, 2121, 2143, 2168, 2196, 2227, 2261, 2298, 2338, 2381, 2427, 2476];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
     
-    /// Vertex stage of `acc`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `acc`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((3u32 * n) + 1u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((3u32 * n) + 1u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
+                }
+                out[((out_base + r)) as usize] = acc;
+            }
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((0u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((0u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((1u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((1u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                if (j0 == 0u32) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[((((sector_row + ((2u32 * (m + 1u32)) + 0u32)) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[((out_base + ((2u32 * n) + 0u32))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((2u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((2u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
                 }
             }
-            out[((out_base + r)) as usize] = acc;
         }
     }
     
@@ -1505,10 +1695,14 @@ pub mod acc {
         let t_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let t_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let t_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_0: u32 = inputs.corner_valence[(((face * 4u32) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + shape_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_1: u32 = inputs.corner_valence[(((face * 4u32) + 1u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + shape_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_2: u32 = inputs.corner_valence[(((face * 4u32) + 2u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + shape_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_3: u32 = inputs.corner_valence[(((face * 4u32) + 3u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + shape_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         out[((cp_base + 0u32)) as usize] = v_0;
         out[((cp_base + 12u32)) as usize] = v_1;
         out[((cp_base + 15u32)) as usize] = v_2;
@@ -1987,25 +2181,88 @@ pub mod gregory {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 1;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [2528, 2535, 2545, 2558, 2574, 2593, 2615, 2640, 2668, 2699, 2733, 2770, 2810, 2853, 2899, 2948, 3000, 3007, 3017, 3030, 3046, 3065, 3087, 3112, 3140, 3171, 3205, 3242, 3282, 3325, 3371, 3420];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
     
-    /// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((3u32 * n) + 1u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((3u32 * n) + 1u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
+                }
+                out[((out_base + r)) as usize] = acc;
+            }
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((0u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((0u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                if (j0 == 0u32) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[((((sector_row + ((1u32 * (m + 1u32)) + 0u32)) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[((out_base + ((1u32 * n) + 0u32))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((1u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((1u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((2u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((2u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
                 }
             }
-            out[((out_base + r)) as usize] = acc;
         }
     }
     
@@ -2091,12 +2348,16 @@ pub mod gregory {
         let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_1: u32 = inputs.corner_valence[(((face * 4u32) + 1u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + shape_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_0: u32 = inputs.corner_valence[(((face * 4u32) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + shape_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_2: u32 = inputs.corner_valence[(((face * 4u32) + 2u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + shape_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_3: u32 = inputs.corner_valence[(((face * 4u32) + 3u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + shape_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
         let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
         let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
@@ -2610,25 +2871,88 @@ pub mod gregory_osd {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 1;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [3472, 3479, 3489, 3502, 3518, 3537, 3559, 3584, 3612, 3643, 3677, 3714, 3754, 3797, 3843, 3892, 3944, 3951, 3961, 3974, 3990, 4009, 4031, 4056, 4084, 4115, 4149, 4186, 4226, 4269, 4315, 4364];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
     
-    /// Vertex stage of `gregory_osd`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `gregory_osd`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((3u32 * n) + 1u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((3u32 * n) + 1u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
+                }
+                out[((out_base + r)) as usize] = acc;
+            }
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((0u32 * (m + 1u32)) + 0u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((0u32 * n) + 0u32)) + (j0 + j))) as usize] = acc;
+                }
+                if (j0 == 0u32) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[((((sector_row + ((1u32 * (m + 1u32)) + 0u32)) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[((out_base + ((1u32 * n) + 0u32))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((1u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((1u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
+                }
+                for j in (0u32)..(count) {
+                    let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                    for k in (0u32)..(sector_slots) {
+                        let w: f32 = inputs.table[(((((sector_row + ((2u32 * (m + 1u32)) + 1u32)) + j) * TABLE_WIDTH) + (SECTOR_COLUMN + k))) as usize];
+                        if (w != 0.0f32) {
+                            acc = (acc + (inputs.positions[(inputs.ring[((sector_ring + k)) as usize]) as usize] * w));
+                        }
+                    }
+                    out[(((out_base + ((2u32 * n) + 1u32)) + (j0 + j))) as usize] = acc;
                 }
             }
-            out[((out_base + r)) as usize] = acc;
         }
     }
     
@@ -2714,12 +3038,16 @@ pub mod gregory_osd {
         let e_1_1: Vec3 = inputs.vertex_out[(((out_base_1 + ((1u32 * n_1) + 1u32)) + ((sector_1 + 1u32) % n_1))) as usize];
         let e_2_1: Vec3 = inputs.vertex_out[(((out_base_2 + ((1u32 * n_2) + 1u32)) + ((sector_2 + 1u32) % n_2))) as usize];
         let e_3_1: Vec3 = inputs.vertex_out[(((out_base_3 + ((1u32 * n_3) + 1u32)) + ((sector_3 + 1u32) % n_3))) as usize];
-        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + n_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
-        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + n_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_1: u32 = inputs.corner_valence[(((face * 4u32) + 1u32)) as usize];
+        let c_1: f32 = inputs.table[(((((CONST_ROW_BASE + shape_1) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_0: u32 = inputs.corner_valence[(((face * 4u32) + 0u32)) as usize];
+        let c_0: f32 = inputs.table[(((((CONST_ROW_BASE + shape_0) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_0_0: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + sector_0)) as usize];
-        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + n_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_2: u32 = inputs.corner_valence[(((face * 4u32) + 2u32)) as usize];
+        let c_2: f32 = inputs.table[(((((CONST_ROW_BASE + shape_2) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_1_0: Vec3 = inputs.vertex_out[(((out_base_1 + ((2u32 * n_1) + 1u32)) + sector_1)) as usize];
-        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + n_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
+        let shape_3: u32 = inputs.corner_valence[(((face * 4u32) + 3u32)) as usize];
+        let c_3: f32 = inputs.table[(((((CONST_ROW_BASE + shape_3) - 3u32) * TABLE_WIDTH) + 0u32)) as usize];
         let r_2_0: Vec3 = inputs.vertex_out[(((out_base_2 + ((2u32 * n_2) + 1u32)) + sector_2)) as usize];
         let r_3_0: Vec3 = inputs.vertex_out[(((out_base_3 + ((2u32 * n_3) + 1u32)) + sector_3)) as usize];
         let r_0_1: Vec3 = inputs.vertex_out[(((out_base_0 + ((2u32 * n_0) + 1u32)) + ((sector_0 + 1u32) % n_0))) as usize];
@@ -3233,25 +3561,48 @@ pub mod pn {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 0;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `pn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `pn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((0u32 * n) + 0u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((0u32 * n) + 0u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
                 }
+                out[((out_base + r)) as usize] = acc;
             }
-            out[((out_base + r)) as usize] = acc;
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+            }
         }
     }
     
@@ -3721,25 +4072,48 @@ pub mod stpn {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 0;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `stpn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `stpn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((0u32 * n) + 0u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((0u32 * n) + 0u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
                 }
+                out[((out_base + r)) as usize] = acc;
             }
-            out[((out_base + r)) as usize] = acc;
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+            }
         }
     }
     
@@ -4244,25 +4618,48 @@ pub mod phong {
     /// See ROWS_PER_N.
     pub const ROWS_FIXED: u32 = 0;
     
+    /// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+    pub const SECTOR_ROW_BASE: [u32; 32] = [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+    
+    /// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+    pub const SECTOR_COLUMN: u32 = 65;
+    
+    /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+    pub const SECTOR_MAX_FACES: u32 = 16;
+    
     /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `phong`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+    /// Vertex stage of `phong`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
-        let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
-        let row_base: u32 = ROW_BASE[(n) as usize];
-        let rows: u32 = ((0u32 * n) + 0u32);
-        let slots: u32 = ((2u32 * n) + 1u32);
-        for r in (0u32)..(rows) {
-            let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
-            for k in (0u32)..(slots) {
-                let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
-                if (w != 0.0f32) {
-                    acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+        let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
+        let end_sector: u32 = inputs.vertex_sectors[((vertex + 1u32)) as usize];
+        if (first_sector == end_sector) {
+            let ring_base: u32 = inputs.ring_offsets[(vertex) as usize];
+            let row_base: u32 = ROW_BASE[(n) as usize];
+            let rows: u32 = ((0u32 * n) + 0u32);
+            let slots: u32 = ((2u32 * n) + 1u32);
+            for r in (0u32)..(rows) {
+                let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+                for k in (0u32)..(slots) {
+                    let w: f32 = inputs.table[((((row_base + r) * TABLE_WIDTH) + k)) as usize];
+                    if (w != 0.0f32) {
+                        acc = (acc + (inputs.positions[(inputs.ring[((ring_base + k)) as usize]) as usize] * w));
+                    }
                 }
+                out[((out_base + r)) as usize] = acc;
             }
-            out[((out_base + r)) as usize] = acc;
+        } else {
+            for s in (first_sector)..(end_sector) {
+                let record: u32 = (s * 5u32);
+                let m: u32 = inputs.sectors[((record + 1u32)) as usize];
+                let count: u32 = inputs.sectors[((record + 2u32)) as usize];
+                let j0: u32 = inputs.sectors[((record + 3u32)) as usize];
+                let sector_ring: u32 = inputs.sectors[((record + 4u32)) as usize];
+                let sector_row: u32 = SECTOR_ROW_BASE[((((inputs.sectors[((record + 0u32)) as usize] * SECTOR_MAX_FACES) + m) - 1u32)) as usize];
+                let sector_slots: u32 = ((2u32 * m) + 2u32);
+            }
         }
     }
     

@@ -124,6 +124,15 @@ struct Params {
 // GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused
 @group(0) @binding(30) var<storage, read_write> bucket_chunks: array<u32>;
 
+// first sector of each vertex in `sectors` (one per vertex plus a final total); an empty range is a smooth vertex, which uses the per-valence rows (docs/boundaries.md §2)
+@group(0) @binding(31) var<storage, read> vertex_sectors: array<u32>;
+
+// sector records of crease and corner vertices, SECTOR_WORDS u32 each: kind (0 crease, 1 corner; row block kind·SECTOR_MAX_FACES + m − 1), faces m, ring positions written (m, or m + 1 for the last sector of a boundary vertex), first ring position, start of its partial ring [p, q_0, d_0, .., q_m] in `ring`
+@group(0) @binding(32) var<storage, read> sectors: array<u32>;
+
+// valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
+@group(0) @binding(33) var<storage, read> corner_valence: array<u32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -162,8 +171,8 @@ fn load_vertex_out_ro(i: u32) -> vec3<f32> {
 
 // Shared by every scheme: the edge evaluator, the cubic de Casteljau step, table layout.
 
-// Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).
-const TABLE_WIDTH: u32 = 65u;
+// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
+const TABLE_WIDTH: u32 = 99u;
 
 // Largest valence the table covers.
 const MAX_VALENCE: u32 = 32u;
@@ -333,25 +342,88 @@ const ROWS_PER_N: u32 = 3u;
 // See ROWS_PER_N.
 const ROWS_FIXED: u32 = 1u;
 
+// First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).
+var<private> SECTOR_ROW_BASE: array<u32, 32> = array<u32, 32>(640u, 647u, 657u, 670u, 686u, 705u, 727u, 752u, 780u, 811u, 845u, 882u, 922u, 965u, 1011u, 1060u, 1112u, 1119u, 1129u, 1142u, 1158u, 1177u, 1199u, 1224u, 1252u, 1283u, 1317u, 1354u, 1394u, 1437u, 1483u, 1532u);
+
+// First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.
+const SECTOR_COLUMN: u32 = 65u;
+
+// Largest sector (faces) the table holds: MAX_VALENCE / 2.
+const SECTOR_MAX_FACES: u32 = 16u;
+
 // Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
 var<private> EDGE_CURVE: array<u32, 32> = array<u32, 32>(0u, 4u, 8u, 12u, 12u, 13u, 14u, 15u, 15u, 11u, 7u, 3u, 3u, 2u, 1u, 0u, 0u, 1u, 8u, 6u, 6u, 7u, 14u, 12u, 12u, 13u, 20u, 18u, 18u, 19u, 2u, 0u);
 
-// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`.
+// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
 fn vertex_stage(vertex: u32, out_base: u32) {
     let n: u32 = valence[vertex];
-    let ring_base: u32 = ring_offsets[vertex];
-    let row_base: u32 = ROW_BASE[n];
-    let rows: u32 = ((3u * n) + 1u);
-    let slots: u32 = ((2u * n) + 1u);
-    for (var r: u32 = 0u; r < rows; r = (r + 1u)) {
-        var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
-        for (var k: u32 = 0u; k < slots; k = (k + 1u)) {
-            let w: f32 = textureLoad(stencil_table, vec2<u32>(k, (row_base + r)), 0u).x;
-            if (w != 0.0f) {
-                acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
+    let first_sector: u32 = vertex_sectors[vertex];
+    let end_sector: u32 = vertex_sectors[(vertex + 1u)];
+    if (first_sector == end_sector) {
+        let ring_base: u32 = ring_offsets[vertex];
+        let row_base: u32 = ROW_BASE[n];
+        let rows: u32 = ((3u * n) + 1u);
+        let slots: u32 = ((2u * n) + 1u);
+        for (var r: u32 = 0u; r < rows; r = (r + 1u)) {
+            var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+            for (var k: u32 = 0u; k < slots; k = (k + 1u)) {
+                let w: f32 = textureLoad(stencil_table, vec2<u32>(k, (row_base + r)), 0u).x;
+                if (w != 0.0f) {
+                    acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
+                }
+            }
+            store_vertex_out((out_base + r), acc);
+        }
+    } else {
+        for (var s: u32 = first_sector; s < end_sector; s = (s + 1u)) {
+            let record: u32 = (s * 5u);
+            let m: u32 = sectors[(record + 1u)];
+            let count: u32 = sectors[(record + 2u)];
+            let j0: u32 = sectors[(record + 3u)];
+            let sector_ring: u32 = sectors[(record + 4u)];
+            let sector_row: u32 = SECTOR_ROW_BASE[(((sectors[(record + 0u)] * SECTOR_MAX_FACES) + m) - 1u)];
+            let sector_slots: u32 = ((2u * m) + 2u);
+            for (var j: u32 = 0u; j < count; j = (j + 1u)) {
+                var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+                for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((0u * (m + 1u)) + 0u)) + j)), 0u).x;
+                    if (w != 0.0f) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((0u * n) + 0u)) + (j0 + j)), acc);
+            }
+            for (var j: u32 = 0u; j < count; j = (j + 1u)) {
+                var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+                for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((1u * (m + 1u)) + 0u)) + j)), 0u).x;
+                    if (w != 0.0f) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((1u * n) + 0u)) + (j0 + j)), acc);
+            }
+            if (j0 == 0u) {
+                var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+                for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), (sector_row + ((2u * (m + 1u)) + 0u))), 0u).x;
+                    if (w != 0.0f) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out((out_base + ((2u * n) + 0u)), acc);
+            }
+            for (var j: u32 = 0u; j < count; j = (j + 1u)) {
+                var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+                for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((2u * (m + 1u)) + 1u)) + j)), 0u).x;
+                    if (w != 0.0f) {
+                        acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
+                    }
+                }
+                store_vertex_out(((out_base + ((2u * n) + 1u)) + (j0 + j)), acc);
             }
         }
-        store_vertex_out((out_base + r), acc);
     }
 }
 
@@ -441,10 +513,14 @@ fn extraordinary_patch(face: u32, cp_base: u32) {
     let e_3_0: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((1u * n_3) + 0u)) + sector_3));
     let e_3_1: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((1u * n_3) + 0u)) + ((sector_3 + 1u) % n_3)));
     let f_3_0: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((0u * n_3) + 0u)) + sector_3));
-    let s_0: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + n_0) - 3u)), 0u).x;
-    let s_1: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + n_1) - 3u)), 0u).x;
-    let s_2: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + n_2) - 3u)), 0u).x;
-    let s_3: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + n_3) - 3u)), 0u).x;
+    let shape_0: u32 = corner_valence[((face * 4u) + 0u)];
+    let s_0: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + shape_0) - 3u)), 0u).x;
+    let shape_1: u32 = corner_valence[((face * 4u) + 1u)];
+    let s_1: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + shape_1) - 3u)), 0u).x;
+    let shape_2: u32 = corner_valence[((face * 4u) + 2u)];
+    let s_2: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + shape_2) - 3u)), 0u).x;
+    let shape_3: u32 = corner_valence[((face * 4u) + 3u)];
+    let s_3: f32 = textureLoad(stencil_table, vec2<u32>(1u, ((CONST_ROW_BASE + shape_3) - 3u)), 0u).x;
     let t_0_0: vec3<f32> = load_vertex_out_ro(((out_base_0 + ((2u * n_0) + 1u)) + sector_0));
     let t_1_0: vec3<f32> = load_vertex_out_ro(((out_base_1 + ((2u * n_1) + 1u)) + sector_1));
     let t_2_0: vec3<f32> = load_vertex_out_ro(((out_base_2 + ((2u * n_2) + 1u)) + sector_2));
@@ -453,10 +529,10 @@ fn extraordinary_patch(face: u32, cp_base: u32) {
     let t_2_1: vec3<f32> = load_vertex_out_ro(((out_base_2 + ((2u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     let t_3_1: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((2u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
     let t_0_1: vec3<f32> = load_vertex_out_ro(((out_base_0 + ((2u * n_0) + 1u)) + ((sector_0 + 1u) % n_0)));
-    let c_0: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + n_0) - 3u)), 0u).x;
-    let c_1: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + n_1) - 3u)), 0u).x;
-    let c_2: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + n_2) - 3u)), 0u).x;
-    let c_3: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + n_3) - 3u)), 0u).x;
+    let c_0: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_0) - 3u)), 0u).x;
+    let c_1: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_1) - 3u)), 0u).x;
+    let c_2: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_2) - 3u)), 0u).x;
+    let c_3: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_3) - 3u)), 0u).x;
     let gstar: vec3<f32> = (((((((v_0 + (3.0f * e_0_0)) + (3.0f * e_0_1)) + (9.0f * f_0_0)) + (((v_1 + (3.0f * e_1_0)) + (3.0f * e_1_1)) + (9.0f * f_1_0))) + (((v_2 + (3.0f * e_2_0)) + (3.0f * e_2_1)) + (9.0f * f_2_0))) + (((v_3 + (3.0f * e_3_0)) + (3.0f * e_3_1)) + (9.0f * f_3_0))) / 64.0f);
     let kappa_0: f32 = (3.0f / (4.0f * (s_0 + s_1)));
     let kappa_1: f32 = (3.0f / (4.0f * (s_1 + s_2)));

@@ -363,6 +363,23 @@ fn run_scheme(
         b("corner_sector"),
         host.buffer(&bytes_u32(&inp.corner_sector), storage),
     );
+    // A closed untagged mesh has no crease or corner vertices (README:
+    // every `vertex_sectors` range empty, `sectors` unused, each corner's
+    // constants at its vertex's valence).
+    bufs.insert(
+        b("vertex_sectors"),
+        host.buffer(&bytes_u32(&vec![0u32; inp.valence.len() + 1]), storage),
+    );
+    bufs.insert(b("sectors"), host.buffer(&bytes_u32(&[0u32; 4]), storage));
+    let corner_valence: Vec<u32> = inp
+        .corner_vertex
+        .iter()
+        .map(|&v| inp.valence[v as usize])
+        .collect();
+    bufs.insert(
+        b("corner_valence"),
+        host.buffer(&bytes_u32(&corner_valence), storage),
+    );
     bufs.insert(
         b("control_points"),
         host.buffer(&vec![0u8; 12 * inp.control_points as usize], storage),

@@ -62,6 +62,10 @@ struct Quad {
     vertex_out: Vec<Vec3>,
     cp: Vec<Vec3>,
     class: u32,
+    /// No crease or corner vertices: every sector range empty.
+    vertex_sectors: Vec<u32>,
+    /// Per-valence constants at each corner's own valence.
+    corner_valence: Vec<u32>,
 }
 
 impl Quad {
@@ -89,6 +93,8 @@ impl Quad {
             vertex_out: vec![Vec3::ZERO; total as usize],
             cp: Vec::new(),
             class: 0,
+            vertex_sectors: vec![0; m + 1],
+            corner_valence: valences.to_vec(),
         };
         let table = kernels::table();
         let corner_vertex = [0u32, 1, 2, 3];
@@ -138,6 +144,8 @@ impl Quad {
             vertex_out: vout,
             corner_vertex: cv,
             corner_sector: cs,
+            vertex_sectors: &self.vertex_sectors,
+            corner_valence: &self.corner_valence,
             normals: &[],
             tags: &[],
             crease: &[],
@@ -671,4 +679,61 @@ fn phong_matches_schemes_reference() {
     assert_eq!(g["phong"]["alpha"].as_f64(), Some(0.75));
     let w = check_triangle("phong", "phong");
     println!("phong golden: worst {w:?}");
+}
+
+/// Every sector row (crease and corner sectors of 1..4 faces, every quad
+/// scheme) equals the float64 rows of `spec/sectors_reference.json`, which
+/// `docs/verify/sectors_verify.py` computes independently from the phantom
+/// rule and the overrides of docs/boundaries.md §3 (rounded once to f32).
+#[test]
+fn sector_rows_match_sectors_reference() {
+    let g = common::json("spec/sectors_reference.json");
+    let out = tessgen_codegen::Builder::new()
+        .builtin_schemes()
+        .compile()
+        .expect("compile");
+    let table = &out.table;
+    let mut checked = 0;
+    for (scheme, kinds) in g["schemes"].as_object().expect("schemes") {
+        let rows = table
+            .schemes
+            .iter()
+            .find(|s| &s.scheme == scheme)
+            .expect("scheme rows");
+        for (ki, kind) in ["crease", "corner"].iter().enumerate() {
+            for (m, block) in kinds[*kind].as_object().expect("kind") {
+                let m: u32 = m.parse().expect("m");
+                let base =
+                    rows.sector_row_base[ki * table.max_sector_faces as usize + m as usize - 1];
+                let mut r = base;
+                for o in block["outputs"].as_array().expect("outputs") {
+                    for want in o["rows"].as_array().expect("rows") {
+                        let info = &table.sector_rows[r as usize];
+                        assert_eq!(info.output, o["name"].as_str().unwrap_or(""));
+                        assert_eq!(info.kind, Some(*kind));
+                        assert_eq!(info.faces, Some(m));
+                        let want = f64s(want);
+                        assert_eq!(want.len() as u32, 2 * m + 2);
+                        for (c, w) in want.iter().enumerate() {
+                            let got = table.sector_weight(r, c as u32);
+                            assert!(
+                                (got as f64 - w).abs() <= 1e-7 * (1.0 + w.abs()),
+                                "{scheme} {kind} m={m} {} row {r} slot {c}: {got} vs {w}",
+                                info.output
+                            );
+                            checked += 1;
+                        }
+                        r += 1;
+                    }
+                }
+                // The block holds exactly the rows the reference lists.
+                let next = table.sector_rows.get(r as usize);
+                assert!(
+                    next.is_none_or(|n| n.faces != Some(m) || n.kind != Some(*kind)),
+                    "{scheme} {kind} m={m}: more rows than the reference"
+                );
+            }
+        }
+    }
+    assert!(checked > 1000, "only {checked} weights checked");
 }

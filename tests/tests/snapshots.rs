@@ -60,6 +60,41 @@ fn stencil_table_small_valences() {
     insta::assert_snapshot!("stencil_table_n3_to_n5", s);
 }
 
+/// Sector rows (crease and corner vertices, docs/boundaries.md §3) of
+/// sectors up to 3 faces, over the partial ring [p, q0, d0, .., qm]: m = 1
+/// and 2 are the exact phantom-grid points, m = 3 the first reflected
+/// virtual ring.
+#[test]
+fn stencil_sector_rows_small() {
+    let out = build();
+    let t = &out.table;
+    let mut s = String::new();
+    for r in &t.sector_rows {
+        if r.faces.unwrap_or(0) > 3 {
+            continue;
+        }
+        let w: Vec<String> = (0..r.length)
+            .map(|c| format!("{:?}", t.sector_weight(r.row, c)))
+            .collect();
+        let label = match r.sector {
+            Some(j) => format!("{}[{j}]", r.output),
+            None => r.output.clone(),
+        };
+        let _ = writeln!(
+            s,
+            "{:>5} {:<12} {:<6} m={} {:<8} mask={} [{}]",
+            r.row,
+            r.scheme,
+            r.kind.unwrap_or(""),
+            r.faces.unwrap_or(0),
+            label,
+            r.nonzero,
+            w.join(", ")
+        );
+    }
+    insta::assert_snapshot!("stencil_sector_rows_m1_to_m3", s);
+}
+
 /// The manifest's header and per-scheme layout (the per-row list is covered
 /// by the text snapshot above and by tests).
 #[test]
@@ -70,10 +105,15 @@ fn stencil_manifest_layout() {
     let mut head = m.clone();
     if let Some(o) = head.as_object_mut() {
         o.remove("rows");
+        o.remove("sector_rows");
     }
     insta::assert_json_snapshot!("stencil_manifest_layout", head);
     let rows = m["rows"].as_array().map(|r| r.len()).unwrap_or(0);
-    assert_eq!(rows as u32, m["height"].as_u64().unwrap_or(0) as u32);
+    let sector_rows = m["sector_rows"].as_array().map(|r| r.len()).unwrap_or(0);
+    assert_eq!(
+        rows.max(sector_rows) as u32,
+        m["height"].as_u64().unwrap_or(0) as u32
+    );
     let bytes = out
         .file("table/stencils.f32")
         .map(|f| f.contents.len())

@@ -376,6 +376,10 @@ fn entry_point_bindings() {
                     "5 vertex_out read_write",
                     "9 stencil_table -",
                     "10 params -",
+                    // Crease and corner vertices: the sector records
+                    // (8 storage buffers, WebGPU's default limit).
+                    "31 vertex_sectors read",
+                    "32 sectors read",
                 ],
                 // Scalar-tagged PN also reads the tags, crease vectors and
                 // side signs: 8 storage buffers, WebGPU's default limit.
@@ -411,7 +415,8 @@ fn entry_point_bindings() {
                     "10 params -",
                     "11 patch_faces read",
                 ],
-                // The c-patch reads per-valence constants from the table.
+                // The c-patch reads per-valence constants from the table,
+                // at each corner's `corner_valence` (8 storage buffers).
                 "patch_main" => &[
                     "1 valence read",
                     "4 vertex_out_offsets read",
@@ -422,6 +427,7 @@ fn entry_point_bindings() {
                     "9 stencil_table -",
                     "10 params -",
                     "11 patch_faces read",
+                    "33 corner_valence read",
                 ],
                 // Every scheme (quads and triangles) evaluates through
                 // eval_displaced: the face,

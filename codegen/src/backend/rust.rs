@@ -178,6 +178,13 @@ pub struct Inputs<'a> {
     pub vertex_out: &'a [Vec3],
     pub corner_vertex: &'a [u32],
     pub corner_sector: &'a [u32],
+    /// Crease and corner vertices (docs/boundaries.md §2): first sector of
+    /// each vertex (plus a final total), empty range = smooth vertex.
+    pub vertex_sectors: &'a [u32],
+    /// Sector records, SECTOR_WORDS u32 each (kind, m, count, j0, ring base).
+    pub sectors: &'a [u32],
+    /// Valence of the per-valence constants at corner i of face f, at 4f + i.
+    pub corner_valence: &'a [u32],
     /// Unit normal per vertex (triangle schemes; empty for quad schemes).
     pub normals: &'a [Vec3],
     /// Scalar-tagged PN: 4 f32 per vertex (tension, sharpness, bias, creased).

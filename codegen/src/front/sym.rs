@@ -104,6 +104,9 @@ pub enum Sym {
     Normalize(Box<Sym>),
     /// The vertex's own valence `n` (vertex stage and constants).
     Valence,
+    /// `m`, the number of faces of the sector being evaluated (`sector`
+    /// blocks only; docs/boundaries.md §3).
+    SectorFaces,
     /// An index variable.
     Var(usize),
     /// A per-valence constant at the vertex's own valence (vertex stage).
@@ -199,6 +202,10 @@ pub trait Env {
     fn ring(&self, idx: i64) -> Value;
     fn def(&self, def: usize, index: Option<i64>) -> Value;
     fn corner_data(&self, output: usize, corner: i64, offset: Option<i64>) -> Value;
+    /// Faces `m` of the sector being evaluated (`sector` blocks); NaN elsewhere.
+    fn sector_faces(&self) -> f64 {
+        f64::NAN
+    }
 }
 
 /// Evaluate `s` with index variables `vars` (slot `k` = value of `Var(k)`).
@@ -265,6 +272,7 @@ pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {
         // Non-linear triangle-scheme terms have no weight-vector value.
         Sym::CornerInput { .. } | Sym::Dot(..) | Sym::Normalize(_) => Scalar(f64::NAN),
         Sym::Valence => Scalar(env.valence()),
+        Sym::SectorFaces => Scalar(env.sector_faces()),
         Sym::Var(k) => Scalar(vars.get(*k).copied().unwrap_or(f64::NAN)),
         Sym::Const(k) => Scalar(env.konst(*k)),
         Sym::CornerConst { konst, corner } => {
@@ -344,6 +352,50 @@ pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {
     }
 }
 
+/// Every definition `s` reads directly (`Sym::Def`), in any order.
+pub fn defs_read(s: &Sym) -> Vec<usize> {
+    fn walk(s: &Sym, out: &mut Vec<usize>) {
+        match s {
+            Sym::Def { def, index } => {
+                out.push(*def);
+                if let Some(i) = index {
+                    walk(i, out);
+                }
+            }
+            Sym::Neg(a) | Sym::Func(_, a) | Sym::Normalize(a) | Sym::Ring(a) => walk(a, out),
+            Sym::CornerValence(a) => walk(a, out),
+            Sym::CornerConst { corner, .. } | Sym::CornerInput { corner, .. } => walk(corner, out),
+            Sym::Bin(_, a, b) | Sym::Dot(a, b) => {
+                walk(a, out);
+                walk(b, out);
+            }
+            Sym::If {
+                a, b, then, other, ..
+            } => {
+                for x in [a, b, then, other] {
+                    walk(x, out);
+                }
+            }
+            Sym::Sum { body, .. } => walk(body, out),
+            Sym::CornerData { corner, offset, .. } => {
+                walk(corner, out);
+                if let Some(o) = offset {
+                    walk(o, out);
+                }
+            }
+            Sym::Num(_)
+            | Sym::Valence
+            | Sym::SectorFaces
+            | Sym::Var(_)
+            | Sym::Const(_)
+            | Sym::Center => {}
+        }
+    }
+    let mut out = Vec::new();
+    walk(s, &mut out);
+    out
+}
+
 pub fn set_var(vars: &mut Vec<f64>, k: usize, x: f64) {
     if vars.len() <= k {
         vars.resize(k + 1, f64::NAN);
@@ -363,7 +415,12 @@ pub fn substitute(s: &Sym, var: usize, value: i64) -> Sym {
     let sub = |x: &Sym| Box::new(substitute(x, var, value));
     let out = match s {
         Sym::Var(k) if *k == var => Sym::Num(value as f64),
-        Sym::Num(_) | Sym::Valence | Sym::Var(_) | Sym::Const(_) | Sym::Center => s.clone(),
+        Sym::Num(_)
+        | Sym::Valence
+        | Sym::SectorFaces
+        | Sym::Var(_)
+        | Sym::Const(_)
+        | Sym::Center => s.clone(),
         Sym::CornerConst { konst, corner } => Sym::CornerConst {
             konst: *konst,
             corner: sub(corner),

@@ -15,7 +15,7 @@ pub fn common_module(table: &StencilTable) -> Module {
     };
     m.add_const(
         "TABLE_WIDTH",
-        "Columns of the stencil table (2·MAX_VALENCE + 1 ring slots).",
+        "Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).",
         ConstValue::U32(table.width),
     );
     m.add_const(

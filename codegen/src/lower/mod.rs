@@ -39,7 +39,12 @@ fn f32c(x: f64) -> Expr {
 }
 
 /// Lower one scheme to its module.
-pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
+pub fn scheme_module(
+    s: &Scheme,
+    rows: &SchemeRows,
+    sector_column: u32,
+    max_sector_faces: u32,
+) -> (Module, Entries) {
     let mut m = Module {
         name: s.name.clone(),
         doc: s.doc.clone(),
@@ -63,8 +68,26 @@ pub fn scheme_module(s: &Scheme, rows: &SchemeRows) -> (Module, Entries) {
     );
     m.add_const("ROWS_FIXED", "See ROWS_PER_N.", ConstValue::U32(rb));
 
+    let sector = SectorConsts {
+        row_base: m.add_const(
+            "SECTOR_ROW_BASE",
+            "First sector-region row of each sector block, index kind · SECTOR_MAX_FACES + m − 1 (kind 0 crease, 1 corner; m faces).",
+            ConstValue::U32Array(rows.sector_row_base.clone()),
+        ),
+        column: m.add_const(
+            "SECTOR_COLUMN",
+            "First stencil-table column of the sector region: partial-ring slot k of a sector row is column SECTOR_COLUMN + k.",
+            ConstValue::U32(sector_column),
+        ),
+        max_faces: m.add_const(
+            "SECTOR_MAX_FACES",
+            "Largest sector (faces) the table holds: MAX_VALENCE / 2.",
+            ConstValue::U32(max_sector_faces),
+        ),
+    };
     let vertex_stage = m.functions.len();
-    m.functions.push(vertex_stage_fn(s, row_base, ra, rb));
+    m.functions
+        .push(vertex_stage_fn(s, row_base, &sector, ra, rb));
 
     let mut patches = Vec::new();
     for pc in &s.patches {
@@ -295,7 +318,7 @@ pub fn plan(schemes: &[Scheme], table: &StencilTable) -> Plan {
     let schemes = schemes
         .iter()
         .zip(&table.schemes)
-        .map(|(s, rows)| scheme_module(s, rows))
+        .map(|(s, rows)| scheme_module(s, rows, table.sector_column, table.max_sector_faces))
         .collect();
     Plan { common, schemes }
 }

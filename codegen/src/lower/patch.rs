@@ -13,6 +13,24 @@ pub(crate) struct CornerLocals {
     out_base: Vec<LocalId>,
 }
 
+impl PatchLower<'_> {
+    /// Corner `c`'s shape valence (`corner_valence[4·face + c]`): the valence
+    /// of its per-valence constants and of `n(i)`, the virtual valence at a
+    /// crease or corner vertex (docs/boundaries.md §2). Loaded on first use,
+    /// so schemes without constants do not bind it.
+    fn shape(&mut self, c: usize) -> LocalId {
+        if let Some(id) = self.shapes.get(&c) {
+            return *id;
+        }
+        let id = self.f.local(format!("shape_{c}"), Ty::U32);
+        let slot = add(mul(l(self.face), u(self.sides as u32)), u(c as u32));
+        self.loads
+            .push(Stmt::Let(id, fetch(Resource::CornerValence, slot)));
+        self.shapes.insert(c, id);
+        id
+    }
+}
+
 /// Lowering state of one patch function.
 pub(crate) struct PatchLower<'a> {
     s: &'a Scheme,
@@ -28,6 +46,8 @@ pub(crate) struct PatchLower<'a> {
     /// `(const, corner)` → local.
     consts: BTreeMap<(usize, usize), LocalId>,
     valences: BTreeMap<usize, LocalId>,
+    /// corner → its `corner_valence` local.
+    shapes: BTreeMap<usize, LocalId>,
     /// `(output, corner, offset)` → local.
     data: BTreeMap<(usize, usize, i64), LocalId>,
     /// `(def, corner or None)` → local.
@@ -74,7 +94,8 @@ impl PatchLower<'_> {
         let id = self
             .f
             .local(format!("{}_{c}", self.s.consts[k].name), Ty::F32);
-        let row = sub(add(Expr::Const(self.const_row), l(self.corners.n[c])), u(3));
+        let shape = self.shape(c);
+        let row = sub(add(Expr::Const(self.const_row), l(shape)), u(3));
         self.loads.push(Stmt::Let(
             id,
             Expr::TableWeight(Box::new(row), Box::new(u(k as u32))),
@@ -87,8 +108,9 @@ impl PatchLower<'_> {
         if let Some(id) = self.valences.get(&c) {
             return *id;
         }
+        let shape = self.shape(c);
         let id = self.f.local(format!("nf_{c}"), Ty::F32);
-        self.loads.push(Stmt::Let(id, to_f32(l(self.corners.n[c]))));
+        self.loads.push(Stmt::Let(id, to_f32(l(shape))));
         self.valences.insert(c, id);
         id
     }
@@ -262,6 +284,7 @@ impl PatchLower<'_> {
             }
             Sym::Var(_)
             | Sym::Valence
+            | Sym::SectorFaces
             | Sym::Const(_)
             | Sym::If { .. }
             | Sym::Center
@@ -337,6 +360,7 @@ pub(crate) fn patch_fn(s: &Scheme, pc: &scheme::PatchClass, const_row: usize) ->
         const_row,
         consts: BTreeMap::new(),
         valences: BTreeMap::new(),
+        shapes: BTreeMap::new(),
         data: BTreeMap::new(),
         defs: BTreeMap::new(),
         loads: Vec::new(),

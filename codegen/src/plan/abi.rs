@@ -70,6 +70,9 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 28, name: "bucket_dispatch", kind: Kind::U32Buffer, resource: None, written: true, doc: "GPU-driven adaptive buckets: dispatch_workgroups_indirect arguments (x, y, 1), 3 u32 per bucket slot, written by adaptive_plan_main" },
     Binding { binding: 29, name: "bucket_draw", kind: Kind::U32Buffer, resource: None, written: true, doc: "GPU-driven adaptive buckets: draw_indexed_indirect arguments (index count of the bucket level's grid, instance count = the slot's patches, first index 0, base vertex 0, first instance 0), 5 u32 per bucket slot, written by adaptive_plan_main; a renderer draws slot b with eval_adaptive_indirect_vs" },
     Binding { binding: 30, name: "bucket_chunks", kind: Kind::U32Buffer, resource: None, written: true, doc: "GPU-driven adaptive buckets: per chunk of 256 patches (chunk c = patches 256c ..) two rows of one u32 per bucket slot s (S slots): at 2c·S + s the chunk's patches of slot s (written by adaptive_count_main), at (2c + 1)·S + s their first entry within the slot (written by adaptive_plan_main, read by adaptive_scatter_main); the counts are never overwritten, so a chunk a range does not touch stays 0 when the buffer is reused" },
+    Binding { binding: 31, name: "vertex_sectors", kind: Kind::U32Buffer, resource: Some(Resource::VertexSectors), written: false, doc: "first sector of each vertex in `sectors` (one per vertex plus a final total); an empty range is a smooth vertex, which uses the per-valence rows (docs/boundaries.md §2)" },
+    Binding { binding: 32, name: "sectors", kind: Kind::U32Buffer, resource: Some(Resource::Sectors), written: false, doc: "sector records of crease and corner vertices, SECTOR_WORDS u32 each: kind (0 crease, 1 corner; row block kind·SECTOR_MAX_FACES + m − 1), faces m, ring positions written (m, or m + 1 for the last sector of a boundary vertex), first ring position, start of its partial ring [p, q_0, d_0, .., q_m] in `ring`" },
+    Binding { binding: 33, name: "corner_valence", kind: Kind::U32Buffer, resource: Some(Resource::CornerValence), written: false, doc: "valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices" },
 ];
 
 /// Layout of the `adaptive` buffer (binding 19): `(name, first float,
@@ -153,6 +156,10 @@ pub const PATCH_LEVELS_BUCKET: u32 = 4;
 /// `u32` per entry of `bucket_patches` / `bucket_list` (bindings 26, 27): patch,
 /// first control point, the levels of edges 0–3.
 pub const BUCKET_ENTRY_WORDS: u32 = 6;
+/// `u32` words per sector record in `sectors` (binding 32): kind (0 crease,
+/// 1 corner), faces m, ring positions written, first ring position,
+/// partial-ring start.
+pub const SECTOR_WORDS: u32 = 5;
 /// `u32` per bucket slot in the header of `bucket_list` (binding 27): count,
 /// first entry, first sample, x workgroups.
 pub const BUCKET_HEADER_WORDS: u32 = 4;
@@ -266,7 +273,7 @@ pub const WGSL_ENTRIES: &[EntryPoint] = &[
         name: entry::VERTEX_STAGE,
         stage: Stage::Compute,
         workgroup_size: WORKGROUP_SIZE,
-        bindings: &[(0, R), (1, R), (2, R), (3, R), (4, R), (5, RW), (9, R), (10, R)],
+        bindings: &[(0, R), (1, R), (2, R), (3, R), (4, R), (5, RW), (9, R), (10, R), (31, R), (32, R)],
         invocation: "invocation `k = global_invocation_id.x` runs vertex `params.first + k` for `k < params.count` (valence 0: skipped); dispatch x = ⌈count / WORKGROUP_SIZE⌉",
     },
     EntryPoint {
@@ -500,6 +507,7 @@ pub fn rust_module(plan: &Plan) -> String {
         ("BUCKET_SLOTS", "Bucket slots per class range of the GPU-driven buckets.", BUCKET_SLOTS),
         ("INDIRECT_X", "Largest x workgroup count of one GPU-driven evaluation dispatch.", INDIRECT_X),
         ("BUCKET_CHUNK", "Patches per chunk (and workgroup size) of the bucket compaction.", BUCKET_CHUNK),
+        ("SECTOR_WORDS", "`u32` per sector record in `sectors`: kind (0 crease, 1 corner), faces m, ring positions written, first ring position, partial-ring start.", SECTOR_WORDS),
         ("ELEMENT_BYTES", "Bytes per buffer element (`u32`, `f32`; vec3 buffers are packed f32 triples).", ELEMENT_BYTES),
     ];
     for (name, doc, v) in consts {

@@ -115,6 +115,18 @@ pub enum Resource {
     /// `u32` workgroup-shared array of one chunk's bucket levels (declared
     /// by [`EntryItem::Workgroup`]; no binding).
     BucketTile,
+    /// `u32` first sector of each vertex in [`Resource::Sectors`], by vertex
+    /// (plus a final total); an empty range = a smooth vertex
+    /// (docs/boundaries.md §2).
+    VertexSectors,
+    /// `u32` sector records, `abi::SECTOR_WORDS` per sector: kind (0
+    /// crease, 1 corner), faces m, ring positions written, first ring
+    /// position, start of its partial ring in [`Resource::Ring`].
+    Sectors,
+    /// `u32` valence whose per-valence constants corner `i` of face `f`
+    /// uses (the virtual valence at crease and corner vertices), by
+    /// `4·face + corner`.
+    CornerValence,
 }
 
 impl Resource {
@@ -168,9 +180,12 @@ impl Resource {
             Resource::BucketDraw => "bucket_draw",
             Resource::BucketChunks => "bucket_chunks",
             Resource::BucketTile => "tessgen_bucket_tile",
+            Resource::VertexSectors => "vertex_sectors",
+            Resource::Sectors => "sectors",
+            Resource::CornerValence => "corner_valence",
         }
     }
-    pub const ALL: [Resource; 20] = [
+    pub const ALL: [Resource; 23] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -191,6 +206,9 @@ impl Resource {
         Resource::Owners,
         Resource::DisplaceInfo,
         Resource::DisplaceMap,
+        Resource::VertexSectors,
+        Resource::Sectors,
+        Resource::CornerValence,
     ];
 }
 

@@ -223,6 +223,17 @@ impl Upload {
                     "corner_sector",
                     u32_bytes(&corner_sector),
                 ),
+                buf(
+                    binding::VERTEX_SECTORS,
+                    "vertex_sectors",
+                    u32_bytes(&topo.vertex_sectors),
+                ),
+                buf(binding::SECTORS, "sectors", u32_bytes(&topo.sectors)),
+                buf(
+                    binding::CORNER_VALENCE,
+                    "corner_valence",
+                    u32_bytes(&topo.corner_valence),
+                ),
                 UploadBuffer {
                     read_back: true,
                     ..buf(

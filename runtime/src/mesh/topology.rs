@@ -197,6 +197,16 @@ pub struct Topology {
     pub corners: Vec<[Corner; 4]>,
     /// Patch class of each face (len `F`).
     pub classes: Vec<FaceClass>,
+    /// Vertex `v`'s sectors are `vertex_sectors[v]..vertex_sectors[v+1]` in
+    /// [`Topology::sectors`] (len `V+1`); empty for smooth vertices
+    /// (docs/boundaries.md §2).
+    pub vertex_sectors: Vec<u32>,
+    /// Sector records, 5 u32 each: kind, faces m, positions written, first
+    /// ring position, start of the partial ring in [`Topology::ring`].
+    pub sectors: Vec<u32>,
+    /// Valence of the per-valence constants at corner `i` of face `f`, at
+    /// `4f + i` (the virtual valence at crease and corner vertices).
+    pub corner_valence: Vec<u32>,
 }
 
 impl Topology {
@@ -390,7 +400,25 @@ impl Topology {
             }
         }
 
+        // Closed untagged meshes have no crease or corner vertices: no
+        // sectors, and every corner uses its vertex's own valence.
+        let vertex_sectors = vec![0u32; valence.len() + 1];
+        let corner_valence = corners
+            .iter()
+            .flat_map(|c| {
+                c.map(|k| {
+                    if k.vertex == NONE {
+                        0
+                    } else {
+                        valence[k.vertex as usize]
+                    }
+                })
+            })
+            .collect();
         Ok(Topology {
+            vertex_sectors,
+            sectors: Vec::new(),
+            corner_valence,
             face_offsets: mesh.face_offsets.clone(),
             origin,
             face,

@@ -14,7 +14,17 @@ pub struct SchemeAst {
     pub facet: Ident,
     pub consts: Vec<ConstAst>,
     pub vertex: Vec<DefAst>,
+    /// `sector crease { … }` / `sector corner { … }` blocks (docs/boundaries.md §3).
+    pub sectors: Vec<SectorAst>,
     pub patches: Vec<PatchAst>,
+}
+
+/// `sector KIND { … }`: what a sector of a crease or corner vertex takes from
+/// the shared crease data instead of the scheme's virtual-ring rule.
+#[derive(Clone)]
+pub struct SectorAst {
+    pub kind: Ident,
+    pub defs: Vec<DefAst>,
 }
 
 /// `const NAME = EXPR;` — a scalar function of the valence `n`.
@@ -35,6 +45,9 @@ pub enum DefKind {
     Let,
     /// `out`: a control point of the patch form.
     Out,
+    /// `sharp`: in a `sector` block, an override at the sector's two sharp
+    /// edges only (positions 0 and m).
+    Sharp,
 }
 
 /// `[kind] NAME[index] = EXPR;` or `[kind] NAME = EXPR;`

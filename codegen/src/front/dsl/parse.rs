@@ -63,6 +63,7 @@ impl Parse for SchemeAst {
         let mut facet = None;
         let mut consts = Vec::new();
         let mut vertex = None;
+        let mut sectors = Vec::new();
         let mut patches = Vec::new();
         while !body.is_empty() {
             let _inner_attrs = body.call(Attribute::parse_outer)?;
@@ -87,7 +88,14 @@ impl Parse for SchemeAst {
                 }
                 let inner;
                 braced!(inner in body);
-                vertex = Some(parse_defs(&inner, false)?);
+                vertex = Some(parse_defs(&inner, Block::Vertex)?);
+            } else if peek_kw(&body, "sector") {
+                kw(&body, "sector")?;
+                let kind: Ident = body.parse()?;
+                let inner;
+                braced!(inner in body);
+                let defs = parse_defs(&inner, Block::Sector)?;
+                sectors.push(SectorAst { kind, defs });
             } else if peek_kw(&body, "patch") {
                 kw(&body, "patch")?;
                 let class: Ident = body.parse()?;
@@ -95,10 +103,10 @@ impl Parse for SchemeAst {
                 let form: Ident = body.parse()?;
                 let inner;
                 braced!(inner in body);
-                let defs = parse_defs(&inner, true)?;
+                let defs = parse_defs(&inner, Block::Patch)?;
                 patches.push(PatchAst { class, form, defs });
             } else {
-                return Err(body.error("expected `facet`, `const`, `vertex` or `patch`"));
+                return Err(body.error("expected `facet`, `const`, `vertex`, `sector` or `patch`"));
             }
         }
         let facet = facet.ok_or_else(|| syn::Error::new(name.span(), "missing `facet quad;`"))?;
@@ -129,16 +137,37 @@ impl Parse for SchemeAst {
             facet,
             consts,
             vertex,
+            sectors,
             patches,
         })
     }
 }
 
-fn parse_defs(input: ParseStream, patch: bool) -> syn::Result<Vec<DefAst>> {
+/// Which block definitions are parsed for (each admits its own keywords).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Block {
+    Vertex,
+    Sector,
+    Patch,
+}
+
+fn parse_defs(input: ParseStream, block: Block) -> syn::Result<Vec<DefAst>> {
+    let patch = block == Block::Patch;
     let mut defs = Vec::new();
     while !input.is_empty() {
         let start = input.span();
-        let kind = if input.peek(Token![let]) {
+        let kind = if block == Block::Sector {
+            if peek_kw(input, "sharp") {
+                kw(input, "sharp")?;
+                DefKind::Sharp
+            } else if input.peek(Token![let]) || peek_kw(input, "out") || peek_kw(input, "vector") {
+                return Err(input.error(
+                    "a `sector` block overrides vertex definitions: write `NAME = …` or `sharp NAME[j] = …`",
+                ));
+            } else {
+                DefKind::Point
+            }
+        } else if input.peek(Token![let]) {
             input.parse::<Token![let]>()?;
             DefKind::Let
         } else if peek_kw(input, "out") {

@@ -14,7 +14,11 @@ use std::collections::BTreeMap;
 use syn::{Expr, Ident};
 
 mod resolve;
+mod sector;
 use resolve::*;
+pub use sector::{
+    max_sector_faces, phantom_point, virtual_valence, SectorBlock, SectorKind, SectorOverride,
+};
 
 /// Tolerance of the affine-invariance check (DESIGN.md "The stencil table").
 pub const AFFINE_TOLERANCE: f64 = 1e-6;
@@ -174,6 +178,9 @@ pub struct Scheme {
     pub facet: Facet,
     pub consts: Vec<ConstDef>,
     pub vertex: Vec<VertexDef>,
+    /// `sector` blocks (at most one per kind); a kind without a block takes
+    /// every definition from the virtual ring (docs/boundaries.md §3).
+    pub sectors: Vec<SectorBlock>,
     pub patches: Vec<PatchClass>,
 }
 
@@ -316,8 +323,54 @@ impl Scheme {
                 }
             }
         }
+        self.check_sectors(max_valence)?;
         for (pc, past) in self.patches.iter().zip(&ast.patches) {
             self.check_patch(pc, past, max_valence)?;
+        }
+        Ok(())
+    }
+
+    /// Every sector row of every kind and size the table holds: finite,
+    /// summing to 1 (points) or 0 (vectors), like the per-valence rows.
+    fn check_sectors(&self, max_valence: u32) -> Result<(), SchemeError> {
+        for kind in SectorKind::ALL {
+            for m in 1..=max_sector_faces(max_valence) {
+                for (i, j, row) in self.sector_rows(kind, m) {
+                    let d = &self.vertex[i];
+                    let span = self
+                        .sectors
+                        .iter()
+                        .find(|b| b.kind == kind)
+                        .and_then(|b| b.overrides.iter().find(|o| o.def == i))
+                        .map(|o| o.span)
+                        .unwrap_or(d.span);
+                    let want = if d.kind == DefKind::Vector { 0.0 } else { 1.0 };
+                    let sum: f64 = row.iter().sum();
+                    let label = if d.indexed {
+                        format!("{}[{j}]", d.name)
+                    } else {
+                        d.name.clone()
+                    };
+                    if row.iter().any(|w| !w.is_finite()) {
+                        return Err(SchemeError::new(
+                            span,
+                            format!(
+                                "row `{label}` has a non-finite weight in a {} sector of {m} faces",
+                                kind.name()
+                            ),
+                        ));
+                    }
+                    if (sum - want).abs() > AFFINE_TOLERANCE {
+                        return Err(SchemeError::new(
+                            span,
+                            format!(
+                                "row `{label}` weights sum to {sum} in a {} sector of {m} faces, expected {want}",
+                                kind.name()
+                            ),
+                        ));
+                    }
+                }
+            }
         }
         Ok(())
     }

@@ -21,6 +21,8 @@ pub(super) struct Resolver {
     /// Index variables in scope: name → slot.
     scope: Vec<(String, usize)>,
     next_var: usize,
+    /// Resolving a `sector` block: `m` names the sector's face count.
+    sector: bool,
 }
 
 pub(super) fn err<T>(span: Span, msg: impl Into<String>) -> Result<T, SchemeError> {
@@ -69,6 +71,20 @@ impl Resolver {
         if !self.tri && !self.vertex.iter().any(|d| d.exported()) {
             return err(ast.name.span(), "the vertex stage exports no output");
         }
+        let mut sectors: Vec<SectorBlock> = Vec::new();
+        for sa in &ast.sectors {
+            if self.tri {
+                return err(
+                    sa.kind.span(),
+                    "a `facet tri` scheme has no vertex stage, so no `sector` blocks",
+                );
+            }
+            let block = self.sector_block(sa)?;
+            if sectors.iter().any(|b| b.kind == block.kind) {
+                return err(sa.kind.span(), format!("`sector {}` given twice", sa.kind));
+            }
+            sectors.push(block);
+        }
         let mut patches = Vec::new();
         for p in &ast.patches {
             let pc = self.patch_block(p)?;
@@ -86,8 +102,89 @@ impl Resolver {
             facet,
             consts,
             vertex: self.vertex,
+            sectors,
             patches,
         })
+    }
+
+    /// A `sector KIND { … }` block: every definition overrides an earlier
+    /// vertex definition of the same name and shape, and may only read
+    /// definitions declared before that one (so overrides cannot form a
+    /// cycle through the definitions that use them).
+    fn sector_block(&mut self, sa: &dsl::SectorAst) -> Result<SectorBlock, SchemeError> {
+        let kind = match sa.kind.to_string().as_str() {
+            "crease" => SectorKind::Crease,
+            "corner" => SectorKind::Corner,
+            other => {
+                return err(
+                    sa.kind.span(),
+                    format!("unknown sector kind `{other}`; expected `crease` or `corner`"),
+                )
+            }
+        };
+        let mut overrides: Vec<SectorOverride> = Vec::new();
+        for d in &sa.defs {
+            let name = d.name.to_string();
+            let Some(def) = self.vertex.iter().position(|v| v.name == name) else {
+                return err(
+                    d.name.span(),
+                    format!("`{name}` is not a vertex definition of this scheme; a `sector` block only overrides them"),
+                );
+            };
+            let (t_indexed, t_ty) = (self.vertex[def].indexed, self.vertex[def].ty);
+            if t_indexed != d.index.is_some() {
+                return err(
+                    d.name.span(),
+                    if t_indexed {
+                        format!("`{name}` is a family over ring positions: write `{name}[j] = …`")
+                    } else {
+                        format!("`{name}` is a single output: write `{name} = …`")
+                    },
+                );
+            }
+            let sharp = d.kind == DefKind::Sharp;
+            if sharp && !t_indexed {
+                return err(
+                    d.name.span(),
+                    format!("`sharp` overrides a family at the sector's sharp edges; `{name}` is a single output"),
+                );
+            }
+            if overrides.iter().any(|o| o.def == def && o.sharp == sharp) {
+                return err(d.name.span(), format!("`{name}` is overridden twice"));
+            }
+            self.sector = true;
+            let resolved = self.with_index(d.index.as_ref(), SECTOR_VAR, |r| {
+                r.expr(&d.expr, Stage::Vertex)
+            });
+            self.sector = false;
+            let (expr, ty) = resolved?;
+            if ty != t_ty {
+                return err(
+                    span_of(&d.expr),
+                    format!(
+                        "the override of `{name}` must be {}, found {}",
+                        t_ty.describe(),
+                        ty.describe()
+                    ),
+                );
+            }
+            if let Some(later) = sym::defs_read(&expr).into_iter().find(|&k| k >= def) {
+                return err(
+                    span_of(&d.expr),
+                    format!(
+                        "the override of `{name}` reads `{}`, which is not defined before `{name}`",
+                        self.vertex[later].name
+                    ),
+                );
+            }
+            overrides.push(SectorOverride {
+                def,
+                sharp,
+                expr,
+                span: d.span,
+            });
+        }
+        Ok(SectorBlock { kind, overrides })
     }
 
     fn check_new_name(&self, name: &Ident) -> Result<(), SchemeError> {
@@ -408,6 +505,7 @@ impl Resolver {
         match (s.as_str(), stage) {
             ("pi", _) => return Ok((Sym::Num(std::f64::consts::PI), Ty::Scalar)),
             ("n", Stage::Const | Stage::Vertex) => return Ok((Sym::Valence, Ty::Index)),
+            ("m", Stage::Vertex) if self.sector => return Ok((Sym::SectorFaces, Ty::Index)),
             ("n", Stage::Patch) => {
                 return err(
                     id.span(),
