@@ -40,6 +40,10 @@ pub enum TessError {
         want: &'static str,
         hint: &'static str,
     },
+    /// The topology has sectors (boundary, crease or corner vertices) or faces without a limit
+    /// surface, which the generated kernels do not read yet (`docs/boundaries.md`).
+    #[error("face {face}: {what}; the generated stencils do not take boundaries, creases and corners yet")]
+    SectorsNotWired { face: usize, what: String },
     #[error(transparent)]
     TriMesh(#[from] crate::mesh::trimesh::TriMeshError),
     #[error(transparent)]
@@ -132,6 +136,7 @@ pub fn face_classes(topo: &Topology, scheme: &SchemeKernels) -> Result<Vec<u32>,
             .position(|c| c.class == name)
             .map(|i| i as u32)
     };
+    sectors_not_wired(topo)?;
     let ordinary = find("ordinary");
     let extraordinary = find("extraordinary");
     topo.classes
@@ -150,6 +155,35 @@ pub fn face_classes(topo: &Topology, scheme: &SchemeKernels) -> Result<Vec<u32>,
             }),
         })
         .collect()
+}
+
+/// Refuses what the kernels cannot evaluate yet: faces with a crease or corner (sectored)
+/// corner, and faces without a limit surface. Until the sector arrays are wired into the
+/// generated stages, their rings would be read with the full-ring layout.
+fn sectors_not_wired(topo: &Topology) -> Result<(), TessError> {
+    use crate::mesh::topology::VertexRule;
+    for (face, corners) in topo.corners.iter().enumerate() {
+        if topo.no_limit[face] {
+            return Err(TessError::SectorsNotWired {
+                face,
+                what: "it has no limit surface (a hole, or boundary rule 0)".into(),
+            });
+        }
+        for c in corners.iter().filter(|c| c.vertex != crate::topology::NONE) {
+            let v = c.vertex;
+            let what = if topo.is_boundary_vertex(v) {
+                format!("vertex {v} is on the boundary (mesh is not closed)")
+            } else {
+                match topo.vertex_rule[v as usize] {
+                    VertexRule::Crease => format!("vertex {v} is a crease vertex"),
+                    VertexRule::Corner => format!("vertex {v} is a corner vertex"),
+                    VertexRule::Smooth | VertexRule::Dart => continue,
+                }
+            };
+            return Err(TessError::SectorsNotWired { face, what });
+        }
+    }
+    Ok(())
 }
 
 /// Run the vertex and patch stages.

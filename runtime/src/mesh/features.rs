@@ -475,15 +475,13 @@ impl Features {
                 "corner" => {
                     let (ni, nfl) = (t.ints.len(), t.floats.len());
                     if ni == 0 || !t.strings.is_empty() || !(nfl == 1 || nfl == ni) {
-                        return Err(wrong_counts(
-                            t,
-                            "n ≥ 1 ints and 1 or n floats, no strings",
-                        ));
+                        return Err(wrong_counts(t, "n ≥ 1 ints and 1 or n floats, no strings"));
                     }
                     let mut semi = Vec::new();
                     for (i, &v) in t.ints.iter().enumerate() {
                         let v = check_vertex(line, name, v, nv)?;
-                        let s = check_sharpness(line, name, t.floats[if nfl == 1 { 0 } else { i }])?;
+                        let s =
+                            check_sharpness(line, name, t.floats[if nfl == 1 { 0 } else { i }])?;
                         if is_semi_sharp(s) {
                             semi.push(s);
                         }
@@ -645,8 +643,12 @@ mod tests {
         assert_eq!(f.crease_counts(), (1, 2));
         let text: Vec<String> = w.iter().map(ToString::to_string).collect();
         assert!(text[0].contains("line 14") && text[0].contains("smoothtriangles"));
-        assert!(text[1].contains("line 15") && text[1].contains("approximated as infinitely sharp"));
-        assert!(text[2].contains("line 17") && text[2].contains("approximated as infinitely sharp"));
+        assert!(
+            text[1].contains("line 15") && text[1].contains("approximated as infinitely sharp")
+        );
+        assert!(
+            text[2].contains("line 17") && text[2].contains("approximated as infinitely sharp")
+        );
         assert_eq!(w[3].line(), 18);
     }
 
@@ -724,10 +726,7 @@ mod tests {
         );
         assert_eq!(
             err("t interpolateboundary 1/0/0 3\n"),
-            FeatureError::BadBoundaryRule {
-                line: 14,
-                value: 3
-            }
+            FeatureError::BadBoundaryRule { line: 14, value: 3 }
         );
         let e = err("t interpolateboundary 1/0/0 3\n").to_string();
         assert!(e.starts_with("line 14:"), "{e}");
