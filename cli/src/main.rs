@@ -14,7 +14,7 @@ use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
-use tessgen_runtime::stats::MeshStats;
+use tessgen_runtime::stats::{FeatureStats, MeshStats};
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::tessellate::{
     self, AdaptiveRequest, EdgeMetric, Output as TessOutput, Request,
@@ -427,9 +427,11 @@ fn inspect(args: &InspectArgs) -> CmdResult {
         require_quads: false,
         ..cpu::topology_options()
     };
-    let topology = Topology::build(&mesh, &options)
-        .map(|_| ())
-        .map_err(|e| e.to_string());
+    let topology = Topology::build(&mesh, &options).map_err(|e| e.to_string());
+    let features = topology
+        .as_ref()
+        .ok()
+        .map(|t| FeatureStats::of(t, stats.non_quads));
     let path = args.mesh.display().to_string();
     if args.json {
         let report = InspectReport {
@@ -438,6 +440,7 @@ fn inspect(args: &InspectArgs) -> CmdResult {
             extraordinary_fraction: stats.extraordinary_fraction(),
             topology_ok: topology.is_ok(),
             topology_error: topology.as_ref().err().map(String::as_str),
+            features: features.as_ref(),
         };
         let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
         println!("{text}");
@@ -494,14 +497,67 @@ fn inspect(args: &InspectArgs) -> CmdResult {
         }
     );
     match &topology {
-        Ok(()) if s.non_quads > 0 => println!(
+        Ok(_) if s.non_quads > 0 => println!(
             "topology: ok, but {} non-quad faces (tessellate needs quads)",
             s.non_quads
         ),
-        Ok(()) => println!("topology: ok (closed, manifold, quads)"),
+        Ok(t) if t.num_boundary_edges() == 0 && t.num_sectors() == 0 => {
+            println!("topology: ok (closed, manifold, quads)")
+        }
+        Ok(t) => println!(
+            "topology: ok (manifold, quads; {} boundary edges, {} sectors)",
+            t.num_boundary_edges(),
+            t.num_sectors()
+        ),
         Err(e) => println!("topology: {e}"),
     }
+    if let Some(f) = features.as_ref().filter(|f| {
+        !(f.tessellation.is_empty() && f.warnings.is_empty() && f.sectors_by_faces.is_empty())
+    }) {
+        print_features(f);
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The feature part of `inspect` (open or tagged meshes only, so closed untagged output is
+/// unchanged).
+fn print_features(f: &FeatureStats) {
+    println!("boundary rule: {}", f.boundary_rule);
+    println!("boundary edges: {}", f.boundary_edges);
+    println!(
+        "crease edges: {} ({} infinitely sharp, {} semi-sharp)",
+        f.crease_edges_infinite + f.crease_edges_semi_sharp,
+        f.crease_edges_infinite,
+        f.crease_edges_semi_sharp
+    );
+    println!(
+        "vertices: {} corners ({} tagged), {} creases, {} darts",
+        f.corners, f.tagged_corners, f.creases, f.darts
+    );
+    println!(
+        "holes: {} ({} faces without limit)",
+        f.holes, f.no_limit_faces
+    );
+    println!("non-quad faces: {}", f.non_quad_faces);
+    let sizes: Vec<String> = f
+        .sectors_by_faces
+        .iter()
+        .map(|(m, n)| format!("{m}:{n}"))
+        .collect();
+    println!(
+        "sectors by faces: {}",
+        if sizes.is_empty() {
+            "none".into()
+        } else {
+            sizes.join(" ")
+        }
+    );
+    for line in &f.tessellation {
+        println!("tessellation: {line}");
+    }
+    for w in &f.warnings {
+        println!("warning: {w}");
+    }
 }
 
 /// `--adaptive`: per-edge factors through the front door — the hardware
@@ -792,6 +848,8 @@ struct InspectReport<'a> {
     extraordinary_fraction: f64,
     topology_ok: bool,
     topology_error: Option<&'a str>,
+    /// Sharp features and sectors (absent when the topology is rejected).
+    features: Option<&'a FeatureStats>,
 }
 
 fn compare(args: &CompareArgs) -> CmdResult {

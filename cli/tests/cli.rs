@@ -267,8 +267,13 @@ fn inspect_open_mesh_reports_instead_of_failing() {
     assert_ok(&o);
     let out = stdout(&o);
     assert!(out.contains("12 boundary"), "{out}");
-    assert!(out.contains("topology: mesh is not closed"), "{out}");
+    assert!(
+        out.contains("topology: ok (manifold, quads; 12 boundary edges, 12 sectors)"),
+        "{out}"
+    );
     assert!(out.contains("interpolateboundary:1"), "{out}");
+    assert!(out.contains("boundary rule: 2"), "{out}");
+    assert!(out.contains("tessellation: boundaries (rule 2)"), "{out}");
 
     let o = tessgen(["inspect".as_ref(), "--json".as_ref(), tent.as_os_str()]);
     assert_ok(&o);
@@ -277,11 +282,14 @@ fn inspect_open_mesh_reports_instead_of_failing() {
     assert_eq!(j["first_boundary_edges"][0], serde_json::json!([0, 1]));
     assert_eq!(j["euler_characteristic"], 1);
     assert_eq!(j["tags"]["interpolateboundary"], 1);
-    assert_eq!(j["topology_ok"], false);
-    assert!(j["topology_error"]
-        .as_str()
-        .unwrap()
-        .contains("12 boundary edges"));
+    assert_eq!(j["topology_ok"], true);
+    assert!(j["topology_error"].is_null());
+    assert_eq!(j["features"]["boundary_edges"], 12);
+    assert_eq!(j["features"]["creases"], 12);
+    assert_eq!(
+        j["features"]["sectors_by_faces"],
+        serde_json::json!({"1": 4, "2": 8})
+    );
 }
 
 #[test]

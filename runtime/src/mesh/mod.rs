@@ -31,6 +31,8 @@
 //! alone (with the same `f32` parsing as `tobj`); `tobj`'s normal arrays are renumbered in the
 //! same first-use way and would only repeat what the scanner's range checks already prove.
 
+pub mod features;
+pub mod sectors;
 pub mod tags;
 pub mod topology;
 pub mod trimesh;

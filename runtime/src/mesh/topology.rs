@@ -24,13 +24,18 @@
 //! Half-edges are paired into edges by their (unordered) vertex pair, so two distinct edges between the same
 //! two vertices (a multigraph, e.g. a 2×n torus grid) show up as a non-manifold edge.
 //!
-//! This version supports closed, manifold, consistently oriented meshes only; boundaries are
-//! reported as [`TopologyError::BoundaryEdges`].
+//! Open and tagged meshes (`docs/boundaries.md`): boundary half-edges have `twin = NONE`; the
+//! mesh's `t` lines (or explicit [`Features`]) make edges sharp, sharp edges cut a crease or
+//! corner vertex's fan into sectors ([`crate::mesh::sectors`]), and the vertex's ring holds
+//! the sectors' partial rings. A closed untagged mesh gives exactly the arrays above.
 
 use std::collections::BTreeMap;
 
 use thiserror::Error;
 
+use crate::mesh::features::{FeatureError, FeatureWarning, Features};
+use crate::mesh::sectors::{self, HalfEdges};
+pub use crate::mesh::sectors::{max_sector_faces, VertexRule, SECTOR_WORDS};
 use crate::mesh::{Mesh, MeshError};
 
 /// Marker for "no such element" in the flat `u32` arrays (e.g. [`Topology::twin`] of a
@@ -80,7 +85,9 @@ impl Corner {
 /// Patch class of a face.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum FaceClass {
-    /// A quad whose four corners all have valence 4: the regular bicubic B-spline patch applies.
+    /// A quad whose four corners are all regular (smooth with valence 4 and no sharp edge,
+    /// crease with a sector of 2 faces, corner with a sector of 1 face): the bicubic B-spline
+    /// of the (phantom) grid applies.
     Ordinary,
     /// Any other face (a corner of valence ≠ 4, or a non-quad when quads are not required).
     Extraordinary,
@@ -93,8 +100,14 @@ pub enum TopologyError {
     /// The mesh itself is invalid.
     #[error("invalid mesh: {0}")]
     Mesh(#[from] MeshError),
+    /// The mesh's tags (or the explicit [`Features`]) are invalid.
+    #[error("invalid tags: {0}")]
+    Features(#[from] FeatureError),
     /// A face is not a quad while [`TopologyOptions::require_quads`] is set.
-    #[error("face {face} has {arity} vertices; only quads are supported")]
+    #[error(
+        "face {face} has {arity} vertices; only quads are supported (non-quad faces need one \
+         Catmull-Clark step, which is not implemented yet)"
+    )]
     NonQuad {
         /// 0-based face index.
         face: usize,
@@ -126,16 +139,11 @@ pub enum TopologyError {
         /// The vertex.
         vertex: u32,
     },
-    /// The mesh has boundary edges (used by one face); only closed meshes are supported.
-    #[error("mesh is not closed: {count} boundary edges, first {first:?}")]
-    BoundaryEdges {
-        /// Number of boundary edges.
-        count: usize,
-        /// Up to 8 of them as `(origin, destination)` in half-edge order.
-        first: Vec<(u32, u32)>,
-    },
     /// A vertex has more edges than [`TopologyOptions::max_valence`].
-    #[error("vertex {vertex} has valence {valence}, more than the maximum {max}")]
+    #[error(
+        "vertex {vertex} has valence {valence}, more than the maximum {max} \
+         (--max-valence {valence} accepts it)"
+    )]
     ValenceTooHigh {
         /// The vertex.
         vertex: u32,
@@ -143,6 +151,22 @@ pub enum TopologyError {
         valence: u32,
         /// The configured maximum.
         max: u32,
+    },
+    /// A crease or corner sector has more faces than the stencil table's sector blocks hold
+    /// ([`max_sector_faces`] of [`TopologyOptions::max_valence`]).
+    #[error(
+        "vertex {vertex} has a sector of {faces} faces between sharp edges, more than \
+         max_valence / 2 = {max} (--max-valence {needed} accepts it)"
+    )]
+    SectorTooLarge {
+        /// The vertex.
+        vertex: u32,
+        /// Faces in the sector.
+        faces: u32,
+        /// [`max_sector_faces`] of the configured maximum valence.
+        max: u32,
+        /// The smallest `--max-valence` that takes the sector (`2 · faces`).
+        needed: u32,
     },
     /// An interior vertex has fewer than 3 edges (the ring formulas need `n ≥ 3`).
     #[error("vertex {vertex} has valence {valence}; interior vertices need at least 3")]
@@ -157,7 +181,8 @@ pub enum TopologyError {
 /// Half-edge structure plus canonical vertex rings and quad corner records of a [`Mesh`].
 ///
 /// All arrays are flat; `H` = number of half-edges (= `mesh.face_vertices.len()`), `V` = number
-/// of mesh vertices (unused ones included), `F` = number of faces.
+/// of mesh vertices (unused ones included), `F` = number of faces, `S` = number of sectors.
+/// Ring positions, sectors and the canonical start follow `docs/boundaries.md` §2.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Topology {
     /// Copy of [`Mesh::face_offsets`] (len `F+1`): face `f` owns half-edges
@@ -171,53 +196,92 @@ pub struct Topology {
     pub next: Vec<u32>,
     /// Previous half-edge in the same face (len `H`).
     pub prev: Vec<u32>,
-    /// Opposite half-edge (len `H`), [`NONE`] on a boundary (never, for meshes this version
-    /// accepts).
+    /// Opposite half-edge (len `H`), [`NONE`] on a boundary.
     pub twin: Vec<u32>,
-    /// Valence (number of edges = number of faces) of each vertex (len `V`); 0 for vertices no
-    /// face uses.
+    /// Number of ring positions `n_layout` of each vertex (len `V`): the number of faces for
+    /// an interior vertex, faces + 1 (its edge valence) for a boundary vertex; 0 for vertices
+    /// no face uses.
     pub valence: Vec<u32>,
-    /// Prefix sums of `valence` (len `V+1`): vertex `v`'s sectors are
-    /// `sector_offsets[v]..sector_offsets[v+1]` in [`Topology::sector_halfedge`].
+    /// Prefix sums of the number of outgoing half-edges (= faces) per vertex (len `V+1`):
+    /// vertex `v`'s outgoing half-edges are `sector_offsets[v]..sector_offsets[v+1]` in
+    /// [`Topology::sector_halfedge`]. Equal to the prefix sums of `valence` for closed meshes.
     pub sector_offsets: Vec<u32>,
-    /// Outgoing half-edge `p → p_{2j}` of each sector `j`, vertex by vertex, in ring order
-    /// (len `H`; every half-edge is exactly one sector of its origin).
+    /// Outgoing half-edge `p → q_j` of each ring position `j < faces`, vertex by vertex, in
+    /// ring order (len `H`; every half-edge is exactly one position of its origin).
     pub sector_halfedge: Vec<u32>,
-    /// Inverse of `sector_halfedge`: the sector index `j` that half-edge `h` is in the ring of
+    /// Inverse of `sector_halfedge`: the ring position `j` that half-edge `h` is in the ring of
     /// `origin[h]` (len `H`).
     pub halfedge_sector: Vec<u32>,
     /// Vertex `v`'s ring is `ring[ring_offsets[v]..ring_offsets[v+1]]` (len `V+1`).
     pub ring_offsets: Vec<u32>,
-    /// All rings, flat: `[p, p_0, …, p_{2n-1}]` (`2n+1` entries) per used vertex, starting at
-    /// the canonical sector 0. Vertices no face uses have an empty ring (no entries at all, not
-    /// even `p`), so `ring_offsets[v] == ring_offsets[v+1]` identifies them.
+    /// All rings, flat. Smooth and dart vertices: `[p, p_0, …, p_{2n-1}]` (`2n+1` entries),
+    /// starting at the canonical position 0. Crease and corner vertices: their sectors' partial
+    /// rings `[p, q_0, d_0, …, d_{m−1}, q_m]` (`2m+2` entries each), concatenated in sector
+    /// order. Vertices no face uses have an empty ring (no entries at all, not even `p`), so
+    /// `ring_offsets[v] == ring_offsets[v+1]` identifies them.
     pub ring: Vec<u32>,
     /// The four corners of each face (len `F`), in face order `q^0..q^3`; [`Corner::INVALID`]
-    /// for non-quads (only possible with `require_quads = false`).
+    /// for non-quads (only possible with `require_quads = false`). `sector` is the ring
+    /// position of the face's edge `q^i → q^{i+1}`.
     pub corners: Vec<[Corner; 4]>,
     /// Patch class of each face (len `F`).
     pub classes: Vec<FaceClass>,
-    /// Vertex `v`'s sectors are `vertex_sectors[v]..vertex_sectors[v+1]` in
-    /// [`Topology::sectors`] (len `V+1`); empty for smooth vertices
-    /// (docs/boundaries.md §2).
+    /// Vertex `v`'s sectors are `vertex_sectors[v]..vertex_sectors[v+1]` (len `V+1`); none for
+    /// smooth, dart and unused vertices.
     pub vertex_sectors: Vec<u32>,
-    /// Sector records, 5 u32 each: kind, faces m, positions written, first
-    /// ring position, start of the partial ring in [`Topology::ring`].
+    /// [`SECTOR_WORDS`] per sector `s` at `5s`: `[kind, m, count, j0, ring_base]` with
+    /// kind 0 crease, 1 corner, `m` its faces,
+    /// `count` the ring positions it writes (`m`, or `m + 1` for the last sector of a boundary
+    /// vertex), `j0` its first ring position and `ring_base` the index into [`Topology::ring`]
+    /// of its partial ring's `p` (len `5S`).
     pub sectors: Vec<u32>,
-    /// Valence of the per-valence constants at corner `i` of face `f`, at
-    /// `4f + i` (the virtual valence at crease and corner vertices).
+    /// Per face corner (`4f + i`, len `4F`): the valence whose per-valence constants the patch
+    /// stage uses: the vertex valence at smooth and dart corners, the virtual valence
+    /// `n'(m)` (4 if `m = 1`, else `2m`) of the face's sector at crease and corner corners;
+    /// [`NONE`] for non-quads.
     pub corner_valence: Vec<u32>,
+    /// Rule of each vertex (len `V`; [`VertexRule::Smooth`] for unused vertices).
+    pub vertex_rule: Vec<VertexRule>,
+    /// Per face (len `F`): the face has no limit surface and emits no patch (a hole, or with
+    /// boundary rule 0 a face touching a boundary vertex).
+    pub no_limit: Vec<bool>,
+    /// Per half-edge (len `H`): its edge cuts fans into sectors (a boundary edge, or
+    /// sharpness > 0; semi-sharp edges are applied as infinitely sharp). With boundary rule 0
+    /// the boundary edges still bound the open fans (the faces there are `no_limit`).
+    pub edge_sharp: Vec<bool>,
+    /// The boundary half-edges (`twin = NONE`), in increasing id.
+    pub boundary_halfedges: Vec<u32>,
+    /// The features applied (the mesh's tags for [`Topology::build`]).
+    pub features: Features,
+    /// Tag warnings of [`Features::from_mesh`] (empty for [`Topology::build_with`]).
+    pub warnings: Vec<FeatureWarning>,
 }
 
 impl Topology {
-    /// Builds the topology and checks, in this order: the mesh itself, quads only (if
-    /// required), edges (non-manifold, then orientation), boundary, vertex fans, valences.
+    /// Builds the topology with the mesh's own tags ([`Features::from_mesh`]); see
+    /// [`Topology::build_with`]. Tag warnings end up in [`Topology::warnings`].
+    pub fn build(mesh: &Mesh, opts: &TopologyOptions) -> Result<Topology, TopologyError> {
+        mesh.validate()?;
+        let (features, warnings) = Features::from_mesh(mesh)?;
+        let mut t = Topology::build_with(mesh, opts, &features)?;
+        t.warnings = warnings;
+        Ok(t)
+    }
+
+    /// Builds the topology with explicit features (the mesh's tags are not read) and checks,
+    /// in this order: the mesh itself, the features, quads only (if required), edges
+    /// (non-manifold, then orientation), vertex fans, valences, sector sizes.
     /// The first problem found is returned; within one check, the lowest face / half-edge /
     /// vertex wins, so errors are reproducible.
-    pub fn build(mesh: &Mesh, opts: &TopologyOptions) -> Result<Topology, TopologyError> {
+    pub fn build_with(
+        mesh: &Mesh,
+        opts: &TopologyOptions,
+        features: &Features,
+    ) -> Result<Topology, TopologyError> {
         // Guarantees indices in range and all counts (2H + V) below u32::MAX, which makes
         // every `as u32` below lossless.
         mesh.validate()?;
+        features.validate(mesh)?;
         let nv = mesh.num_vertices();
         let nf = mesh.num_faces();
         let nh = mesh.face_vertices.len();
@@ -256,13 +320,13 @@ impl Topology {
             .collect();
         keys.sort_unstable();
         let mut twin = vec![NONE; nh];
-        let mut boundary: Vec<u32> = Vec::new();
+        let mut boundary_halfedges: Vec<u32> = Vec::new();
         let mut non_manifold: Option<u32> = None;
         let mut flipped: Option<u32> = None;
         for group in keys.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
             let first = group[0].2;
             match group {
-                [_] => boundary.push(first),
+                [_] => boundary_halfedges.push(first),
                 [(_, _, h1), (_, _, h2)] => {
                     if origin[*h1 as usize] == origin[*h2 as usize] {
                         flipped = Some(flipped.map_or(first, |x| x.min(first)));
@@ -286,64 +350,64 @@ impl Topology {
                 b: dest(h),
             });
         }
-        if !boundary.is_empty() {
-            boundary.sort_unstable();
-            return Err(TopologyError::BoundaryEdges {
-                count: boundary.len(),
-                first: boundary
-                    .iter()
-                    .take(8)
-                    .map(|&h| (origin[h as usize], dest(h)))
-                    .collect(),
-            });
-        }
+        boundary_halfedges.sort_unstable();
+        let edge_sharp: Vec<bool> = (0..nh as u32)
+            .map(|h| twin[h as usize] == NONE || features.edge(origin[h as usize], dest(h)) > 0.0)
+            .collect();
 
-        // Outgoing half-edges per vertex (counting sort, so each list is in increasing id
-        // order and its first entry is the canonical sector 0).
-        let mut valence = vec![0u32; nv];
-        for &v in &origin {
-            valence[v as usize] += 1;
+        // Outgoing half-edges per vertex: count, smallest id, outgoing boundary half-edges.
+        let mut faces_at = vec![0u32; nv];
+        let mut smallest_out = vec![NONE; nv];
+        let mut boundary_out = vec![(NONE, 0u32); nv];
+        for h in (0..nh as u32).rev() {
+            let v = origin[h as usize] as usize;
+            faces_at[v] += 1;
+            smallest_out[v] = h;
+            if twin[h as usize] == NONE {
+                boundary_out[v] = (h, boundary_out[v].1 + 1);
+            }
         }
         let mut sector_offsets = Vec::with_capacity(nv + 1);
         sector_offsets.push(0u32);
-        for &n in &valence {
+        for &n in &faces_at {
             let last = sector_offsets[sector_offsets.len() - 1];
             sector_offsets.push(last + n);
         }
-        let mut smallest_out = vec![NONE; nv];
-        for h in (0..nh as u32).rev() {
-            smallest_out[origin[h as usize] as usize] = h;
-        }
 
-        // Walk each fan counter-clockwise: the face of p → p_{2j} is (p, p_{2j}, x, y); its
-        // half-edge y → p is prev(h), and the twin of that, p → y = p_{2j+2}, is the next
-        // sector's half-edge. In a closed edge-manifold mesh this rotation is a permutation of
-        // p's outgoing half-edges; one cycle covering all of them means a single fan.
-        let mut sector_halfedge = vec![NONE; nh];
-        let mut halfedge_sector = vec![NONE; nh];
+        // Walk each fan counter-clockwise: the face of p → q_j is (p, q_j, d_j, q_{j+1}); its
+        // half-edge q_{j+1} → p is prev(h), and the twin of that, p → q_{j+1}, is the next
+        // position's half-edge (sectors.rs classifies, rotates and cuts the fan).
+        let he = HalfEdges {
+            prev: &prev,
+            twin: &twin,
+            sharp: &edge_sharp,
+        };
+        let mut fans = Vec::with_capacity(nv);
         for v in 0..nv {
-            let n = valence[v];
-            if n == 0 {
-                continue;
-            }
-            let base = sector_offsets[v] as usize;
-            let start = smallest_out[v];
-            let mut h = start;
-            for j in 0..n {
-                if j > 0 && h == start {
-                    return Err(TopologyError::NonManifoldVertex { vertex: v as u32 });
-                }
-                sector_halfedge[base + j as usize] = h;
-                halfedge_sector[h as usize] = j;
-                h = twin[prev[h as usize] as usize];
-            }
-            if h != start {
-                // Cannot happen for a permutation, but never loop or index blindly.
-                return Err(TopologyError::NonManifoldVertex { vertex: v as u32 });
-            }
+            fans.push(if faces_at[v] == 0 {
+                None
+            } else {
+                Some(sectors::fan(
+                    &he,
+                    features,
+                    v as u32,
+                    faces_at[v],
+                    smallest_out[v],
+                    boundary_out[v],
+                )?)
+            });
         }
+        let valence: Vec<u32> = fans
+            .iter()
+            .map(|f| {
+                f.as_ref()
+                    .map_or(0, |f| f.halfedges.len() as u32 + u32::from(f.boundary))
+            })
+            .collect();
 
-        for (v, &n) in valence.iter().enumerate() {
+        for (v, fan) in fans.iter().enumerate() {
+            let Some(fan) = fan else { continue };
+            let n = valence[v];
             if n > opts.max_valence {
                 return Err(TopologyError::ValenceTooHigh {
                     vertex: v as u32,
@@ -351,34 +415,95 @@ impl Topology {
                     max: opts.max_valence,
                 });
             }
-            if n > 0 && n < 3 {
+            if !fan.boundary && n < 3 {
                 return Err(TopologyError::ValenceTooLow {
                     vertex: v as u32,
                     valence: n,
                 });
             }
         }
+        let max_m = max_sector_faces(opts.max_valence);
+        for (v, fan) in fans.iter().enumerate() {
+            if let Some(&(_, m)) = fan
+                .as_ref()
+                .and_then(|f| f.sectors.iter().find(|&&(_, m)| m > max_m))
+            {
+                return Err(TopologyError::SectorTooLarge {
+                    vertex: v as u32,
+                    faces: m,
+                    max: max_m,
+                    needed: 2 * m,
+                });
+            }
+        }
 
-        // Rings: p_{2j} = dest(s_j), p_{2j+1} = the vertex after p_{2j} in s_j's face.
-        // (p_{2j+2} = dest(s_{j+1}) equals the vertex before p in s_j's face by the walk above.)
+        // Ring positions, rings and sectors. q_j = dest(fan[j]), d_j = the vertex after q_j in
+        // fan[j]'s face; q_faces = q_0 (interior) or the trailing boundary neighbour.
+        let mut sector_halfedge = vec![NONE; nh];
+        let mut halfedge_sector = vec![NONE; nh];
         let mut ring_offsets = Vec::with_capacity(nv + 1);
         let mut ring = Vec::with_capacity(2 * nh + nv);
+        let mut vertex_sectors = Vec::with_capacity(nv + 1);
+        let mut sectors_flat = Vec::new();
+        let mut vertex_rule = vec![VertexRule::Smooth; nv];
+        // per half-edge: faces of its sector at its origin (crease/corner only)
+        let mut halfedge_m = vec![0u32; nh];
         ring_offsets.push(0u32);
+        vertex_sectors.push(0u32);
         for v in 0..nv {
-            let (s, e) = (sector_offsets[v] as usize, sector_offsets[v + 1] as usize);
-            if e > s {
-                ring.push(v as u32);
-                for &h in &sector_halfedge[s..e] {
-                    let h1 = next[h as usize];
-                    ring.push(origin[h1 as usize]);
-                    ring.push(origin[next[h1 as usize] as usize]);
+            if let Some(fan) = &fans[v] {
+                vertex_rule[v] = fan.rule;
+                let base = sector_offsets[v] as usize;
+                for (j, &h) in fan.halfedges.iter().enumerate() {
+                    sector_halfedge[base + j] = h;
+                    halfedge_sector[h as usize] = j as u32;
+                }
+                let k = fan.halfedges.len();
+                let q = |j: usize| {
+                    if j < k {
+                        dest(fan.halfedges[j])
+                    } else if fan.boundary {
+                        origin[prev[fan.halfedges[k - 1] as usize] as usize]
+                    } else {
+                        dest(fan.halfedges[0])
+                    }
+                };
+                let d = |j: usize| origin[next[next[fan.halfedges[j] as usize] as usize] as usize];
+                if fan.sectors.is_empty() {
+                    ring.push(v as u32);
+                    for j in 0..k {
+                        ring.push(q(j));
+                        ring.push(d(j));
+                    }
+                } else {
+                    let last = fan.sectors.len() - 1;
+                    for (i, &(j0, m)) in fan.sectors.iter().enumerate() {
+                        let corner = fan.rule == VertexRule::Corner;
+                        let count = m + u32::from(fan.boundary && i == last);
+                        let kind = if corner {
+                            sectors::SECTOR_KIND_CORNER
+                        } else {
+                            sectors::SECTOR_KIND_CREASE
+                        };
+                        sectors_flat.extend([kind, m, count, j0, ring.len() as u32]);
+                        ring.push(v as u32);
+                        for j in j0 as usize..(j0 + m) as usize {
+                            ring.push(q(j));
+                            ring.push(d(j));
+                            halfedge_m[fan.halfedges[j] as usize] = m;
+                        }
+                        ring.push(q((j0 + m) as usize));
+                    }
                 }
             }
             ring_offsets.push(ring.len() as u32);
+            vertex_sectors.push((sectors_flat.len() / SECTOR_WORDS) as u32);
         }
 
+        // Corners, corner valences, classes.
         let mut corners = Vec::with_capacity(nf);
         let mut classes = Vec::with_capacity(nf);
+        let mut corner_valence = Vec::with_capacity(4 * nf);
         for f in 0..nf {
             let (s, e) = (mesh.face_offsets[f], mesh.face_offsets[f + 1]);
             if e - s == 4 {
@@ -387,7 +512,19 @@ impl Topology {
                     sector: halfedge_sector[(s + i) as usize],
                 };
                 let cs = [c(0), c(1), c(2), c(3)];
-                let regular = cs.iter().all(|c| valence[c.vertex as usize] == 4);
+                let mut regular = true;
+                for h in s..e {
+                    let v = origin[h as usize] as usize;
+                    let m = halfedge_m[h as usize];
+                    let (n, ok) = match vertex_rule[v] {
+                        VertexRule::Smooth => (valence[v], valence[v] == 4),
+                        VertexRule::Dart => (valence[v], false),
+                        VertexRule::Crease => (sectors::virtual_valence(m), m == 2),
+                        VertexRule::Corner => (sectors::virtual_valence(m), m == 1),
+                    };
+                    corner_valence.push(n);
+                    regular &= ok;
+                }
                 corners.push(cs);
                 classes.push(if regular {
                     FaceClass::Ordinary
@@ -397,28 +534,19 @@ impl Topology {
             } else {
                 corners.push([Corner::INVALID; 4]);
                 classes.push(FaceClass::Extraordinary);
+                corner_valence.extend([NONE; 4]);
             }
         }
-
-        // Closed untagged meshes have no crease or corner vertices: no
-        // sectors, and every corner uses its vertex's own valence.
-        let vertex_sectors = vec![0u32; valence.len() + 1];
-        let corner_valence = corners
-            .iter()
-            .flat_map(|c| {
-                c.map(|k| {
-                    if k.vertex == NONE {
-                        0
-                    } else {
-                        valence[k.vertex as usize]
-                    }
-                })
+        let is_boundary = |v: u32| fans[v as usize].as_ref().is_some_and(|f| f.boundary);
+        let no_limit = (0..nf)
+            .map(|f| {
+                features.holes.contains(&(f as u32))
+                    || (!features.boundary.boundary_sharp()
+                        && mesh.face(f).iter().any(|&v| is_boundary(v)))
             })
             .collect();
+
         Ok(Topology {
-            vertex_sectors,
-            sectors: Vec::new(),
-            corner_valence,
             face_offsets: mesh.face_offsets.clone(),
             origin,
             face,
@@ -433,6 +561,15 @@ impl Topology {
             ring,
             corners,
             classes,
+            vertex_sectors,
+            sectors: sectors_flat,
+            corner_valence,
+            vertex_rule,
+            no_limit,
+            edge_sharp,
+            boundary_halfedges,
+            features: features.clone(),
+            warnings: Vec::new(),
         })
     }
 
@@ -469,11 +606,57 @@ impl Topology {
     }
 
     /// Ring point `p_k` of vertex `v`, `k` taken mod `2n` (so `ring_point(v, 2n) == p_0`).
-    /// Panics for unused vertices.
+    /// Meaningful for smooth and dart vertices (full rings); crease and corner vertices store
+    /// partial rings (see [`Topology::sector_ring`]). Panics for unused vertices.
     pub fn ring_point(&self, v: u32, k: u32) -> u32 {
         let r = self.ring(v);
         let two_n = (r.len() - 1) as u32;
         r[1 + (k % two_n) as usize]
+    }
+
+    /// Vertex `v`'s sectors as indices into [`Topology::sectors`] (`s` → words `5s..5s+5`);
+    /// empty for smooth, dart and unused vertices.
+    pub fn vertex_sector_range(&self, v: u32) -> std::ops::Range<usize> {
+        self.vertex_sectors[v as usize] as usize..self.vertex_sectors[v as usize + 1] as usize
+    }
+
+    /// Number of sectors (all vertices).
+    pub fn num_sectors(&self) -> usize {
+        self.sectors.len() / SECTOR_WORDS
+    }
+
+    /// Sector `s`'s words `[kind, m, count, j0, ring_base]`.
+    pub fn sector(&self, s: usize) -> [u32; 5] {
+        let w = &self.sectors[SECTOR_WORDS * s..SECTOR_WORDS * (s + 1)];
+        [w[0], w[1], w[2], w[3], w[4]]
+    }
+
+    /// Faces `m` of sector `s`.
+    pub fn sector_faces(&self, s: usize) -> u32 {
+        self.sectors[SECTOR_WORDS * s + 1]
+    }
+
+    /// Sector `s`'s partial ring `[p, q_0, d_0, …, d_{m−1}, q_m]`.
+    pub fn sector_ring(&self, s: usize) -> &[u32] {
+        let base = self.sectors[SECTOR_WORDS * s + 4] as usize;
+        let p = self.ring[base];
+        // the ring of p ends at ring_offsets[p + 1]; the next sector of p starts at its base
+        let end = if s + 1 < self.vertex_sectors[p as usize + 1] as usize {
+            self.sectors[SECTOR_WORDS * (s + 1) + 4] as usize
+        } else {
+            self.ring_offsets[p as usize + 1] as usize
+        };
+        &self.ring[base..end]
+    }
+
+    /// Whether `v` is on the boundary (its fan is open).
+    pub fn is_boundary_vertex(&self, v: u32) -> bool {
+        self.valence[v as usize] as usize == self.sector_halfedges(v).len() + 1
+    }
+
+    /// Number of boundary edges.
+    pub fn num_boundary_edges(&self) -> usize {
+        self.boundary_halfedges.len()
     }
 
     /// Vertex `v`'s sector half-edges (`p → p_{2j}` for `j = 0..n`).
@@ -817,19 +1000,22 @@ mod tests {
     }
 
     #[test]
-    fn error_boundary() {
-        let e = build_str(&obj(4, &[&[0, 1, 2, 3]])).unwrap_err();
-        match e {
-            TopologyError::BoundaryEdges { count, first } => {
-                assert_eq!(count, 4);
-                assert_eq!(first, vec![(0, 1), (1, 2), (2, 3), (3, 0)]);
-            }
-            other => panic!("{other:?}"),
-        }
+    fn boundaries_are_accepted() {
+        // a lone quad: 4 boundary edges, 4 one-face corners (edge-and-corner)
+        let t = build_str(&obj(4, &[&[0, 1, 2, 3]])).unwrap();
+        assert_eq!(t.boundary_halfedges, vec![0, 1, 2, 3]);
+        assert!(t.twin.iter().all(|&h| h == NONE));
+        assert_eq!(t.valence, vec![2; 4]);
+        assert_eq!(t.vertex_rule, vec![VertexRule::Corner; 4]);
+        assert_eq!(t.classes, vec![FaceClass::Ordinary]);
+        assert_eq!(t.corner_valence, vec![4; 4]);
+        // vertex 0: [p, q_0, d_0, q_1] = [0, 1, 2, 3], writes positions 0 and 1
+        assert_eq!(t.ring(0), &[0, 1, 2, 3]);
+        assert_eq!(t.sector(0), [1, 1, 2, 0, 0]);
     }
 
     #[test]
-    fn boundary_meshes_are_rejected() {
+    fn open_meshes_build() {
         let cases = [
             ("catmark_tent", 12),
             ("catmark_single_crease", 48),
@@ -841,14 +1027,9 @@ mod tests {
             ("catmark_pawn", 24),
         ];
         for (name, n) in cases {
-            let mesh = load(name);
-            match build(&mesh) {
-                Err(TopologyError::BoundaryEdges { count, first }) => {
-                    assert_eq!(count, n, "{name}");
-                    assert_eq!(first.len(), n.min(8), "{name}");
-                }
-                other => panic!("{name}: {other:?}"),
-            }
+            let t = build(&load(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(t.num_boundary_edges(), n, "{name}");
+            assert_eq!(t.twin.iter().filter(|&&h| h == NONE).count(), n, "{name}");
         }
     }
 

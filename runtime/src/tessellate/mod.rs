@@ -151,6 +151,8 @@ impl Session {
 
     /// A session around a wgpu device the caller already has.
     #[cfg(feature = "gpu")]
+    // the update fills `vulkan` when that feature is on
+    #[allow(clippy::needless_update)]
     pub fn with_gpu(gpu: crate::gpu::wgpu::Gpu) -> Self {
         Session {
             gpu: Some(gpu),

@@ -190,7 +190,10 @@ impl<'a> Request<'a> {
                 .iter()
                 .map(|p| Vec3::from_array(*p))
                 .collect();
-            Domain::Quads { topo, positions }
+            Domain::Quads {
+                topo: Box::new(topo),
+                positions,
+            }
         };
         if self.displacement.is_some() {
             texcoords_everywhere(mesh)?;
@@ -273,7 +276,8 @@ fn texcoords_everywhere(mesh: &Mesh) -> Result<(), Error> {
 #[derive(Debug)]
 pub(crate) enum Domain {
     Quads {
-        topo: Topology,
+        /// Boxed: the topology's arrays make this variant much larger than the other.
+        topo: Box<Topology>,
         positions: Vec<Vec3>,
     },
     Triangles(TriMesh),
@@ -282,7 +286,7 @@ pub(crate) enum Domain {
 impl Domain {
     pub(crate) fn edges(&self) -> AdaptiveMesh<'_> {
         match self {
-            Domain::Quads { topo, .. } => topo.into(),
+            Domain::Quads { topo, .. } => topo.as_ref().into(),
             Domain::Triangles(t) => t.into(),
         }
     }
