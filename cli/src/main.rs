@@ -693,6 +693,7 @@ fn runtime_backend(backend: Backend) -> Result<tessellate::Backend, String> {
 
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
+    warn_tags(&mesh);
     let tags = match &args.tags {
         Some(path) => Some(load_tags(path, &mesh)?),
         None => None,
@@ -776,6 +777,29 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         "weld: {} vertices, {} edges, {} triangles, euler {} (input mesh {})",
         r.vertices, r.edges, r.triangles, r.euler, input_euler
     );
+    // An open mesh keeps N open sample edges per base boundary edge: those
+    // are the true boundary, anything beyond them is a crack.
+    let boundary = match (
+        &out,
+        Topology::build(&mesh, &tessgen_runtime::cpu::topology_options()),
+    ) {
+        (TessOutput::Grid(t), Ok(topo)) => {
+            t.level as usize * tessgen_runtime::weld::open_base_edges(&topo)
+        }
+        _ => 0,
+    };
+    if boundary > 0
+        && r.overused_edges == 0
+        && r.degenerate_triangles == 0
+        && r.cracks(boundary) == 0
+    {
+        println!(
+            "watertight: {} open edges, all on the mesh boundary ({} base edges × level {level}), no cracks",
+            r.open_edges,
+            boundary / level as usize
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
     if r.is_closed_manifold() {
         println!("watertight: closed 2-manifold");
         if r.euler != input_euler {
@@ -784,10 +808,27 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         Ok(ExitCode::SUCCESS)
     } else {
         println!(
-            "NOT watertight: {} open edges, {} edges used by more than two triangles, {} degenerate triangles",
-            r.open_edges, r.overused_edges, r.degenerate_triangles
+            "NOT watertight: {} open edges ({} cracks beyond the {boundary} of the mesh boundary), {} edges used by more than two triangles, {} degenerate triangles",
+            r.open_edges, r.cracks(boundary), r.overused_edges, r.degenerate_triangles
         );
         Ok(ExitCode::FAILURE)
+    }
+}
+
+/// Prints every OpenSubdiv tag the tessellation does not apply as written
+/// (semi-sharp creases approximated, unknown tags ignored): never silently.
+fn warn_tags(mesh: &Mesh) {
+    const SHOWN: usize = 4;
+    if let Ok((_, warnings)) = tessgen_runtime::mesh::features::Features::from_mesh(mesh) {
+        for w in warnings.iter().take(SHOWN) {
+            eprintln!("tessgen: warning: {w}");
+        }
+        if warnings.len() > SHOWN {
+            eprintln!(
+                "tessgen: warning: … and {} more tag warnings (all listed by `tessgen inspect`)",
+                warnings.len() - SHOWN
+            );
+        }
     }
 }
 

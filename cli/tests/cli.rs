@@ -203,7 +203,9 @@ fn table_writes_both_files() {
     let width = json["width"].as_u64().unwrap();
     assert_eq!(height * width * 4, bytes);
     assert_eq!(json["max_valence"], 32);
-    assert_eq!(width, 65);
+    // 65 ring slots, then the sector region (2·16 + 2 partial-ring slots).
+    assert_eq!(width, 99);
+    assert_eq!(json["sector_column"], 65);
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 2);
 
     let o = tessgen([
@@ -216,7 +218,8 @@ fn table_writes_both_files() {
     assert_ok(&o);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("stencils.json")).unwrap()).unwrap();
-    assert_eq!(json["width"], 11);
+    // 11 ring slots + sectors of up to 5 / 2 = 2 faces (6 slots).
+    assert_eq!(json["width"], 17);
     assert_exit(
         &tessgen([
             "table",
@@ -630,10 +633,19 @@ fn tessellate_errors() {
     // Not a backend: clap rejects it.
     assert_ne!(o.status.code(), Some(0));
 
-    // Open mesh: topology error, exit 1.
+    // An open mesh tessellates (its boundary stays open); a bad tag is an
+    // error naming its line, and nothing is written.
     let o = run(&mesh("catmark_tent.obj"), "pccm", "2");
+    assert_ok(&o);
+    std::fs::remove_file(&out).unwrap();
+    let bad = tmp.path().join("bad_tag.obj");
+    let text =
+        std::fs::read_to_string(mesh("catmark_cube.obj")).unwrap() + "t crease 2/1/0 0 99 10\n";
+    std::fs::write(&bad, &text).unwrap();
+    let line = text.lines().count();
+    let o = run(&bad, "pccm", "2");
     assert_exit(&o, 1);
-    assert!(stderr(&o).contains("not closed"), "{}", all(&o));
+    assert!(stderr(&o).contains(&format!("line {line}")), "{}", all(&o));
     assert!(!out.exists());
 
     // Unwritable output.

@@ -36,6 +36,30 @@ impl WeldReport {
     }
 }
 
+impl WeldReport {
+    /// Open sample edges beyond `expected` (the true boundary's, from
+    /// [`open_base_edges`] × level): cracks. Open edges of a boundary are
+    /// always there, so any surplus is a crack, never a compensation.
+    pub fn cracks(&self, expected: usize) -> usize {
+        self.open_edges.saturating_sub(expected)
+    }
+}
+
+/// Base edges that stay open in a watertight tessellation of `topo`: the
+/// mesh boundary's edges of faces that emit a grid, and edges between such a
+/// face and one that emits nothing (a hole; docs/boundaries.md §5). At a
+/// uniform level `N` each contributes exactly `N` open sample edges.
+pub fn open_base_edges(topo: &crate::mesh::topology::Topology) -> usize {
+    let emits = |f: u32| !topo.no_limit.get(f as usize).copied().unwrap_or(false);
+    (0..topo.twin.len())
+        .filter(|&h| {
+            let f = topo.face[h];
+            let t = topo.twin[h];
+            emits(f) && (t == crate::mesh::topology::NONE || !emits(topo.face[t as usize]))
+        })
+        .count()
+}
+
 fn key(p: Vec3) -> [u32; 3] {
     [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }

@@ -257,9 +257,37 @@ pub struct Tessellation {
     pub sides: u32,
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
+    /// Base face of each grid when some faces emit nothing (holes, faces
+    /// without a limit surface: docs/boundaries.md §5); empty means grid `f`
+    /// is face `f`.
+    pub face_ids: Vec<u32>,
 }
 
 impl Tessellation {
+    /// Base face of grid `g` (docs/boundaries.md §5).
+    pub fn face_of(&self, g: usize) -> usize {
+        self.face_ids.get(g).map_or(g, |&f| f as usize)
+    }
+
+    /// Keeps only the grids of faces with `keep[face]`, recording their
+    /// base faces in [`Tessellation::face_ids`].
+    pub fn retain_faces(&mut self, keep: &[bool]) {
+        let per = self.grid_len();
+        let (mut ids, mut pos, mut nrm) = (Vec::new(), Vec::new(), Vec::new());
+        for g in 0..self.faces {
+            let f = self.face_of(g);
+            if keep.get(f).copied().unwrap_or(true) {
+                ids.push(f as u32);
+                pos.extend_from_slice(&self.positions[g * per..(g + 1) * per]);
+                nrm.extend_from_slice(&self.normals[g * per..(g + 1) * per]);
+            }
+        }
+        self.faces = ids.len();
+        self.face_ids = ids;
+        self.positions = pos;
+        self.normals = nrm;
+    }
+
     /// Samples per face.
     pub fn grid_len(&self) -> usize {
         if self.sides == 3 {
@@ -417,6 +445,7 @@ fn evaluate_grid(
         sides: kernels.sides,
         positions: samples.iter().map(|s| s.position).collect(),
         normals: samples.iter().map(|s| s.normal).collect(),
+        face_ids: Vec::new(),
     })
 }
 

@@ -60,6 +60,7 @@ impl GridReadback {
             sides: self.sides,
             positions: self.positions,
             normals: self.normals,
+            face_ids: Vec::new(),
         }
     }
 }

@@ -185,7 +185,18 @@ impl Session {
     /// validation.
     pub fn tessellate(&mut self, mesh: &Mesh, request: &Request<'_>) -> Result<Output, Error> {
         let v = request.validate(mesh)?;
-        backend::run(&v, self)
+        let out = backend::run(&v, self)?;
+        // Faces without a limit surface (holes; boundary rule 0) are
+        // evaluated like any other (their vertices shape the neighbours)
+        // but emit no grid (docs/boundaries.md §5).
+        Ok(match (out, v.no_limit()) {
+            (Output::Grid(mut t), Some(no_limit)) => {
+                let keep: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
+                t.retain_faces(&keep);
+                Output::Grid(t)
+            }
+            (out, _) => out,
+        })
     }
 }
 

@@ -185,6 +185,11 @@ impl<'a> Request<'a> {
             let topo = Topology::build(mesh, &cpu::topology_options()).map_err(TessError::from)?;
             // `regular` on an extraordinary face fails here, not on a device.
             cpu::face_classes(&topo, kernels)?;
+            if let (Sampling::Adaptive(_), Some(face)) =
+                (&self.sampling, topo.no_limit.iter().position(|&n| n))
+            {
+                return Err(Error::HolesAdaptive { face });
+            }
             let positions = mesh
                 .positions
                 .iter()
@@ -311,6 +316,15 @@ pub struct Validated<'r> {
 }
 
 impl Validated<'_> {
+    /// Per face, whether it has no limit surface and emits nothing (quad
+    /// schemes; `None` when every face emits).
+    pub(crate) fn no_limit(&self) -> Option<&[bool]> {
+        match &self.domain {
+            Domain::Quads { topo, .. } if topo.no_limit.iter().any(|&n| n) => Some(&topo.no_limit),
+            _ => None,
+        }
+    }
+
     /// The scheme's generated kernels.
     pub fn kernels(&self) -> &'static SchemeKernels {
         self.kernels
@@ -338,6 +352,10 @@ pub enum Error {
     TagsUnused { scheme: String },
     #[error("displacement takes no crease tags (--displace does not take --tags)")]
     TagsWithDisplacement,
+    /// Holes (or boundary rule 0) with an output that is not one grid per
+    /// face: the adaptive and captured paths cannot leave faces out yet.
+    #[error("face {face} has no limit surface (a `t hole` face, or `interpolateboundary 0`): only uniform tessellation leaves such faces out so far, not adaptive tessellation")]
+    HolesAdaptive { face: usize },
     #[error(
         "--backend {backend} snaps to power-of-two levels: --partitioning integer only \
          (got {partitioning:?}; fractional partitioning needs the hardware tessellator, glsl or hlsl)"

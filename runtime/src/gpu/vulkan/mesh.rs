@@ -203,8 +203,9 @@ impl<'v> VkMesh<'v> {
     /// One set with every ABI binding, visible to every stage.
     fn descriptors(&mut self) -> Result<(), VkError> {
         let d = &self.vk.device;
-        let bindings: Vec<vk::DescriptorSetLayoutBinding> = (0..LAYOUT_BINDINGS)
-            .map(|b| {
+        let bindings: Vec<vk::DescriptorSetLayoutBinding> = LAYOUT_BINDINGS
+            .iter()
+            .map(|&b| {
                 vk::DescriptorSetLayoutBinding::default()
                     .binding(b)
                     .descriptor_type(self.descriptor_type(b))
@@ -222,7 +223,7 @@ impl<'v> VkMesh<'v> {
         let sizes = [
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::STORAGE_BUFFER,
-                descriptor_count: LAYOUT_BINDINGS,
+                descriptor_count: LAYOUT_BINDINGS.len() as u32,
             },
             vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::UNIFORM_BUFFER,
@@ -259,7 +260,7 @@ impl<'v> VkMesh<'v> {
             )
         }
         .map_err(call("vkCreatePipelineLayout"))?;
-        for b in 0..LAYOUT_BINDINGS {
+        for &b in LAYOUT_BINDINGS {
             if b == binding::SAMPLES {
                 continue;
             }

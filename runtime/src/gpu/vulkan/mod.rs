@@ -83,8 +83,22 @@ pub const DISPLACE: &str = crate::abi::define::DISPLACE;
 
 /// Descriptor bindings the harness lays out: every ABI binding up to the
 /// displacement map, the harness's triangle capture (`binding::TRIANGLES`)
-/// included.
-const LAYOUT_BINDINGS: u32 = binding::DISPLACE_MAP + 1;
+/// included, then the sector records of crease and corner vertices and the
+/// per-corner constant valences (the WGSL-only bucket bindings 25–30 are
+/// left out of the set).
+const LAYOUT_BINDINGS: &[u32] = &{
+    const LOW: usize = binding::DISPLACE_MAP as usize + 1;
+    let mut all = [0u32; LOW + 3];
+    let mut b = 0;
+    while b < LOW {
+        all[b] = b as u32;
+        b += 1;
+    }
+    all[LOW] = binding::VERTEX_SECTORS;
+    all[LOW + 1] = binding::SECTORS;
+    all[LOW + 2] = binding::CORNER_VALENCE;
+    all
+};
 
 /// A 2-D `R32_SFLOAT` image with its memory and view (the stencil table,
 /// the displacement map).
