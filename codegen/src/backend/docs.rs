@@ -260,8 +260,9 @@ fn binding_list(b: &[(u32, Access)]) -> String {
 /// so a host can reproduce its bits (tests/tests/foreign_host.rs does,
 /// from this text alone).
 const INPUTS: &str = "## Building the inputs (quad schemes)\n\n\
-The control mesh must be closed, manifold and consistently oriented (every edge shared by exactly two \
-faces that run it in opposite directions), every face a quad, every used vertex of valence 3..=MAX_VALENCE. \
+The control mesh must be manifold and consistently oriented (every edge shared by at most two \
+faces, which run it in opposite directions), every face a quad, every used interior vertex of valence \
+3..=MAX_VALENCE. The rules below are for a closed mesh without tags; open meshes and tags follow after them. \
 Vertices are numbered in file order from 0; a vertex no face uses has valence 0 (it keeps its number).\n\n\
 * **Half-edges.** Faces are numbered in file order; corner `i` of face `f` (corners `v0..v3` in file order, \
 counter-clockwise seen from outside) is half-edge `h = 4f + i`, running `v_i → v_{i+1 mod 4}`. \
@@ -287,11 +288,43 @@ occur twice in one ring, so searching the ring for `v_{i+1}` can pick the wrong 
 `first = ` the number of patches of the classes before it, and its control points at `cp_base = Σ` over \
 those classes of `count · CONTROL_POINTS[class]` (points; 3 f32 each in `control_points`, binding 8).\n\
 * **Positions** (binding 0): 3 f32 per vertex, in vertex order.\n\
+* **Smooth meshes: no sectors.** For a closed mesh without tags, bind `vertex_sectors` (binding 31) = one 0 per \
+vertex plus a final 0 (every range empty), any 4-byte buffer at `sectors` (32), and `corner_valence` (33) = \
+`valence[v_i]` at `4f + i`.\n\
 * **Displacement off**: `eval_main` and `eval_vs` still use bindings 21–24. Bind `displace_info` = \
 `[0, 1, 1, 0]` (scale 0: the sample is `eval`'s, bit for bit), any 4-byte buffers at 21 and 22, and a 1×1 \
 `R32Float` texture at 24.\n\n\
 Triangle schemes (`facet tri`): `corner_vertex[3f + i]`, positions, unit normals (binding 13), \
-one class; no vertex stage, no rings.\n\n";
+one class; no vertex stage, no rings.\n\n\
+### Open meshes, creases and corners\n\n\
+Boundaries and OpenSubdiv `t crease|corner|hole|interpolateboundary` tags (docs/boundaries.md in the \
+tessgen repository has the full contract; the runtime's `mesh::topology` implements it):\n\n\
+* An edge is **sharp** if it is a boundary edge (one face) or has crease sharpness > 0. A vertex is a \
+**corner** (vertex sharpness > 0, three or more sharp edges, or a one-face boundary vertex under \
+`interpolateboundary 1`, the default), a **crease** (two sharp edges), a **dart** (one) or **smooth** (none). \
+Smooth vertices and darts are built exactly as above.\n\
+* **Ring positions.** Every vertex has one position per incident edge: `valence[p]` = faces for an interior \
+vertex, faces + 1 for a boundary vertex (its trailing boundary edge has no outgoing half-edge). \
+`corner_sector[4f + i]` is the position of the face's edge `v_i → v_{i+1}`.\n\
+* **Canonical start of a crease or corner vertex**: a boundary vertex starts at its leading boundary edge (the \
+one whose half-edge `p → q_0` exists); an interior one at the sharp edge whose outgoing half-edge has the \
+smallest id. Positions then run counter-clockwise.\n\
+* **Sectors.** Sharp edges cut the fan into sectors; a sector of `m` faces covers positions `j0 … j0 + m` and \
+its **partial ring** `[p, q_0, d_0, q_1, …, d_{m−1}, q_m]` (2m + 2 vertex indices, `q_i` the edge neighbour at \
+position `j0 + i`, `d_i` the diagonal of face `j0 + i`) is stored in `ring`, the vertex's sectors one after the \
+other (a corner with no sharp edge has one sector, the whole fan, with `q_m = q_0`). `vertex_sectors[p]` \
+(binding 31, one per vertex plus a final total) is its first sector; `sectors` (binding 32) holds \
+`SECTOR_WORDS` u32 per sector: kind (0 crease, 1 corner), `m`, positions written (`m`, or `m + 1` for the last \
+sector of a boundary vertex), `j0`, and the index in `ring` of its partial ring. A sector may have at most \
+`SECTOR_MAX_FACES` = MAX_VALENCE / 2 faces.\n\
+* **Vertex-stage outputs** of a crease or corner vertex: `ROWS_PER_N · valence[p] + ROWS_FIXED` points, as for \
+any vertex.\n\
+* **`corner_valence[4f + i]`** (binding 33): the vertex valence at smooth and dart corners, the sector's \
+virtual valence (4 if `m = 1`, else `2m`) at crease and corner corners.\n\
+* **Classes.** A face is `ordinary` when each corner is regular: smooth of valence 4 with no sharp edge, a \
+crease corner in a sector of 2 faces, or a corner in a sector of 1 face.\n\
+* **Holes** (and, with `interpolateboundary 0`, faces touching the boundary) have no limit surface: build \
+their patches like any other (their vertices take part in every ring) and do not draw or emit them.\n\n";
 
 /// The WGSL entry points: bindings per entry, workgroup sizes, invocation
 /// mapping, explicit layouts and split dispatches.
