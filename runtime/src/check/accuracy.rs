@@ -111,8 +111,17 @@ pub struct Accuracy {
     pub geometric_normal_jump_deg: f64,
     /// Tessellation level the geometric normal jump was estimated at.
     pub geometric_normal_jump_level: u32,
-    /// Open edges after exact-bit welding (0 = watertight).
+    /// Open edges after exact-bit welding (0 = watertight for a closed mesh;
+    /// an open mesh keeps `N` per base boundary edge).
     pub open_edges: usize,
+    /// Open edges beyond the true boundary's (`N` × [`weld::open_base_edges`]):
+    /// cracks, 0 = watertight.
+    pub cracks: usize,
+    /// Largest distance (% of quad size) on *regular* faces (every corner
+    /// regular: smooth valence 4, crease sector of 2 faces, corner sector of
+    /// 1; none touching a semi-sharp edge), where every quad scheme is the
+    /// exact limit: f32 rounding only. `None` without reference or such faces.
+    pub max_regular_distance_pct: Option<f64>,
 }
 
 fn angle(a: Vec3, b: Vec3) -> f64 {
@@ -371,14 +380,39 @@ pub fn compare(
         max_boundary_normal_spread_deg: boundary_normal_spread(&topo, &t),
         geometric_normal_jump_deg,
         geometric_normal_jump_level: GEOMETRIC_JUMP_LEVEL,
-        open_edges: weld::weld(&t).open_edges,
+        open_edges: 0,
+        cracks: 0,
+        max_regular_distance_pct: None,
+    };
+    let w = weld::weld(&t);
+    acc.open_edges = w.open_edges;
+    acc.cracks = w.cracks(level as usize * weld::open_base_edges(&topo));
+    // Faces whose limit is one bicubic patch: regular corners, no
+    // semi-sharp edge at any corner (docs/boundaries.md §2).
+    let mut semi = vec![false; topo.num_vertices()];
+    for (&(a, b), &s) in &topo.features.edge_sharpness {
+        if s > 0.0 && s < crate::mesh::features::SHARPNESS_INFINITE {
+            for v in [a, b] {
+                if let Some(x) = semi.get_mut(v as usize) {
+                    *x = true;
+                }
+            }
+        }
+    }
+    let regular = |f: usize| {
+        topo.classes[f] == crate::mesh::topology::FaceClass::Ordinary
+            && mesh.face(f).iter().all(|&v| !semi[v as usize])
     };
     if let Some(lim) = limit {
         let g = cpu::evaluate(&patches, (lim.n - 1) as u32)?;
         let per = lim.n * lim.n;
         let (mut dmax, mut dsum, mut amax, mut asum, mut count) =
             (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
+        let mut rmax: Option<f64> = None;
         for f in 0..lim.faces.min(g.faces) {
+            if topo.no_limit[f] {
+                continue;
+            }
             let face = mesh.face(f);
             let mut size = 0.0f64;
             for k in 0..face.len() {
@@ -391,6 +425,9 @@ pub fn compare(
                 let [p, n] = lim.samples[f * per + s];
                 let d = (g.positions[f * per + s] - p).as_dvec3().length() / size * 100.0;
                 let a = angle(g.normals[f * per + s], n);
+                if regular(f) {
+                    rmax = Some(rmax.unwrap_or(0.0).max(d));
+                }
                 dmax = dmax.max(d);
                 amax = amax.max(a);
                 dsum += d * d;
@@ -403,6 +440,7 @@ pub fn compare(
         acc.rms_distance_pct = Some((dsum / c).sqrt());
         acc.max_normal_deg = Some(amax);
         acc.rms_normal_deg = Some((asum / c).sqrt());
+        acc.max_regular_distance_pct = rmax;
     }
     Ok(acc)
 }
@@ -413,20 +451,22 @@ pub fn compare(
 pub fn markdown(mesh: &str, rows: &[Accuracy]) -> String {
     let opt = |x: Option<f64>| x.map(|v| format!("{v:.3e}")).unwrap_or_else(|| "–".into());
     let mut s = String::from(
-        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | max boundary normal spread ° | max geometric normal jump ° | open edges |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| mesh | scheme | N | max dist % | rms dist % | max normal ° | rms normal ° | regular faces max dist % | max boundary normal spread ° | max geometric normal jump ° | open edges | cracks |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         s.push_str(&format!(
-            "| {mesh} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {} |\n",
+            "| {mesh} | {} | {} | {} | {} | {} | {} | {} | {:.3e} | {:.3e} | {} | {} |\n",
             r.scheme,
             r.level,
             opt(r.max_distance_pct),
             opt(r.rms_distance_pct),
             opt(r.max_normal_deg),
             opt(r.rms_normal_deg),
+            opt(r.max_regular_distance_pct),
             r.max_boundary_normal_spread_deg,
             r.geometric_normal_jump_deg,
-            r.open_edges
+            r.open_edges,
+            r.cracks
         ));
     }
     s
