@@ -1,12 +1,11 @@
 //! The wgpu device: adapter, device and queue ([`Gpu`]), the limits this
 //! crate plans its dispatches with ([`Limits`]), the errors of the wgpu path
 //! ([`GpuError`]), the check of one buffer or texture against those limits,
-//! and each WGSL entry's bindings as naga reads them from the module.
+//! and each WGSL entry's bindings as the ABI declares them.
 
 use crate::cpu;
 use crate::gpu::upload::UploadError;
 use std::collections::HashMap;
-use wgpu::naga;
 
 use super::CHUNK;
 
@@ -150,30 +149,27 @@ impl Gpu {
     }
 }
 
-/// Which bindings each entry point of a WGSL module uses (naga reflection),
-/// so bind groups match the pipelines' automatic layouts exactly.
-pub(super) fn entry_bindings(source: &str) -> Result<HashMap<String, Vec<u32>>, GpuError> {
-    let module = naga::front::wgsl::parse_str(source)
-        .map_err(|e| GpuError::Shader(e.emit_to_string(source)))?;
-    let info = naga::valid::Validator::new(
-        naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::all(),
-    )
-    .validate(&module)
-    .map_err(|e| GpuError::Shader(e.emit_to_string(source)))?;
+/// Which bindings each entry point of `scheme`'s WGSL module uses, from the
+/// ABI declared once in codegen (`abi::WGSL_ENTRIES`, `patch_main`'s per
+/// scheme in `abi::PATCH_MAIN`), so bind groups match the pipelines'
+/// automatic layouts exactly. No shader reflection at run time: the test
+/// `validate_wgsl::abi_entry_bindings_match_naga` proves the lists equal what
+/// naga reads from every emitted module.
+pub(super) fn entry_bindings(scheme: &str) -> Result<HashMap<String, Vec<u32>>, GpuError> {
     let mut out = HashMap::new();
-    for (i, ep) in module.entry_points.iter().enumerate() {
-        let fi = info.get_entry_point(i);
-        let mut used = Vec::new();
-        for (h, var) in module.global_variables.iter() {
-            if !fi[h].is_empty() {
-                if let Some(b) = &var.binding {
-                    used.push(b.binding);
-                }
-            }
-        }
+    for (name, _, bindings) in crate::abi::WGSL_ENTRIES {
+        let list = if *name == "patch_main" {
+            crate::abi::PATCH_MAIN
+                .iter()
+                .find(|(s, _)| *s == scheme)
+                .map(|(_, b)| *b)
+                .ok_or_else(|| GpuError::NoShader(scheme.into()))?
+        } else {
+            bindings
+        };
+        let mut used: Vec<u32> = list.iter().map(|(b, _)| *b).collect();
         used.sort_unstable();
-        out.insert(ep.name.clone(), used);
+        out.insert(name.to_string(), used);
     }
     Ok(out)
 }

@@ -149,7 +149,7 @@ impl<'g> GpuMesh<'g> {
         }
         let source =
             kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
-        let bindings = entry_bindings(source)?;
+        let bindings = entry_bindings(scheme.name)?;
         let dev = &gpu.device;
         let mut buffers = HashMap::new();
         for b in upload.buffers {
