@@ -625,8 +625,8 @@ void main() {
 #else
     Sample result = eval(params.class_, 0u, iu, iv, level);
 #endif
-    te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+    te_position = result.position;
     te_normal = result.normal;
 #ifdef TESSGEN_CAPTURE
 #ifdef TESSGEN_ADAPTIVE

@@ -460,8 +460,8 @@ void main() {
 #else
     Sample result = eval_domain(params.class_, 0u, gl_TessCoord.x, gl_TessCoord.y, gl_TessCoord.z, level);
 #endif
-    te_position = result.position;
     gl_Position = (params.view_proj * vec4(result.position, 1.0));
+    te_position = result.position;
     te_normal = result.normal;
 #ifdef TESSGEN_CAPTURE
     // Capture: the domain point and the patch of every vertex, for a harness that

@@ -164,6 +164,9 @@ pub fn builtin<D: Dialect>(d: &D, b: Builtin, a: &[String]) -> String {
         Builtin::Normalize => call("normalize"),
         Builtin::Fwidth => call("fwidth"),
         Builtin::CountTrailingZeros => call("countTrailingZeros"),
+        // Each shader dialect spells the matrix product (an override);
+        // nothing else reaches a stage output.
+        Builtin::Project => unreachable!("Builtin::Project is spelled by each shader dialect"),
     }
 }
 

@@ -452,7 +452,7 @@ impl Dialect for Cx<'_, '_> {
             Builtin::Abs => format!("{}.abs()", a[0]),
             Builtin::Min => format!("{}.min({})", a[0], a[1]),
             // Only in the GPU entry points (`Entries::instanced`).
-            Builtin::Fwidth | Builtin::Vec2 => {
+            Builtin::Fwidth | Builtin::Vec2 | Builtin::Project => {
                 unreachable!("a shader builtin outside Entries::instanced")
             }
         })

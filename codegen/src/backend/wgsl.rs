@@ -546,12 +546,8 @@ impl<'a> Writer<'a> {
         for (o, x) in &e.outputs {
             let v = self.expr(module, f, &written, x);
             match o {
-                StageOut::Position => {
-                    self.line(&format!(
-                        "out.clip_position = (params.view_proj * vec4<f32>({v}, 1.0f));"
-                    ));
-                    self.line(&format!("out.world_position = {v};"));
-                }
+                StageOut::Clip => self.line(&format!("out.clip_position = {v};")),
+                StageOut::Position => self.line(&format!("out.world_position = {v};")),
                 StageOut::Color => self.line(&format!("return vec4<f32>({v}, 1.0f);")),
                 o => self.line(&format!("out.{} = {v};", varying(*o))),
             }
@@ -586,6 +582,9 @@ struct Cx<'c, 'a> {
 }
 
 impl Dialect for Cx<'_, '_> {
+    fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
+        (b == Builtin::Project).then(|| format!("(params.view_proj * vec4<f32>({}, 1.0f))", a[0]))
+    }
     fn plan(&self) -> &Plan {
         self.w.plan
     }

@@ -472,6 +472,10 @@ fn evaluation(entries: &Entries) -> Function {
     let tc = |k: u8| stage(StageIn::TessCoord(k));
     let outputs = |result: LocalId| {
         vec![
+            Stmt::Output(
+                StageOut::Clip,
+                Expr::Call(Builtin::Project, vec![Expr::Field(Box::new(l(result)), 0)]),
+            ),
             Stmt::Output(StageOut::Position, Expr::Field(Box::new(l(result)), 0)),
             Stmt::Output(StageOut::Normal, Expr::Field(Box::new(l(result)), 1)),
         ]

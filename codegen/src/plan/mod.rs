@@ -272,6 +272,10 @@ pub enum Builtin {
     /// A `vec2` from two f32: only as a stage output ([`StageOut::Uv`]),
     /// never a local's type.
     Vec2,
+    /// The clip-space position of a world point, the uniform block's
+    /// `view_proj · (p, 1)` (a matrix–vector product, the language's own
+    /// operator): only as the value of [`StageOut::Clip`], never a local.
+    Project,
 }
 
 /// A value only the hardware tessellation stages have: [`Expr::Stage`] in
@@ -322,9 +326,11 @@ pub enum StageOut {
     /// Control stage: `f32` inside factor subdividing along patch axis `d`
     /// (quads: 0 = u, 1 = v; triangles: the one inside factor, `d` = 0).
     InsideFactor(u8),
-    /// Evaluation stage: the `vec3` world position; the printer also writes
-    /// the clip position `view_proj · (p, 1)` (the matrix is not a Plan type).
+    /// Evaluation stage: the `vec3` world position.
     Position,
+    /// Evaluation stage: the clip-space position ([`Builtin::Project`] of
+    /// the world position).
+    Clip,
     /// Evaluation stage: the `vec3` normal.
     Normal,
     /// Evaluation stage, capture builds that record triangles: the `vec3`

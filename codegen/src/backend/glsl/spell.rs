@@ -44,7 +44,11 @@ impl Dialect for Cx<'_, '_> {
     }
     fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
         // findLSB(0) is -1: clamp to WGSL's 32.
-        (b == Builtin::CountTrailingZeros).then(|| format!("min(uint(findLSB({})), 32u)", a[0]))
+        match b {
+            Builtin::CountTrailingZeros => Some(format!("min(uint(findLSB({})), 32u)", a[0])),
+            Builtin::Project => Some(format!("({} * vec4({}, 1.0))", param("view_proj"), a[0])),
+            _ => None,
+        }
     }
     fn decl(&self, id: LocalId, _mutable: bool) -> String {
         self.w.decl(self.f, id)
@@ -97,13 +101,8 @@ impl Dialect for Cx<'_, '_> {
                     StageOut::InsideFactor(_) => {
                         out.line(&format!("gl_TessLevelInner[{slot}] = {v};"));
                     }
-                    StageOut::Position => {
-                        out.line(&format!("te_position = {v};"));
-                        out.line(&format!(
-                            "gl_Position = ({} * vec4({v}, 1.0));",
-                            param("view_proj")
-                        ));
-                    }
+                    StageOut::Position => out.line(&format!("te_position = {v};")),
+                    StageOut::Clip => out.line(&format!("gl_Position = {v};")),
                     StageOut::Normal => out.line(&format!("te_normal = {v};")),
                     StageOut::Domain => out.line(&format!("te_domain = {v};")),
                     StageOut::Patch => out.line(&format!("te_patch = {v};")),

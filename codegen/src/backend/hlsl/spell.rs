@@ -44,7 +44,11 @@ impl Dialect for Hx<'_, '_> {
     }
     fn builtin_override(&self, b: Builtin, a: &[String]) -> Option<String> {
         // firstbitlow(0) is 0xffffffff: clamp to WGSL's 32.
-        (b == Builtin::CountTrailingZeros).then(|| format!("min(firstbitlow({}), 32u)", a[0]))
+        match b {
+            Builtin::CountTrailingZeros => Some(format!("min(firstbitlow({}), 32u)", a[0])),
+            Builtin::Project => Some(format!("mul(params.view_proj, float4({}, 1.0f))", a[0])),
+            _ => None,
+        }
     }
     /// Functions that reach the control points take the caller's array.
     fn call(&self, r: FnRef, callee: &Function, args: Vec<String>) -> String {
@@ -136,12 +140,8 @@ impl Dialect for Hx<'_, '_> {
                             out.line(&format!("c.inside[{slot}] = {v};"));
                         }
                     }
-                    StageOut::Position => {
-                        out.line(&format!(
-                            "o.position = mul(params.view_proj, float4({v}, 1.0f));"
-                        ));
-                        out.line(&format!("o.world = {v};"));
-                    }
+                    StageOut::Clip => out.line(&format!("o.position = {v};")),
+                    StageOut::Position => out.line(&format!("o.world = {v};")),
                     StageOut::Normal => out.line(&format!("o.normal = {v};")),
                     StageOut::Domain => out.line(&format!("o.domain = {v};")),
                     StageOut::Patch => out.line(&format!("o.patch_index = {v};")),

@@ -115,11 +115,16 @@ const COMPUTE: EntryKind = EntryKind::Compute {
 };
 
 /// The outputs of an instanced vertex entry from its `result` sample and
-/// integer domain point: position (the printer adds the clip position),
-/// normal, class, `(iu, iv) / level`.
+/// integer domain point: clip position, world position, normal, class,
+/// `(iu, iv) / level`.
 fn vertex_outputs(result: LocalId, iu: LocalId, iv: LocalId) -> Vec<(StageOut, Expr)> {
+    let position = Expr::Field(Box::new(l(result)), 0);
     vec![
-        (StageOut::Position, Expr::Field(Box::new(l(result)), 0)),
+        (
+            StageOut::Clip,
+            Expr::Call(Builtin::Project, vec![position.clone()]),
+        ),
+        (StageOut::Position, position),
         (StageOut::Normal, Expr::Field(Box::new(l(result)), 1)),
         (StageOut::PatchClass, param("class")),
         (
