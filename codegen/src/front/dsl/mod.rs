@@ -15,6 +15,10 @@
 //!         vector NAME[j] = EXPR;         // a tangent: weights sum to 0
 //!         let NAME = EXPR;               // named sub-expression, not exported
 //!     }
+//!     sector KIND {                      // KIND = crease | corner (docs/boundaries.md §3):
+//!         NAME = EXPR;                   // override a vertex definition in a sector of m faces
+//!         sharp NAME[j] = EXPR;          // … only at its sharp edges (j = 0, j = m)
+//!     }
 //!     patch CLASS: FORM {                // CLASS = ordinary | extraordinary
 //!         NAME[i] = EXPR;                // per-corner local (i mod 4)
 //!         NAME = EXPR;                   // patch local
