@@ -931,3 +931,66 @@ fn crease_tag_inputs_are_typed() {
     let text = scheme("        w = p * side(0);", BICUBIC_OK);
     expect_err(&text, "side(0)", &["`side`"]);
 }
+
+/// `regular.tess` with `sector` blocks `sectors` after its vertex stage.
+fn with_sectors(sectors: &str) -> String {
+    format!(
+        "scheme broken {{\n    facet quad;\n    vertex {{\n{VERTEX_OK}\n    }}\n{sectors}\n{BICUBIC_OK}\n}}\n"
+    )
+}
+
+#[test]
+fn sector_blocks_compile_and_override() {
+    let text = with_sectors(
+        "    sector crease {\n        v = (p[0] + 4 * p + p[2 * m]) / 6;\n        sharp e[j] = (2 * p + p[2 * j]) / 3;\n    }",
+    );
+    let s = Scheme::from_source(&text, MAX).unwrap_or_else(|e| panic!("{}", e.message));
+    // v of a crease sector of 3 faces: the crease limit over [p, q0, .., q3].
+    let rows = s.sector_rows(tessgen_codegen::scheme::SectorKind::Crease, 3);
+    let (_, _, v) = rows
+        .iter()
+        .find(|(d, _, _)| s.vertex[*d].name == "v")
+        .expect("v row");
+    let want = [4.0 / 6.0, 1.0 / 6.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0 / 6.0];
+    for (a, b) in v.iter().zip(want) {
+        assert!((a - b).abs() < 1e-15, "{v:?}");
+    }
+}
+
+#[test]
+fn sector_errors_point_at_the_line() {
+    expect_err(
+        &with_sectors("    sector hinge {\n        v = p;\n    }"),
+        "hinge",
+        &["unknown sector kind `hinge`", "crease", "corner"],
+    );
+    expect_err(
+        &with_sectors("    sector crease {\n        w = p;\n    }"),
+        "w = p",
+        &["`w` is not a vertex definition"],
+    );
+    expect_err(
+        &with_sectors("    sector corner {\n        sharp v = p;\n    }"),
+        "v = p",
+        &["`sharp`", "single output"],
+    );
+    // An override may read only definitions declared before the one it
+    // overrides: `f` before `e` (no cycles through the overrides).
+    expect_err(
+        &with_sectors("    sector crease {\n        f[j] = e[j];\n    }"),
+        "e[j];",
+        &["reads `e`", "not defined before `f`"],
+    );
+    // The weight-sum check covers sector rows.
+    expect_err(
+        &with_sectors("    sector crease {\n        v = 2 * p;\n    }"),
+        "v = 2 * p",
+        &["weights sum to 2", "crease sector of 1 faces"],
+    );
+    // `m` only means something in a sector block.
+    expect_err(
+        &scheme("        let g = m;", BICUBIC_OK),
+        "m;",
+        &["undefined name `m`"],
+    );
+}
