@@ -45,19 +45,24 @@ impl WeldReport {
     }
 }
 
-/// Base edges that stay open in a watertight tessellation of `topo`: the
-/// mesh boundary's edges of faces that emit a grid, and edges between such a
-/// face and one that emits nothing (a hole; docs/boundaries.md §5). At a
-/// uniform level `N` each contributes exactly `N` open sample edges.
-pub fn open_base_edges(topo: &crate::mesh::topology::Topology) -> usize {
+/// Base half-edges whose edge stays open in a watertight tessellation of
+/// `topo`: the mesh boundary's half-edges of faces that emit a grid, and
+/// those next to a face that emits nothing (a hole; docs/boundaries.md §5).
+/// At a uniform level `N` each contributes exactly `N` open sample edges.
+pub fn open_base_halfedges(topo: &crate::mesh::topology::Topology) -> Vec<usize> {
     let emits = |f: u32| !topo.no_limit.get(f as usize).copied().unwrap_or(false);
     (0..topo.twin.len())
         .filter(|&h| {
-            let f = topo.face[h];
             let t = topo.twin[h];
-            emits(f) && (t == crate::mesh::topology::NONE || !emits(topo.face[t as usize]))
+            emits(topo.face[h])
+                && (t == crate::mesh::topology::NONE || !emits(topo.face[t as usize]))
         })
-        .count()
+        .collect()
+}
+
+/// The number of [`open_base_halfedges`].
+pub fn open_base_edges(topo: &crate::mesh::topology::Topology) -> usize {
+    open_base_halfedges(topo).len()
 }
 
 fn key(p: Vec3) -> [u32; 3] {

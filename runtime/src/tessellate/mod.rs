@@ -107,6 +107,51 @@ impl Output {
         }
     }
 
+    /// Open sample edges a watertight result keeps on the mesh's true
+    /// boundary (docs/boundaries.md §5): one per segment of every base
+    /// boundary edge of an emitting face and every edge next to a face that
+    /// emits nothing, at that edge's own level. [`crate::weld::WeldReport::cracks`]
+    /// of this count is 0 exactly when nothing else is open. Quad schemes
+    /// (`topo` of the mesh tessellated); 0 for triangle schemes.
+    pub fn boundary_open_edges(&self, topo: &crate::mesh::topology::Topology) -> usize {
+        let open = crate::check::weld::open_base_halfedges(topo);
+        match self {
+            Output::Grid(t) if t.sides == 4 => t.level as usize * open.len(),
+            Output::Instanced(a) if a.sides == 4 => open
+                .iter()
+                .map(|&h| a.edge_levels.get(h).copied().unwrap_or(0) as usize)
+                .sum(),
+            Output::Captured(c) => open
+                .iter()
+                .map(|&h| {
+                    let (f, k) = (
+                        topo.face[h] as usize,
+                        h - topo.face_offsets[topo.face[h] as usize] as usize,
+                    );
+                    c.patches.get(f).map_or(0, |p| {
+                        // Captured vertices on local edge k (v = 0, u = 1, v = 1, u = 0).
+                        let on = |d: &[f32; 3]| match k {
+                            0 => d[1] == 0.0,
+                            1 => d[0] == 1.0,
+                            2 => d[1] == 1.0,
+                            _ => d[0] == 0.0,
+                        };
+                        let mut pts: Vec<[u32; 2]> = p
+                            .domain
+                            .iter()
+                            .filter(|d| on(d))
+                            .map(|d| [d[0].to_bits(), d[1].to_bits()])
+                            .collect();
+                        pts.sort_unstable();
+                        pts.dedup();
+                        pts.len().saturating_sub(1)
+                    })
+                })
+                .sum(),
+            _ => 0,
+        }
+    }
+
     /// `(patches, vertices, triangles)` for a summary line.
     pub fn counts(&self) -> (usize, usize, usize) {
         match self {
