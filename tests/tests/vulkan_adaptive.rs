@@ -43,7 +43,7 @@ fn device() -> Vulkan {
 /// split along each quad's v0–v2 diagonal, with `stpn`'s crease tags when
 /// `tags`.
 enum Built {
-    Quad(Topology, Vec<Vec3>),
+    Quad(Box<Topology>, Vec<Vec3>),
     Tri(TriMesh),
 }
 
@@ -73,7 +73,7 @@ fn case(scheme: &str, name: &str, tags: bool) -> Case {
         let edges = adaptive::edge_ids(&topo).1;
         let faces = topo.corners.len();
         return Case {
-            built: Built::Quad(topo, positions),
+            built: Built::Quad(Box::new(topo), positions),
             patches,
             diag,
             edges,

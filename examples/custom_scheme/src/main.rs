@@ -55,6 +55,11 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         vertex_out: &[],
         corner_vertex: &corner_vertex,
         corner_sector: &corner_sector,
+        // Crease and corner vertices' sector records (none on a closed
+        // untagged mesh) and each corner's constant valence.
+        vertex_sectors: &topo.vertex_sectors,
+        sectors: &topo.sectors,
+        corner_valence: &topo.corner_valence,
         normals: &[],
         tags: &[],
         crease: &[],
@@ -80,6 +85,7 @@ fn tessellate(k: &SchemeKernels, topo: &Topology, positions: &[Vec3], level: u32
         sides: 4,
         positions: Vec::new(),
         normals: Vec::new(),
+        face_ids: Vec::new(),
     };
     for (f, class) in topo.classes.iter().enumerate() {
         let want = if *class == FaceClass::Ordinary {
