@@ -82,9 +82,22 @@ pub const CAPTURE: &str = crate::abi::define::CAPTURE;
 pub const DISPLACE: &str = crate::abi::define::DISPLACE;
 
 /// Descriptor bindings the harness lays out: every ABI binding up to the
-/// displacement map, the harness's triangle capture (`binding::TRIANGLES`)
-/// included.
-const LAYOUT_BINDINGS: u32 = binding::DISPLACE_MAP + 1;
+/// highest one the emitted stages declare (the sector bindings
+/// `vertex_sectors`, `sectors`, `corner_valence` come after the displacement
+/// map), the harness's triangle capture (`binding::TRIANGLES`) included;
+/// bindings it has no buffer for (wgpu's adaptive buckets) get the dummy.
+const LAYOUT_BINDINGS: u32 = max(
+    max(binding::DISPLACE_MAP, binding::VERTEX_SECTORS),
+    max(binding::SECTORS, binding::CORNER_VALENCE),
+) + 1;
+
+const fn max(a: u32, b: u32) -> u32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
 
 /// A 2-D `R32_SFLOAT` image with its memory and view (the stencil table,
 /// the displacement map).
