@@ -53,6 +53,32 @@ const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
 
 const LEVEL: u32 = 4;
 
+/// The Vulkan harness compiles every stage with glslangValidator per mesh
+/// and scheme (~3 s each on lavapipe with two cores): its matrix runs the
+/// meshes that cover each feature once — boundary rule 2 (tent), an
+/// interior crease line with infinitely sharp and semi-sharp edges
+/// (single_crease), extraordinary boundary vertices (xord_boundary), a
+/// Gregory test case (gregory_test1) and 120 semi-sharp creases on 588
+/// faces (pawn). xord_interior, fvar_bound3 and car run on the CPU and wgpu.
+const VULKAN_MESHES: &[&str] = &[
+    "catmark_tent",
+    "catmark_single_crease",
+    "catmark_xord_boundary",
+    "catmark_gregory_test1",
+    "catmark_pawn",
+];
+
+/// Whether `backend` must give the CPU's bits exactly for `scheme`. The
+/// closed-mesh tests (gpu.rs, vulkan_watertight.rs) only bound the
+/// difference (1e-5 × diagonal); on the open meshes the CPU, wgpu and GLSL
+/// agree bit for bit for every scheme, HLSL for all but the Gregory
+/// schemes (up to 5e-7 × diagonal on lavapipe: rounding of the HLSL
+/// Gregory evaluation), which are held to the bound and must weld on their
+/// own.
+fn bit_exact(backend: Backend, scheme: &str) -> bool {
+    !(backend == Backend::VulkanHlsl && scheme.starts_with("gregory"))
+}
+
 /// Largest accepted |GPU − CPU| / bbox diagonal (as gpu.rs and
 /// vulkan_watertight.rs assert on the closed meshes).
 const PARITY: f64 = 1e-5;
@@ -230,6 +256,12 @@ fn matrix(backend: Backend, meshes: &[&str]) {
                     row.crease_mismatches
                 ));
             }
+            if bit_exact(backend, scheme) && row.bit_diffs != 0 {
+                bad.push(format!(
+                    "{what}: {} samples differ from the CPU's bits",
+                    row.bit_diffs
+                ));
+            }
             if row.parity > PARITY {
                 bad.push(format!(
                     "{what}: {:.2e} × diagonal from the CPU",
@@ -256,12 +288,12 @@ fn wgpu_open_meshes_match_the_cpu_and_weld_to_their_boundary() {
 
 #[test]
 fn glsl_open_meshes_match_the_cpu_and_weld_to_their_boundary() {
-    matrix(Backend::VulkanGlsl, OPEN_MESHES);
+    matrix(Backend::VulkanGlsl, VULKAN_MESHES);
 }
 
 #[test]
 fn hlsl_open_meshes_match_the_cpu_and_weld_to_their_boundary() {
-    matrix(Backend::VulkanHlsl, OPEN_MESHES);
+    matrix(Backend::VulkanHlsl, VULKAN_MESHES);
 }
 
 // ---------------------------------------------------------------------------
@@ -315,12 +347,12 @@ fn adaptive_request<'a>(scheme: &str, f: &[f32]) -> Request<'a> {
 /// the creased meshes on `backend`: only the true boundary stays open.
 /// Displacement needs texture coordinates: every face is its own chart
 /// (so every edge is also a texture seam).
-fn adaptive_and_displaced(backend: Backend) {
+fn adaptive_and_displaced(backend: Backend, meshes: &[&str]) {
     let mut session = Session::new();
     let mut bad = Vec::new();
     println!("| backend | mesh | scheme | run | triangles | degenerate | open edges | expected |");
     println!("|---|---|---|---|---|---|---|---|");
-    for name in CREASED {
+    for name in meshes {
         let mesh = common::per_face_charts(common::mesh(name));
         let topo = topo(&mesh);
         let f = factors(&topo);
@@ -384,18 +416,23 @@ fn adaptive_and_displaced(backend: Backend) {
 
 #[test]
 fn cpu_adaptive_and_displaced_creased_meshes_open_only_at_the_boundary() {
-    adaptive_and_displaced(Backend::Cpu);
+    adaptive_and_displaced(Backend::Cpu, CREASED);
 }
 
 #[test]
 fn wgpu_adaptive_and_displaced_creased_meshes_open_only_at_the_boundary() {
-    adaptive_and_displaced(Backend::Wgpu);
+    adaptive_and_displaced(Backend::Wgpu, CREASED);
 }
 
 #[test]
-fn vulkan_adaptive_and_displaced_creased_meshes_open_only_at_the_boundary() {
-    adaptive_and_displaced(Backend::VulkanGlsl);
-    adaptive_and_displaced(Backend::VulkanHlsl);
+fn glsl_adaptive_and_displaced_creased_meshes_open_only_at_the_boundary() {
+    adaptive_and_displaced(Backend::VulkanGlsl, CREASED);
+}
+
+/// HLSL on single_crease only (the file's time budget; GLSL runs both).
+#[test]
+fn hlsl_adaptive_and_displaced_creased_mesh_opens_only_at_the_boundary() {
+    adaptive_and_displaced(Backend::VulkanHlsl, &CREASED[..1]);
 }
 
 /// Negative control of the displaced check: with every patch using its
