@@ -700,7 +700,7 @@ fn unknown_item() {
     expect_err(
         &text,
         "valence 3",
-        &["expected `facet`, `const`, `vertex` or `patch`"],
+        &["expected `facet`, `const`, `vertex`, `sector` or `patch`"],
     );
 }
 

@@ -48,7 +48,10 @@ fn row(s: &Scheme, kind: SectorKind, m: u32, name: &str, j: u32) -> Vec<f64> {
 fn close(got: &[f64], want: &[f64], tol: f64) {
     assert_eq!(got.len(), want.len());
     for (k, (g, w)) in got.iter().zip(want).enumerate() {
-        assert!((g - w).abs() <= tol, "slot {k}: {g} vs {w}\n{got:?}\n{want:?}");
+        assert!(
+            (g - w).abs() <= tol,
+            "slot {k}: {g} vs {w}\n{got:?}\n{want:?}"
+        );
     }
 }
 
@@ -65,7 +68,11 @@ fn expect_err(text: &str, at: &str, fragments: &[&str]) -> SchemeError {
     let off = hits[0].0;
     let line = text[..off].matches('\n').count() + 1;
     let col = off - text[..off].rfind('\n').map_or(0, |i| i + 1);
-    assert_eq!(e.line_column(), (line, col), "error `{e}` at the wrong place");
+    assert_eq!(
+        e.line_column(),
+        (line, col),
+        "error `{e}` at the wrong place"
+    );
     for f in fragments {
         assert!(e.message.contains(f), "message {:?} lacks {f:?}", e.message);
     }

@@ -719,7 +719,10 @@ fn sector_rows_match_sectors_reference() {
             serde_json::json!({ "crease": crease, "corner": {} }),
         ));
     }
-    assert!(exact_checked >= 10, "exact crease rows: {exact_checked} blocks");
+    assert!(
+        exact_checked >= 10,
+        "exact crease rows: {exact_checked} blocks"
+    );
     for (scheme, kinds) in &sections {
         let scheme = *scheme;
         let rows = table

@@ -575,16 +575,16 @@ impl Resolver {
         if let Some(slot) = self.lookup_var(&s) {
             return Ok((Sym::Var(slot), Ty::Index));
         }
+        if self.sector && stage == Stage::Vertex {
+            if let Some(l) = self.locals.iter_mut().find(|l| l.name == s) {
+                l.used = true;
+                return Ok((l.expr.clone(), l.ty));
+            }
+        }
         match (s.as_str(), stage) {
             ("pi", _) => return Ok((Sym::Num(std::f64::consts::PI), Ty::Scalar)),
             ("n", Stage::Const | Stage::Vertex) => return Ok((Sym::Valence, Ty::Index)),
             ("m", Stage::Vertex) if self.sector => return Ok((Sym::SectorFaces, Ty::Index)),
-            (_, Stage::Vertex) if self.sector => {
-                if let Some(l) = self.locals.iter_mut().find(|l| l.name == s) {
-                    l.used = true;
-                    return Ok((l.expr.clone(), l.ty));
-                }
-            }
             ("n", Stage::Patch) => {
                 return err(
                     id.span(),

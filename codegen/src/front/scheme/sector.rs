@@ -196,7 +196,9 @@ impl<'a> SectorEnv<'a> {
             self.expr(def, j)
         };
         let v = sym::eval(expr, self, &mut vars);
-        self.memo.borrow_mut().insert((def, j, inherited), v.clone());
+        self.memo
+            .borrow_mut()
+            .insert((def, j, inherited), v.clone());
         v
     }
 
