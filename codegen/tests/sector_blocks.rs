@@ -199,7 +199,9 @@ fn sector_let_is_local_to_its_block() {
     }",
     );
     let at = text.rfind("wq) * p + wq").unwrap();
-    let e = Scheme::from_source(&text, MAX).err().expect("an error");
+    let Err(e) = Scheme::from_source(&text, MAX) else {
+        panic!("compiled, expected an error:\n{text}");
+    };
     assert!(e.message.contains("undefined name `wq`"), "{e}");
     let line = text[..at].matches('\n').count() + 1;
     assert_eq!(e.line_column().0, line);

@@ -100,7 +100,7 @@ fn point(terms: &[(u64, f64)]) -> Value {
 /// partial ring's slots (docs/boundaries.md §3).
 pub fn phantom_point(m: u32, slot: u32) -> Value {
     let j = (slot - 1) / 2;
-    let edge = (slot - 1) % 2 == 0;
+    let edge = slot % 2 == 1; // slot - 1 even: an edge point Q_j
     if m == 1 {
         // Face (p, q0, d0, q1) and its three mirror images.
         return match (edge, j) {
