@@ -203,9 +203,20 @@ def ov_t_exact_point(P, m, j):          # pccm t / gregory_osd e: a point v + T/
 DSL = {}
 
 
+# The adopted sector blocks (codegen/schemes/*.tess) override the crease tangents with the exact
+# masks for m >= 3 ('exact'); `--virtual-ring-tangents` makes the previous construction (every
+# tangent from the virtual ring, 'virtual') the default of every table and of --json.
+PROPOSED = 'virtual' if '--virtual-ring-tangents' in sys.argv else 'exact'
+
+
 def overrides(scheme, kind, variant='proposed', m=None):
     """the sector block of `scheme` for `kind` ('crease'|'corner').  variant 'doc' = the typical
-    block of docs/boundaries.md section 3 (v + sharp e) for every scheme."""
+    block of docs/boundaries.md section 3 (v + sharp e) for every scheme; 'virtual' = v, sharp e and
+    acc/pccm sharp t (tangents from the virtual ring); 'exact' = 'virtual' plus the exact crease
+    tangents for m >= 3 (the .tess files); 'proposed' = PROPOSED; 'r0' = PROPOSED plus Gregory's
+    sharp r = 0."""
+    if variant == 'proposed':
+        variant = PROPOSED
     o = {'v': (False, ov_crease_v if kind == 'crease' else ov_corner_v), 'e': (True, ov_sharp_e)}
     if variant == 'doc':
         return o
@@ -213,7 +224,10 @@ def overrides(scheme, kind, variant='proposed', m=None):
         o['t'] = (True, ov_acc_t_crease if kind == 'crease' else ov_acc_t_corner)
     if scheme == 'pccm':
         o['t'] = (True, ov_sharp_e)
-    if variant == 'exact' and kind == 'crease' and m is not None and m >= 2:
+    exact = variant == 'exact' or (variant == 'r0' and PROPOSED == 'exact')
+    # m = 2: the virtual ring is exact (the exact mask equals it up to rounding), m = 1: corner.
+    # At the sharp positions the exact tangents equal the sharp overrides (which the .tess keeps).
+    if exact and kind == 'crease' and m is not None and m >= 3:
         if scheme in ('acc', 'gregory'):
             o['t'] = (False, ov_t_exact_vec)
         elif scheme == 'pccm':
@@ -906,14 +920,14 @@ EXACT = {}
 
 
 def override_effect(names):
-    print('\n== overrides, all faces: doc block (v + sharp e only) | proposed (+ acc/pccm sharp t) | '
-          'proposed + exact crease tangents for m >= 3 (boundary.md 3.3) ==')
+    print('\n== overrides, all faces: doc block (v + sharp e only) | virtual-ring tangents (+ acc/pccm sharp t) | '
+          'adopted: + exact crease tangents for m >= 3 (boundary.md 3.3) ==')
     for name in names:
         mesh = Mesh(name, 'sharp')
         gt = load_gt(name + '.bin')
         for scheme in ('acc', 'gregory', 'gregory_osd', 'pccm'):
             a = summarise(measure(mesh, gt, scheme, 'doc'))
-            b = summarise(measure(mesh, gt, scheme, 'proposed'))
+            b = summarise(measure(mesh, gt, scheme, 'virtual'))
             c = summarise(measure(mesh, gt, scheme, 'exact'))
             EXACT[(name, scheme)] = c
             print('  %-14s %-11s %s | %s | %s' % (name.replace('catmark_', ''), scheme, fmt(a), fmt(b), fmt(c)), flush=True)
@@ -1047,9 +1061,11 @@ def golden():
              'with the sector overrides of "overrides" (DSL lines) applied; rows in table order = '
              'outputs in order, each output\'s rows j = 0..m. "virtual_ring"[m]: the (2n\'+1) x (2m+2) '
              'matrix giving [p, p_0 .. p_{2n\'-1}] from the partial ring. "schemes_exact_crease_tangent"[scheme][m] '
-             '(crease, m = 2..4; proposal, not in the .tess files yet): as "schemes", plus the crease tangents '
+             '(crease, m = 2..4; adopted in the .tess files for m >= 3, so m = 3, 4 equal "schemes" unless the file was '
+             'written with --virtual-ring-tangents): as "schemes" without it, plus the crease tangents '
              't[j] = cos(pi j/m) (q_0 - q_m)/2 + sin(pi j/m) X, X = boundary.md 3.3 across mask, used for every '
-             'position (acc t, gregory let t, pccm t = v + t/3, gregory_osd e = v + t/3); m = 2 equals "schemes".')
+             'position (acc t, gregory let t, pccm t = v + t/3, gregory_osd e = v + t/3) for m >= 3; m = 2 keeps '
+             'the virtual ring (exact there) and equals "schemes".')
     out = {'format': fmt_s, 'virtual_ring': {}, 'schemes': {}}
     for m in range(1, 5):
         out['virtual_ring'][str(m)] = virtual_ring(m).tolist()
@@ -1074,12 +1090,34 @@ def golden():
     return out
 
 
+# the adopted exact crease tangents (m >= 3) of the .tess crease blocks (ov_t_exact_*)
+EXACT_DSL_COMMON = [
+    'let th = pi / m;',
+    'let lam = (cos(th) + 5 + sqrt((cos(th) + 9) * (cos(th) + 1))) / 16;',
+    'let wf = 1 / (m * (3 + cos(th)));',
+    'let we = 4 * (4 * lam - 1) * wf;',
+    'let wc = ((3 * we / 8 + wf / 2) * cos(th / 2) / sin(th / 2) + (lam - 0.75) * (we / 2 + 2 * wf) * sin(th)) '
+    '/ (8 * (lam - 0.75) * (lam - 0.5) - 1);',
+    'let across = sum(k, (if k < m { 1 } else { 0 }) * (wf * (sin(k * th) + sin((k + 1) * th)) * (p[2 * k + 1] - p) '
+    '+ we * sin(k * th) * (p[2 * k] - p))) + wc * (p[0] + p[2 * m] - 2 * p);',
+]
+_TJ = 'cos(j * th) * (p[0] - p[2 * m]) / 2 + sin(j * th) * across'
+EXACT_DSL = {
+    'acc': 't[j] = if m < 3 { t[j] } else { %s };' % _TJ,
+    'gregory': 't[j] = if m < 3 { t[j] } else { %s };' % _TJ,
+    'pccm': 't[j] = if m < 3 { t[j] } else { v + (%s) / 3 };' % _TJ,
+    'gregory_osd': 'e[j] = if m < 3 { e[j] } else { v + (%s) / 3 };' % _TJ,
+}
+
+
 def dsl_block(scheme, kind):
     lines = []
     for name in overrides(scheme, kind):
         for key in ((scheme, kind, name), (scheme, '*', name), ('*', kind, name), ('*', '*', name)):
             if key in DSL_LINES:
                 lines.append(DSL_LINES[key]); break
+    if PROPOSED == 'exact' and kind == 'crease' and scheme in EXACT_DSL:
+        lines += EXACT_DSL_COMMON + [EXACT_DSL[scheme]]
     return lines
 
 

@@ -684,7 +684,10 @@ fn phong_matches_schemes_reference() {
 /// Every sector row (crease and corner sectors of 1..4 faces, every quad
 /// scheme) equals the float64 rows of `spec/sectors_reference.json`, which
 /// `docs/verify/sectors_verify.py` computes independently from the phantom
-/// rule and the overrides of docs/boundaries.md §3 (rounded once to f32).
+/// rule and the overrides of docs/boundaries.md §3 (rounded once to f32):
+/// its `schemes` section (the adopted blocks) and, for crease sectors of
+/// m ≥ 3, `schemes_exact_crease_tangent` (the prototype of the exact crease
+/// tangents, boundary.md §3.2–§3.3, which the blocks adopt there).
 #[test]
 fn sector_rows_match_sectors_reference() {
     let g = common::json("spec/sectors_reference.json");
@@ -694,7 +697,34 @@ fn sector_rows_match_sectors_reference() {
         .expect("compile");
     let table = &out.table;
     let mut checked = 0;
+    let mut sections: Vec<(&String, serde_json::Value)> = Vec::new();
     for (scheme, kinds) in g["schemes"].as_object().expect("schemes") {
+        sections.push((scheme, kinds.clone()));
+    }
+    let mut exact_checked = 0;
+    for (scheme, by_m) in g["schemes_exact_crease_tangent"]
+        .as_object()
+        .expect("schemes_exact_crease_tangent")
+    {
+        let crease: serde_json::Map<String, serde_json::Value> = by_m
+            .as_object()
+            .expect("m")
+            .iter()
+            .filter(|(m, _)| m.parse::<u32>().expect("m") >= 3)
+            .map(|(m, b)| (m.clone(), b.clone()))
+            .collect();
+        exact_checked += crease.len();
+        sections.push((
+            scheme,
+            serde_json::json!({ "crease": crease, "corner": {} }),
+        ));
+    }
+    assert!(
+        exact_checked >= 10,
+        "exact crease rows: {exact_checked} blocks"
+    );
+    for (scheme, kinds) in &sections {
+        let scheme = *scheme;
         let rows = table
             .schemes
             .iter()

@@ -63,7 +63,8 @@ fn stencil_table_small_valences() {
 /// Sector rows (crease and corner vertices, docs/boundaries.md §3) of
 /// sectors up to 3 faces, over the partial ring [p, q0, d0, .., qm]: m = 1
 /// and 2 are the exact phantom-grid points, m = 3 the first reflected
-/// virtual ring.
+/// virtual ring, with the exact crease tangents (boundary.md §3.2–§3.3) in
+/// the interior positions of acc t, gregory/gregory_osd e and pccm t.
 #[test]
 fn stencil_sector_rows_small() {
     let out = build();

@@ -121,7 +121,9 @@ pub enum Sym {
     Neg(Box<Sym>),
     Bin(BinOp, Box<Sym>, Box<Sym>),
     Func(Func, Box<Sym>),
-    /// `if a OP b { x } else { y }` (vertex stage only; decided per valence).
+    /// `if a OP b { x } else { y }` (constants and the vertex stage): decided
+    /// when the row is evaluated, per valence, sector size and index binding
+    /// (`if k < m { … }` inside `sum(k, …)` selects terms per `k`).
     If {
         op: CmpOp,
         a: Box<Sym>,
@@ -140,6 +142,14 @@ pub enum Sym {
     Ring(Box<Sym>),
     /// Another definition of the same stage, `f[j - 1]` or `gstar`.
     Def {
+        def: usize,
+        index: Option<Box<Sym>>,
+    },
+    /// In a `sector` block's override of vertex definition `def`, a read of
+    /// that same name: the scheme's own definition (the one the override
+    /// replaces), evaluated on the virtual ring, e.g. `t[j] = if m < 3 { t[j] }
+    /// else { … }`.
+    Inherited {
         def: usize,
         index: Option<Box<Sym>>,
     },
@@ -202,6 +212,11 @@ pub trait Env {
     fn ring(&self, idx: i64) -> Value;
     fn def(&self, def: usize, index: Option<i64>) -> Value;
     fn corner_data(&self, output: usize, corner: i64, offset: Option<i64>) -> Value;
+    /// [`Sym::Inherited`]: the scheme's own definition `def` where a sector
+    /// override replaces it (`sector` blocks); NaN elsewhere.
+    fn inherited(&self, _def: usize, _index: Option<i64>) -> Value {
+        Value::Scalar(f64::NAN)
+    }
     /// Faces `m` of the sector being evaluated (`sector` blocks); NaN elsewhere.
     fn sector_faces(&self) -> f64 {
         f64::NAN
@@ -340,6 +355,10 @@ pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {
             let idx = index.as_ref().map(|i| eval_index(i, env, vars));
             env.def(*def, idx)
         }
+        Sym::Inherited { def, index } => {
+            let idx = index.as_ref().map(|i| eval_index(i, env, vars));
+            env.inherited(*def, idx)
+        }
         Sym::CornerData {
             output,
             corner,
@@ -352,12 +371,19 @@ pub fn eval(s: &Sym, env: &dyn Env, vars: &mut Vec<f64>) -> Value {
     }
 }
 
-/// Every definition `s` reads directly (`Sym::Def`), in any order.
+/// Every definition `s` reads directly (`Sym::Def`), in any order. A
+/// [`Sym::Inherited`] read is not listed (its indices are walked): it is the
+/// overridden definition's own expression, which reads only earlier ones.
 pub fn defs_read(s: &Sym) -> Vec<usize> {
     fn walk(s: &Sym, out: &mut Vec<usize>) {
         match s {
             Sym::Def { def, index } => {
                 out.push(*def);
+                if let Some(i) = index {
+                    walk(i, out);
+                }
+            }
+            Sym::Inherited { index, .. } => {
                 if let Some(i) = index {
                     walk(i, out);
                 }
@@ -454,6 +480,10 @@ pub fn substitute(s: &Sym, var: usize, value: i64) -> Sym {
         },
         Sym::Ring(i) => Sym::Ring(sub(i)),
         Sym::Def { def, index } => Sym::Def {
+            def: *def,
+            index: index.as_deref().map(sub),
+        },
+        Sym::Inherited { def, index } => Sym::Inherited {
             def: *def,
             index: index.as_deref().map(sub),
         },

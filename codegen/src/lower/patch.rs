@@ -287,6 +287,7 @@ impl PatchLower<'_> {
             | Sym::SectorFaces
             | Sym::Const(_)
             | Sym::If { .. }
+            | Sym::Inherited { .. }
             | Sym::Center
             | Sym::Ring(_) => panic!("not a patch-stage expression: {s:?}"),
         }

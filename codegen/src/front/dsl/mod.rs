@@ -15,10 +15,12 @@
 //!         vector NAME[j] = EXPR;         // a tangent: weights sum to 0
 //!         let NAME = EXPR;               // named sub-expression, not exported
 //!     }
-//!     sector KIND {                      // KIND = crease | corner (docs/boundaries.md §3):
-//!         NAME = EXPR;                   // override a vertex definition in a sector of m faces
-//!         sharp NAME[j] = EXPR;          // … only at its sharp edges (j = 0, j = m)
-//!     }
+//!     sector crease {                    // or `corner`: a crease/corner sector of m faces
+//!         NAME = EXPR;                   // override of a vertex definition, every position
+//!         sharp NAME[j] = EXPR;          // override at the sharp edges j = 0 and j = m only
+//!         let NAME = EXPR;               // block-local helper (one value, no [j]), inlined
+//!     }                                  // `m`, and `NAME` inside NAME's override = the
+//!                                        // scheme's own NAME (docs/boundaries.md §3)
 //!     patch CLASS: FORM {                // CLASS = ordinary | extraordinary
 //!         NAME[i] = EXPR;                // per-corner local (i mod 4)
 //!         NAME = EXPR;                   // patch local
@@ -26,6 +28,12 @@
 //!     }
 //! }
 //! ```
+//!
+//! `if A OP B { X } else { Y }` (constants and vertex/sector stages) compares
+//! numbers and is decided where the row is evaluated: per valence, sector
+//! size `m` and binding of the index variables, so inside `sum(k, …)` a
+//! condition on `k` selects terms, e.g. `(if k < m { 1 } else { 0 }) * …` sums
+//! over a sector's faces only.
 
 pub mod ast;
 pub mod parse;

@@ -160,9 +160,13 @@ fn parse_defs(input: ParseStream, block: Block) -> syn::Result<Vec<DefAst>> {
             if peek_kw(input, "sharp") {
                 kw(input, "sharp")?;
                 DefKind::Sharp
-            } else if input.peek(Token![let]) || peek_kw(input, "out") || peek_kw(input, "vector") {
+            } else if input.peek(Token![let]) {
+                // A block-local helper (resolve.rs: `sector_block`).
+                input.parse::<Token![let]>()?;
+                DefKind::Let
+            } else if peek_kw(input, "out") || peek_kw(input, "vector") {
                 return Err(input.error(
-                    "a `sector` block overrides vertex definitions: write `NAME = …` or `sharp NAME[j] = …`",
+                    "a `sector` block overrides vertex definitions: write `NAME = …` or `sharp NAME[j] = …` (or `let NAME = …` for a local helper)",
                 ));
             } else {
                 DefKind::Point

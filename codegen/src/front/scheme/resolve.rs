@@ -23,6 +23,21 @@ pub(super) struct Resolver {
     next_var: usize,
     /// Resolving a `sector` block: `m` names the sector's face count.
     sector: bool,
+    /// The vertex definition the sector override being resolved replaces:
+    /// reading its own name means the scheme's definition ([`Sym::Inherited`]).
+    overriding: Option<usize>,
+    /// The current `sector` block's `let` helpers, in order.
+    locals: Vec<SectorLocal>,
+}
+
+/// A `let NAME = EXPR;` of a `sector` block: a single (not per-position)
+/// value, inlined wherever a later definition of the block names it.
+struct SectorLocal {
+    name: String,
+    expr: Sym,
+    ty: Ty,
+    span: Span,
+    used: bool,
 }
 
 pub(super) fn err<T>(span: Span, msg: impl Into<String>) -> Result<T, SchemeError> {
@@ -110,7 +125,12 @@ impl Resolver {
     /// A `sector KIND { … }` block: every definition overrides an earlier
     /// vertex definition of the same name and shape, and may only read
     /// definitions declared before that one (so overrides cannot form a
-    /// cycle through the definitions that use them).
+    /// cycle through the definitions that use them) — and the definition it
+    /// replaces, by its own name: that reads the scheme's definition
+    /// ([`Sym::Inherited`]), whose expression only reads earlier ones.
+    /// `let NAME = EXPR;` declares a block-local helper (a single number or
+    /// point, no `[j]`) for the definitions after it; it is inlined, so the
+    /// ordering rule applies to what it reads.
     fn sector_block(&mut self, sa: &dsl::SectorAst) -> Result<SectorBlock, SchemeError> {
         let kind = match sa.kind.to_string().as_str() {
             "crease" => SectorKind::Crease,
@@ -122,9 +142,48 @@ impl Resolver {
                 )
             }
         };
+        self.locals.clear();
+        // Index-variable slots are unique across the block: a helper inlined
+        // inside a `sum` must not reuse the sum's slot.
+        let mut next_var = SECTOR_VAR + 1;
         let mut overrides: Vec<SectorOverride> = Vec::new();
         for d in &sa.defs {
             let name = d.name.to_string();
+            if d.kind == DefKind::Let {
+                if d.index.is_some() {
+                    return err(
+                        d.name.span(),
+                        format!("a `sector` block's `let {name}` is a single value: write `let {name} = …` (per-position values are overrides of vertex definitions)"),
+                    );
+                }
+                if self.vertex.iter().any(|v| v.name == name) {
+                    return err(
+                        d.name.span(),
+                        format!("`{name}` is a vertex definition; a `sector` block overrides it with `{name}{} = …`, not `let`", if self.vertex.iter().any(|v| v.name == name && v.indexed) { "[j]" } else { "" }),
+                    );
+                }
+                if self.locals.iter().any(|l| l.name == name) {
+                    return err(d.name.span(), format!("`{name}` is defined twice"));
+                }
+                if name == "m" {
+                    return err(d.name.span(), "`m` is a reserved name (the sector's faces)");
+                }
+                self.check_new_name(&d.name)?;
+                self.sector = true;
+                self.next_var = next_var;
+                let resolved = self.expr(&d.expr, Stage::Vertex);
+                self.sector = false;
+                next_var = self.next_var;
+                let (expr, ty) = resolved?;
+                self.locals.push(SectorLocal {
+                    name,
+                    expr,
+                    ty,
+                    span: d.name.span(),
+                    used: false,
+                });
+                continue;
+            }
             let Some(def) = self.vertex.iter().position(|v| v.name == name) else {
                 return err(
                     d.name.span(),
@@ -153,10 +212,14 @@ impl Resolver {
                 return err(d.name.span(), format!("`{name}` is overridden twice"));
             }
             self.sector = true;
+            self.overriding = Some(def);
             let resolved = self.with_index(d.index.as_ref(), SECTOR_VAR, |r| {
+                r.next_var = next_var;
                 r.expr(&d.expr, Stage::Vertex)
             });
             self.sector = false;
+            self.overriding = None;
+            next_var = self.next_var;
             let (expr, ty) = resolved?;
             if ty != t_ty {
                 return err(
@@ -184,6 +247,16 @@ impl Resolver {
                 span: d.span,
             });
         }
+        if let Some(l) = self.locals.iter().find(|l| !l.used) {
+            return err(
+                l.span,
+                format!(
+                    "`let {}` of `sector {}` is never used by a later definition of the block",
+                    l.name, sa.kind
+                ),
+            );
+        }
+        self.locals.clear();
         Ok(SectorBlock { kind, overrides })
     }
 
@@ -502,6 +575,12 @@ impl Resolver {
         if let Some(slot) = self.lookup_var(&s) {
             return Ok((Sym::Var(slot), Ty::Index));
         }
+        if self.sector && stage == Stage::Vertex {
+            if let Some(l) = self.locals.iter_mut().find(|l| l.name == s) {
+                l.used = true;
+                return Ok((l.expr.clone(), l.ty));
+            }
+        }
         match (s.as_str(), stage) {
             ("pi", _) => return Ok((Sym::Num(std::f64::consts::PI), Ty::Scalar)),
             ("n", Stage::Const | Stage::Vertex) => return Ok((Sym::Valence, Ty::Index)),
@@ -536,13 +615,18 @@ impl Resolver {
                             ),
                         );
                     }
-                    return Ok((
+                    let sym = if self.overriding == Some(k) {
+                        Sym::Inherited {
+                            def: k,
+                            index: None,
+                        }
+                    } else {
                         Sym::Def {
                             def: k,
                             index: None,
-                        },
-                        d.ty,
-                    ));
+                        }
+                    };
+                    return Ok((sym, d.ty));
                 }
             }
             Stage::Patch => {
@@ -612,14 +696,13 @@ impl Resolver {
                         return err(id.span(), format!("`{s}` is a single output, not a family: write `{s}` (index misuse)"));
                     }
                     let ty = self.vertex[k].ty;
-                    let idx = self.index(&ix.index, stage)?;
-                    return Ok((
-                        Sym::Def {
-                            def: k,
-                            index: Some(Box::new(idx)),
-                        },
-                        ty,
-                    ));
+                    let index = Some(Box::new(self.index(&ix.index, stage)?));
+                    let sym = if self.overriding == Some(k) {
+                        Sym::Inherited { def: k, index }
+                    } else {
+                        Sym::Def { def: k, index }
+                    };
+                    return Ok((sym, ty));
                 }
             }
             Stage::Patch => {

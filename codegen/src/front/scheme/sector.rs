@@ -100,7 +100,7 @@ fn point(terms: &[(u64, f64)]) -> Value {
 /// partial ring's slots (docs/boundaries.md §3).
 pub fn phantom_point(m: u32, slot: u32) -> Value {
     let j = (slot - 1) / 2;
-    let edge = slot % 2 == 1;
+    let edge = slot % 2 == 1; // slot - 1 even: an edge point Q_j
     if m == 1 {
         // Face (p, q0, d0, q1) and its three mirror images.
         return match (edge, j) {
@@ -139,7 +139,9 @@ pub(super) struct SectorEnv<'a> {
     m: u32,
     n: u32,
     consts: Vec<f64>,
-    memo: std::cell::RefCell<BTreeMap<(usize, u32), Value>>,
+    /// Values by (definition, ring position, inherited): `inherited` is the
+    /// scheme's own definition where an override replaces it.
+    memo: std::cell::RefCell<BTreeMap<(usize, u32, bool), Value>>,
 }
 
 impl<'a> SectorEnv<'a> {
@@ -178,21 +180,38 @@ impl<'a> SectorEnv<'a> {
         }
     }
 
-    fn value(&self, def: usize, j: u32) -> Value {
-        if let Some(v) = self.memo.borrow().get(&(def, j)) {
+    /// Definition `def` at position `j`: with the block's override, or the
+    /// scheme's own expression when `inherited` (an override reading the
+    /// definition it replaces; that expression reads only earlier
+    /// definitions, which still see their overrides).
+    fn value(&self, def: usize, j: u32, inherited: bool) -> Value {
+        if let Some(v) = self.memo.borrow().get(&(def, j, inherited)) {
             return v.clone();
         }
         let mut vars = Vec::new();
         sym::set_var(&mut vars, SECTOR_VAR, j as f64);
-        let v = sym::eval(self.expr(def, j), self, &mut vars);
-        self.memo.borrow_mut().insert((def, j), v.clone());
+        let expr = if inherited {
+            &self.scheme.vertex[def].expr
+        } else {
+            self.expr(def, j)
+        };
+        let v = sym::eval(expr, self, &mut vars);
+        self.memo
+            .borrow_mut()
+            .insert((def, j, inherited), v.clone());
         v
+    }
+
+    fn position(&self, index: Option<i64>) -> u32 {
+        index
+            .map(|j| j.rem_euclid(self.n as i64) as u32)
+            .unwrap_or(0)
     }
 
     /// Weights of output `def` at ring position `j` over the 2m + 2 slots.
     pub(super) fn row(&self, def: usize, j: u32) -> Vec<f64> {
         let mut row = vec![0.0; 2 * self.m as usize + 2];
-        for (slot, w) in self.value(def, j).point() {
+        for (slot, w) in self.value(def, j, false).point() {
             row[slot as usize] += w;
         }
         row
@@ -222,10 +241,10 @@ impl Env for SectorEnv<'_> {
         phantom_point(self.m, 1 + idx.rem_euclid(2 * self.n as i64) as u32)
     }
     fn def(&self, def: usize, index: Option<i64>) -> Value {
-        let j = index
-            .map(|j| j.rem_euclid(self.n as i64) as u32)
-            .unwrap_or(0);
-        self.value(def, j)
+        self.value(def, self.position(index), false)
+    }
+    fn inherited(&self, def: usize, index: Option<i64>) -> Value {
+        self.value(def, self.position(index), true)
     }
     fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
         Value::Scalar(f64::NAN)
