@@ -35,6 +35,7 @@ pub mod features;
 pub mod sectors;
 pub mod tags;
 pub mod topology;
+pub mod topology_error;
 pub mod trimesh;
 
 use std::collections::HashMap;

@@ -5,7 +5,7 @@
 //! canonical start and cuts crease / corner fans into sectors at the sharp edges.
 
 use crate::mesh::features::{BoundaryRule, Features};
-use crate::mesh::topology::{TopologyError, NONE};
+use crate::mesh::topology_error::{TopologyError, NONE};
 
 /// `u32` words per sector in [`crate::mesh::topology::Topology::sectors`]:
 /// `[kind, m, count, j0, ring_base]` (the generated ABI's `SECTOR_WORDS`).

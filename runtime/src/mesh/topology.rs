@@ -31,16 +31,11 @@
 
 use std::collections::BTreeMap;
 
-use thiserror::Error;
-
-use crate::mesh::features::{FeatureError, FeatureWarning, Features};
+use crate::mesh::features::{FeatureWarning, Features};
 use crate::mesh::sectors::{self, HalfEdges};
 pub use crate::mesh::sectors::{max_sector_faces, VertexRule, SECTOR_WORDS};
-use crate::mesh::{Mesh, MeshError};
-
-/// Marker for "no such element" in the flat `u32` arrays (e.g. [`Topology::twin`] of a
-/// boundary half-edge).
-pub const NONE: u32 = u32::MAX;
+pub use crate::mesh::topology_error::{TopologyError, NONE};
+use crate::mesh::Mesh;
 
 /// Options for [`Topology::build`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,91 +86,6 @@ pub enum FaceClass {
     Ordinary,
     /// Any other face (a corner of valence ≠ 4, or a non-quad when quads are not required).
     Extraordinary,
-}
-
-/// Why a mesh is not usable for patch generation. Vertex numbers are 0-based file indices
-/// (OBJ index − 1); faces are 0-based in file order.
-#[derive(Debug, Error)]
-pub enum TopologyError {
-    /// The mesh itself is invalid.
-    #[error("invalid mesh: {0}")]
-    Mesh(#[from] MeshError),
-    /// The mesh's tags (or the explicit [`Features`]) are invalid.
-    #[error("invalid tags: {0}")]
-    Features(#[from] FeatureError),
-    /// A face is not a quad while [`TopologyOptions::require_quads`] is set.
-    #[error(
-        "face {face} has {arity} vertices; only quads are supported (non-quad faces need one \
-         Catmull-Clark step, which is not implemented yet)"
-    )]
-    NonQuad {
-        /// 0-based face index.
-        face: usize,
-        /// Its number of vertices.
-        arity: usize,
-    },
-    /// An edge is shared by more than two faces. `a → b` is the direction of the first
-    /// (lowest half-edge id) face using it.
-    #[error("edge {a}-{b} is used by more than two faces")]
-    NonManifoldEdge {
-        /// First vertex.
-        a: u32,
-        /// Second vertex.
-        b: u32,
-    },
-    /// Exactly two faces share the edge, but both traverse it as `a → b`: one of them is
-    /// flipped. (Kept apart from [`TopologyError::NonManifoldEdge`] because it is fixable by
-    /// reorienting faces.)
-    #[error("edge {a}->{b} is traversed in the same direction by both of its faces (inconsistent orientation)")]
-    InconsistentOrientation {
-        /// Origin of both half-edges.
-        a: u32,
-        /// Destination of both half-edges.
-        b: u32,
-    },
-    /// The faces around a vertex form more than one fan (e.g. two surfaces touching at a point).
-    #[error("vertex {vertex} is non-manifold: its faces form more than one fan")]
-    NonManifoldVertex {
-        /// The vertex.
-        vertex: u32,
-    },
-    /// A vertex has more edges than [`TopologyOptions::max_valence`].
-    #[error(
-        "vertex {vertex} has valence {valence}, more than the maximum {max} \
-         (--max-valence {valence} accepts it)"
-    )]
-    ValenceTooHigh {
-        /// The vertex.
-        vertex: u32,
-        /// Its valence.
-        valence: u32,
-        /// The configured maximum.
-        max: u32,
-    },
-    /// A crease or corner sector has more faces than the stencil table's sector blocks hold
-    /// ([`max_sector_faces`] of [`TopologyOptions::max_valence`]).
-    #[error(
-        "vertex {vertex} has a sector of {faces} faces between sharp edges, more than \
-         max_valence / 2 = {max} (--max-valence {needed} accepts it)"
-    )]
-    SectorTooLarge {
-        /// The vertex.
-        vertex: u32,
-        /// Faces in the sector.
-        faces: u32,
-        /// [`max_sector_faces`] of the configured maximum valence.
-        max: u32,
-        /// The smallest `--max-valence` that takes the sector (`2 · faces`).
-        needed: u32,
-    },
-    /// An interior vertex has fewer than 3 edges (the ring formulas need `n ≥ 3`).
-    #[error("vertex {vertex} has valence {valence}; interior vertices need at least 3")]
-    ValenceTooLow {
-        /// The vertex.
-        vertex: u32,
-        /// Its valence.
-        valence: u32,
-    },
 }
 
 /// Half-edge structure plus canonical vertex rings and quad corner records of a [`Mesh`].
