@@ -1,6 +1,7 @@
 //! Tests of [`super`]: closed meshes keep their canonical rings and corners; errors are
 //! typed and reproducible.
 use super::*;
+use crate::mesh::MeshError;
 use std::path::{Path, PathBuf};
 
 fn mesh_path(name: &str) -> PathBuf {
