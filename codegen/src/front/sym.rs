@@ -206,12 +206,22 @@ pub trait Env {
     /// Range of `sum(k, …)`.
     fn sum_range(&self) -> u32;
     fn konst(&self, k: usize) -> f64;
-    fn corner_const(&self, k: usize, corner: i64) -> f64;
-    fn corner_valence(&self, corner: i64) -> f64;
+    /// Patch stage only: a per-valence constant at a corner's valence (NaN
+    /// elsewhere).
+    fn corner_const(&self, _k: usize, _corner: i64) -> f64 {
+        f64::NAN
+    }
+    /// Patch stage only: a corner's valence (NaN elsewhere).
+    fn corner_valence(&self, _corner: i64) -> f64 {
+        f64::NAN
+    }
     fn center(&self) -> Value;
     fn ring(&self, idx: i64) -> Value;
     fn def(&self, def: usize, index: Option<i64>) -> Value;
-    fn corner_data(&self, output: usize, corner: i64, offset: Option<i64>) -> Value;
+    /// Patch stage only: a corner's vertex-stage output (NaN elsewhere).
+    fn corner_data(&self, _output: usize, _corner: i64, _offset: Option<i64>) -> Value {
+        Value::Scalar(f64::NAN)
+    }
     /// [`Sym::Inherited`]: the scheme's own definition `def` where a sector
     /// override replaces it (`sector` blocks); NaN elsewhere.
     fn inherited(&self, _def: usize, _index: Option<i64>) -> Value {

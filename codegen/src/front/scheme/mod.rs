@@ -297,29 +297,7 @@ impl Scheme {
             for (i, d) in self.outputs() {
                 let count = if d.indexed { n } else { 1 };
                 for j in 0..count {
-                    let row = env.row(i, j);
-                    let want = if d.kind == DefKind::Vector { 0.0 } else { 1.0 };
-                    let sum: f64 = row.iter().sum();
-                    let label = if d.indexed {
-                        format!("{}[{j}]", d.name)
-                    } else {
-                        d.name.clone()
-                    };
-                    if row.iter().any(|w| !w.is_finite()) {
-                        return Err(SchemeError::new(
-                            d.span,
-                            format!("row `{label}` has a non-finite weight at valence {n}"),
-                        ));
-                    }
-                    if (sum - want).abs() > AFFINE_TOLERANCE {
-                        return Err(SchemeError::new(
-                            d.span,
-                            format!(
-                                "row `{label}` weights sum to {sum} at valence {n}, expected {want} ({})",
-                                if want == 0.0 { "a tangent vector" } else { "a point" }
-                            ),
-                        ));
-                    }
+                    self.check_row(i, j, &env.row(i, j), d.span, &format!("at valence {n}"))?;
                 }
             }
         }
@@ -336,41 +314,57 @@ impl Scheme {
         for kind in SectorKind::ALL {
             for m in 1..=max_sector_faces(max_valence) {
                 for (i, j, row) in self.sector_rows(kind, m) {
-                    let d = &self.vertex[i];
                     let span = self
                         .sectors
                         .iter()
                         .find(|b| b.kind == kind)
                         .and_then(|b| b.overrides.iter().find(|o| o.def == i))
-                        .map(|o| o.span)
-                        .unwrap_or(d.span);
-                    let want = if d.kind == DefKind::Vector { 0.0 } else { 1.0 };
-                    let sum: f64 = row.iter().sum();
-                    let label = if d.indexed {
-                        format!("{}[{j}]", d.name)
-                    } else {
-                        d.name.clone()
-                    };
-                    if row.iter().any(|w| !w.is_finite()) {
-                        return Err(SchemeError::new(
-                            span,
-                            format!(
-                                "row `{label}` has a non-finite weight in a {} sector of {m} faces",
-                                kind.name()
-                            ),
-                        ));
-                    }
-                    if (sum - want).abs() > AFFINE_TOLERANCE {
-                        return Err(SchemeError::new(
-                            span,
-                            format!(
-                                "row `{label}` weights sum to {sum} in a {} sector of {m} faces, expected {want}",
-                                kind.name()
-                            ),
-                        ));
-                    }
+                        .map_or(self.vertex[i].span, |o| o.span);
+                    let at = format!("in a {} sector of {m} faces", kind.name());
+                    self.check_row(i, j, &row, span, &at)?;
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// One vertex-stage row of output `def` at position `j`: finite, and
+    /// summing to 1 (a point) or 0 (a tangent vector) within
+    /// [`AFFINE_TOLERANCE`]; `at` says where (valence or sector) for the error.
+    fn check_row(
+        &self,
+        def: usize,
+        j: u32,
+        row: &[f64],
+        span: Span,
+        at: &str,
+    ) -> Result<(), SchemeError> {
+        let d = &self.vertex[def];
+        let label = if d.indexed {
+            format!("{}[{j}]", d.name)
+        } else {
+            d.name.clone()
+        };
+        if row.iter().any(|w| !w.is_finite()) {
+            return Err(SchemeError::new(
+                span,
+                format!("row `{label}` has a non-finite weight {at}"),
+            ));
+        }
+        let want = if d.kind == DefKind::Vector { 0.0 } else { 1.0 };
+        let sum: f64 = row.iter().sum();
+        if (sum - want).abs() > AFFINE_TOLERANCE {
+            return Err(SchemeError::new(
+                span,
+                format!(
+                    "row `{label}` weights sum to {sum} {at}, expected {want} ({})",
+                    if want == 0.0 {
+                        "a tangent vector"
+                    } else {
+                        "a point"
+                    }
+                ),
+            ));
         }
         Ok(())
     }
@@ -475,12 +469,6 @@ impl Env for ConstEnv<'_> {
     fn konst(&self, k: usize) -> f64 {
         self.consts.get(k).copied().unwrap_or(f64::NAN)
     }
-    fn corner_const(&self, _: usize, _: i64) -> f64 {
-        f64::NAN
-    }
-    fn corner_valence(&self, _: i64) -> f64 {
-        f64::NAN
-    }
     fn center(&self) -> Value {
         Value::Scalar(f64::NAN)
     }
@@ -488,9 +476,6 @@ impl Env for ConstEnv<'_> {
         Value::Scalar(f64::NAN)
     }
     fn def(&self, _: usize, _: Option<i64>) -> Value {
-        Value::Scalar(f64::NAN)
-    }
-    fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
         Value::Scalar(f64::NAN)
     }
 }
@@ -544,12 +529,6 @@ impl Env for VertexEnv<'_> {
     fn konst(&self, k: usize) -> f64 {
         self.consts.get(k).copied().unwrap_or(f64::NAN)
     }
-    fn corner_const(&self, _: usize, _: i64) -> f64 {
-        f64::NAN
-    }
-    fn corner_valence(&self, _: i64) -> f64 {
-        f64::NAN
-    }
     fn center(&self) -> Value {
         Value::unit(0)
     }
@@ -561,9 +540,6 @@ impl Env for VertexEnv<'_> {
             .map(|j| j.rem_euclid(self.n as i64) as u32)
             .unwrap_or(0);
         self.value(def, j)
-    }
-    fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
-        Value::Scalar(f64::NAN)
     }
 }
 

@@ -228,12 +228,6 @@ impl Env for SectorEnv<'_> {
     fn konst(&self, k: usize) -> f64 {
         self.consts.get(k).copied().unwrap_or(f64::NAN)
     }
-    fn corner_const(&self, _: usize, _: i64) -> f64 {
-        f64::NAN
-    }
-    fn corner_valence(&self, _: i64) -> f64 {
-        f64::NAN
-    }
     fn center(&self) -> Value {
         Value::unit(P)
     }
@@ -245,9 +239,6 @@ impl Env for SectorEnv<'_> {
     }
     fn inherited(&self, def: usize, index: Option<i64>) -> Value {
         self.value(def, self.position(index), true)
-    }
-    fn corner_data(&self, _: usize, _: i64, _: Option<i64>) -> Value {
-        Value::Scalar(f64::NAN)
     }
     fn sector_faces(&self) -> f64 {
         self.m as f64
