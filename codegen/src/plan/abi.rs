@@ -513,6 +513,23 @@ pub fn rust_module(plan: &Plan) -> String {
     for (name, doc, v) in consts {
         let _ = writeln!(w, "/// {doc}\npub const {name}: u32 = {v};");
     }
+    // The corner_valence rule, from the scheme language's own function, for
+    // every sector size a topology can hold (max_valence up to 128).
+    let vv: Vec<String> = (0..=64u32)
+        .map(|m| {
+            if m == 0 {
+                0
+            } else {
+                crate::front::scheme::virtual_valence(m)
+            }
+            .to_string()
+        })
+        .collect();
+    let _ = writeln!(
+        w,
+        "/// Virtual valence n'(m) of a crease or corner sector of `m` faces, index `m` (0 unused):\n/// the valence of its per-valence constants, `corner_valence` (docs/boundaries.md §3).\npub const VIRTUAL_VALENCE: [u32; 65] = [{}];",
+        vv.join(", ")
+    );
     let _ = writeln!(
         w,
         "/// Fixed-point denominator of adaptive hardware tessellation: the evaluation stage reads the\n/// tessellator's coordinate on the 2^-16 grid (`level` = this).\npub const ADAPTIVE_LEVEL: u32 = {};",

@@ -13,9 +13,10 @@ pub const SECTOR_WORDS: usize = crate::abi::SECTOR_WORDS as usize;
 
 /// Largest sector (in faces) that a stencil table of `max_valence` holds:
 /// `SECTOR_MAX_FACES = max_valence / 2` (a sector of `m ≥ 2` faces uses the virtual valence
-/// `2m`).
+/// `2m`), and never more than [`crate::abi::VIRTUAL_VALENCE`] covers (64 faces, the CLI's
+/// largest `--max-valence` of 128): a larger sector is a typed error, not an index past it.
 pub fn max_sector_faces(max_valence: u32) -> u32 {
-    max_valence / 2
+    (max_valence / 2).min(crate::abi::VIRTUAL_VALENCE.len() as u32 - 1)
 }
 
 /// Sector kind word of a crease sector (the vertex stage reads row block
@@ -24,14 +25,11 @@ pub const SECTOR_KIND_CREASE: u32 = 0;
 /// See [`SECTOR_KIND_CREASE`].
 pub const SECTOR_KIND_CORNER: u32 = 1;
 
-/// The virtual valence `n'(m)` of a sector of `m` faces (`docs/boundaries.md` §3): 4 for one
-/// face, `2m` otherwise.
+/// The virtual valence `n'(m)` of a sector of `m` faces (`docs/boundaries.md` §3: 4 for one
+/// face, `2m` otherwise), as the scheme language defines it (`abi::VIRTUAL_VALENCE`); `m` is
+/// at most `max_sector_faces(max_valence)` ≤ 64.
 pub fn virtual_valence(m: u32) -> u32 {
-    if m == 1 {
-        4
-    } else {
-        2 * m
-    }
+    crate::abi::VIRTUAL_VALENCE[m as usize]
 }
 
 /// Vertex rule (`docs/boundaries.md` §2, first match wins: corner, crease, dart, smooth).
