@@ -98,16 +98,9 @@ fn schemes_for(topo: &Topology) -> Vec<&'static str> {
 }
 
 /// Grid index of parameter `t` along local edge `k` of a `level` grid
-/// (edge 0: v = 0, t = u; 1: u = 1, t = v; 2: v = 1, t = 1 − u; 3: u = 0,
-/// t = 1 − v), as in check/accuracy.rs.
+/// (`accuracy::edge_sample`, the layout every backend's grid shares).
 fn edge_sample(k: u32, t: u32, level: u32) -> usize {
-    let (i, j) = match k {
-        0 => (t, 0),
-        1 => (level, t),
-        2 => (level - t, level),
-        _ => (0, level - t),
-    };
-    (j * (level + 1) + i) as usize
+    tessgen_runtime::accuracy::edge_sample(k, t, level) as usize
 }
 
 /// Interior sharp edges (creases, semi-sharp applied as sharp) as

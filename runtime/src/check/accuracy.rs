@@ -132,8 +132,10 @@ fn angle_f64(a: DVec3, b: DVec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
-/// Grid index of parameter `t` along local edge `k` of a `level` grid.
-fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
+/// Grid index of parameter `t` along local edge `k` of a `level` grid (edge 0: v = 0, t = u;
+/// 1: u = 1, t = v; 2: v = 1, t = 1 − u; 3: u = 0, t = 1 − v): the layout every backend's
+/// grid output shares.
+pub fn edge_sample(k: u32, t: u32, level: u32) -> u32 {
     inner_sample(k, t, 0, level)
 }
 
