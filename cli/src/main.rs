@@ -48,7 +48,7 @@ enum Command {
 /// Compare schemes with the exact Catmull-Clark limit: distance (% of local quad size), normal deviation, boundary smoothness (shading-normal spread, and the geometric normal jump: a finite-difference estimate from tessellated positions), watertightness.
 #[derive(Args, Debug)]
 struct CompareArgs {
-    /// Input OBJ mesh (closed, all quads).
+    /// Input OBJ mesh (OpenSubdiv tags applied; non-quads and semi-sharp creases through the refinement, as `tessellate` runs them).
     mesh: PathBuf,
     /// Comma-separated schemes (regular, pccm, acc, gregory, gregory-osd).
     #[arg(long, default_value = "pccm", value_delimiter = ',', value_parser = parse_scheme)]
@@ -56,6 +56,10 @@ struct CompareArgs {
     /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid; the geometric normal jump is always estimated at level 128).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     level: u32,
+    /// At most K Catmull-Clark steps for semi-sharp creases (as `tessellate --crease-refinement`).
+    #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
+          value_parser = clap::value_parser!(u32).range(0..=6))]
+    crease_refinement: u32,
     /// Limit samples: a CCLIM001 .bin file, or a directory holding <mesh name>.bin.
     #[arg(long, value_name = "DIR|FILE")]
     reference: Option<PathBuf>,
@@ -205,12 +209,14 @@ impl Backend {
 
 /// Tessellate an OBJ mesh with a scheme's generated kernels and write the sampled patches as OBJ.
 ///
-/// Every face becomes a `g patch_<face>` group of (N+1)² vertices with
-/// normals and 2N² triangles, in input face order. The mesh must be closed,
-/// manifold and all quads. A one-line summary goes to stderr.
+/// Every quad face becomes a `g patch_<face>` group of (N+1)² vertices with
+/// normals and 2N² triangles, in input face order; a triangle or n-gon becomes
+/// one `g patch_<face>_<corner>` group per quad sub-face at level N/2 (N must
+/// be even). Boundaries, creases, corners and holes follow the mesh's
+/// OpenSubdiv `t` tags (docs/boundaries.md). A one-line summary goes to stderr.
 #[derive(Args, Debug)]
 struct TessellateArgs {
-    /// Wavefront OBJ file (closed, manifold, all quads).
+    /// Wavefront OBJ file (manifold; quads, triangles, n-gons; OpenSubdiv `t` tags).
     #[arg(value_name = "MESH")]
     mesh: PathBuf,
     /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (quads; `regular` only handles faces whose corners all have valence 4), pn, stpn, phong (triangles).
@@ -219,6 +225,10 @@ struct TessellateArgs {
     /// Triangle schemes (pn, stpn, phong): split each quad along its v0–v2 diagonal first.
     #[arg(long)]
     split_quads: bool,
+    /// Quad schemes: at most K Catmull-Clark steps to apply semi-sharp creases exactly (each step: 4× the patches; a uniform level must be divisible by 2^steps, or fewer are taken). 0 applies them as infinitely sharp.
+    #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
+          value_parser = clap::value_parser!(u32).range(0..=6))]
+    crease_refinement: u32,
     /// stpn: crease tags (`tag V [tension T] [sharpness S] [bias B] [delta X Y Z]`, `side F V ±1`; 1-based indices). Without it stpn is plain PN.
     #[arg(long, value_name = "FILE")]
     tags: Option<PathBuf>,
@@ -427,15 +437,19 @@ fn table(args: &TableArgs) -> CmdResult {
 /// tessellator's triangles (glsl, hlsl) or the instanced path's grids (cpu,
 /// wgpu) as an OBJ triangle soup (`v` per triangle corner, `f` per
 /// triangle), welded exactly with `--check-watertight`.
-fn tessellate_adaptive(mesh: &Mesh, args: &TessellateArgs, request: Request<'_>) -> CmdResult {
+fn tessellate_adaptive(
+    mesh: &Mesh,
+    args: &TessellateArgs,
+    validated: &tessellate::Validated<'_>,
+) -> CmdResult {
     let start = Instant::now();
-    let out = tessellate::tessellate(mesh, &request)
+    let out = tessellate::Session::new()
+        .run(validated)
         .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let tris = out.triangles();
     // An open mesh keeps one open sample edge per segment of each base
     // boundary edge (its own adaptive level, on the instanced path).
-    let boundary = Topology::build(mesh, &cpu::topology_options())
-        .map_or(0, |topo| out.boundary_open_edges(&topo));
+    let boundary = validated.expected_open_edges(&out);
     let elapsed = start.elapsed();
     std::fs::write(&args.out, tessellate::soup_obj(&tris))
         .map_err(|e| format!("{}: {e}", args.out.display()))?;
@@ -568,7 +582,6 @@ fn runtime_backend(backend: Backend) -> Result<tessellate::Backend, String> {
 
 fn tessellate(args: &TessellateArgs) -> CmdResult {
     let mesh = load_mesh(&args.mesh)?;
-    warn_tags(&mesh);
     let tags = match &args.tags {
         Some(path) => Some(load_tags(path, &mesh)?),
         None => None,
@@ -596,15 +609,20 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         None => Request::uniform(&args.scheme, args.level.unwrap_or(1)),
     }
     .on(runtime_backend(args.backend)?)
-    .split_quads(args.split_quads);
+    .split_quads(args.split_quads)
+    .crease_refinement(args.crease_refinement);
     if let Some(t) = &tags {
         request = request.tagged(t);
     }
     if let Some(d) = &displacement {
         request = request.displaced(d);
     }
+    let validated = request
+        .validate(&mesh)
+        .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
+    warn_notes(validated.notes());
     if args.adaptive.is_some() {
-        return tessellate_adaptive(&mesh, args, request);
+        return tessellate_adaptive(&mesh, args, &validated);
     }
     let level = args.level.unwrap_or(1);
     let per_face = u64::from(level + 1).pow(2);
@@ -617,7 +635,8 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         ));
     }
     let start = Instant::now();
-    let out = tessellate::tessellate(&mesh, &request)
+    let out = tessellate::Session::new()
+        .run(&validated)
         .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let elapsed = start.elapsed();
     let summary = match &out {
@@ -654,15 +673,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     );
     // An open mesh keeps N open sample edges per base boundary edge: those
     // are the true boundary, anything beyond them is a crack.
-    let boundary = match (
-        &out,
-        Topology::build(&mesh, &tessgen_runtime::cpu::topology_options()),
-    ) {
-        (TessOutput::Grid(t), Ok(topo)) => {
-            t.level as usize * tessgen_runtime::weld::open_base_edges(&topo)
-        }
-        _ => 0,
-    };
+    let boundary = validated.expected_open_edges(&out);
     if boundary > 0
         && r.overused_edges == 0
         && r.degenerate_triangles == 0
@@ -690,20 +701,19 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     }
 }
 
-/// Prints every OpenSubdiv tag the tessellation does not apply as written
-/// (semi-sharp creases approximated, unknown tags ignored): never silently.
-fn warn_tags(mesh: &Mesh) {
+/// Prints every tag or feature the tessellation does not apply as written
+/// (tag warnings, refinement notes: [`tessellate::Validated::notes`]):
+/// never silently.
+fn warn_notes(notes: &[String]) {
     const SHOWN: usize = 4;
-    if let Ok((_, warnings)) = tessgen_runtime::mesh::features::Features::from_mesh(mesh) {
-        for w in warnings.iter().take(SHOWN) {
-            eprintln!("tessgen: warning: {w}");
-        }
-        if warnings.len() > SHOWN {
-            eprintln!(
-                "tessgen: warning: … and {} more tag warnings (all listed by `tessgen inspect`)",
-                warnings.len() - SHOWN
-            );
-        }
+    for w in notes.iter().take(SHOWN) {
+        eprintln!("tessgen: warning: {w}");
+    }
+    if notes.len() > SHOWN {
+        eprintln!(
+            "tessgen: warning: … and {} more tag warnings (all listed by `tessgen inspect`)",
+            notes.len() - SHOWN
+        );
     }
 }
 
@@ -786,7 +796,9 @@ fn compare(args: &CompareArgs) -> CmdResult {
     let mut rows = Vec::new();
     let mut failed = false;
     for scheme in &args.schemes {
-        match accuracy::compare(&mesh, scheme, args.level, limit.as_ref()) {
+        let request =
+            Request::uniform(scheme, args.level).crease_refinement(args.crease_refinement);
+        match accuracy::compare_with(&mesh, &request, limit.as_ref()) {
             Ok(r) => rows.push(r),
             Err(e) => {
                 eprintln!("tessgen: {scheme}: {e}");

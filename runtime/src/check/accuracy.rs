@@ -15,10 +15,10 @@
 //! patches (ACC): a continuous shading normal over geometry that is only C⁰
 //! across edges near extraordinary vertices.
 
-use crate::check::weld;
 use crate::cpu::{self, Patches, TessError, Tessellation};
 use crate::mesh::topology::Topology;
 use crate::mesh::Mesh;
+use crate::tessellate::{Output, Request, Sampling, Session};
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 use std::path::Path;
@@ -354,24 +354,46 @@ pub fn boundary_normal_spread(topo: &Topology, t: &Tessellation) -> f64 {
 }
 
 /// Compare `scheme` on `mesh` with the limit samples (if given), and
-/// measure smoothness and watertightness at `level`.
+/// measure smoothness and watertightness at `level`. Runs through the front
+/// door on the CPU, so a mesh with non-quads or semi-sharp creases is
+/// measured as it tessellates: on its refinement (only base quads have
+/// limit samples; smoothness is measured on the refined patches).
 pub fn compare(
     mesh: &Mesh,
     scheme: &str,
     level: u32,
     limit: Option<&LimitSamples>,
-) -> Result<Accuracy, TessError> {
-    let topo = Topology::build(mesh, &cpu::topology_options())?;
-    let positions: Vec<Vec3> = mesh
+) -> Result<Accuracy, crate::tessellate::Error> {
+    compare_with(mesh, &Request::uniform(scheme, level), limit)
+}
+
+/// [`compare`] with the request's options (its scheme and level; e.g.
+/// [`Request::crease_refinement`]).
+pub fn compare_with(
+    mesh: &Mesh,
+    request: &Request<'_>,
+    limit: Option<&LimitSamples>,
+) -> Result<Accuracy, crate::tessellate::Error> {
+    let level = match request.sampling {
+        Sampling::Uniform(n) => n,
+        Sampling::Adaptive(_) => 0,
+    };
+    let scheme = request.scheme.as_str();
+    let v = request.validate(mesh)?;
+    let topo = v
+        .topology()
+        .ok_or_else(|| TessError::from(cpu::facet_error(v.kernels())))?;
+    let positions: Vec<Vec3> = v
+        .run_mesh()
         .positions
         .iter()
         .map(|p| Vec3::from_array(*p))
         .collect();
-    let kernels = cpu::scheme(scheme)?;
-    let patches = cpu::construct(&topo, &positions, kernels)?;
-    let t = cpu::evaluate(&patches, level)?;
+    let kernels = v.kernels();
+    let patches = cpu::construct(topo, &positions, kernels)?;
     let geometric_normal_jump_deg =
-        patches_geometric_normal_jump(&topo, &patches, GEOMETRIC_JUMP_LEVEL)?;
+        patches_geometric_normal_jump(topo, &patches, GEOMETRIC_JUMP_LEVEL)?;
+    let t = cpu::evaluate(&patches, level)?;
     let mut acc = Accuracy {
         scheme: scheme.into(),
         level,
@@ -379,18 +401,21 @@ pub fn compare(
         rms_distance_pct: None,
         max_normal_deg: None,
         rms_normal_deg: None,
-        max_boundary_normal_spread_deg: boundary_normal_spread(&topo, &t),
+        max_boundary_normal_spread_deg: boundary_normal_spread(topo, &t),
         geometric_normal_jump_deg,
         geometric_normal_jump_level: GEOMETRIC_JUMP_LEVEL,
         open_edges: 0,
         cracks: 0,
         max_regular_distance_pct: None,
     };
-    let w = weld::weld(&t);
+    let mut session = Session::new();
+    let out = session.run(&v)?;
+    let w = out.weld();
     acc.open_edges = w.open_edges;
-    acc.cracks = w.cracks(level as usize * weld::open_base_edges(&topo));
+    acc.cracks = w.cracks(v.expected_open_edges(&out));
     // Faces whose limit is one bicubic patch: regular corners, no
-    // semi-sharp edge at any corner (docs/boundaries.md §2).
+    // semi-sharp edge at any corner (docs/boundaries.md §2) — on a refined
+    // mesh, every refined face of the base face.
     let mut semi = vec![false; topo.num_vertices()];
     for (&(a, b), &s) in &topo.features.edge_sharpness {
         if s > 0.0 && s < crate::mesh::features::SHARPNESS_INFINITE {
@@ -401,33 +426,61 @@ pub fn compare(
             }
         }
     }
-    let regular = |f: usize| {
+    let run_mesh = v.run_mesh();
+    let leaf_regular = |f: usize| {
         topo.classes[f] == crate::mesh::topology::FaceClass::Ordinary
-            && mesh.face(f).iter().all(|&v| !semi[v as usize])
+            && run_mesh.face(f).iter().all(|&v| !semi[v as usize])
     };
+    let mut regular = vec![true; mesh.num_faces()];
+    match v.refined() {
+        Some(r) => {
+            for (f, leaf) in r.refinement.leaves.iter().enumerate() {
+                let base = r.refinement.blocks[leaf.block as usize].face as usize;
+                regular[base] &= leaf_regular(f);
+            }
+        }
+        None => {
+            for (f, x) in regular.iter_mut().enumerate() {
+                *x = leaf_regular(f);
+            }
+        }
+    }
     if let Some(lim) = limit {
-        let g = cpu::evaluate(&patches, (lim.n - 1) as u32)?;
+        let sampled = Request {
+            sampling: Sampling::Uniform((lim.n - 1) as u32),
+            ..request.clone()
+        };
+        let vs = sampled.validate(mesh)?;
+        let g = match session.run(&vs)? {
+            Output::Grid(g) => g,
+            Output::Polygons(p) => p.quads,
+            _ => return Err(TessError::from(cpu::facet_error(kernels)).into()),
+        };
         let per = lim.n * lim.n;
         let (mut dmax, mut dsum, mut amax, mut asum, mut count) =
             (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
         let mut rmax: Option<f64> = None;
-        for f in 0..lim.faces.min(g.faces) {
-            if topo.no_limit[f] {
+        for k in 0..g.faces {
+            let f = g.face_of(k);
+            if f >= lim.faces {
                 continue;
             }
             let face = mesh.face(f);
             let mut size = 0.0f64;
-            for k in 0..face.len() {
-                let a = Vec3::from_array(mesh.positions[face[k] as usize]);
-                let b = Vec3::from_array(mesh.positions[face[(k + 1) % face.len()] as usize]);
+            for i in 0..face.len() {
+                let a = Vec3::from_array(mesh.positions[face[i] as usize]);
+                let b = Vec3::from_array(mesh.positions[face[(i + 1) % face.len()] as usize]);
                 size += (b - a).length() as f64;
             }
             let size = (size / face.len() as f64).max(f64::MIN_POSITIVE);
             for s in 0..per {
                 let [p, n] = lim.samples[f * per + s];
-                let d = (g.positions[f * per + s] - p).as_dvec3().length() / size * 100.0;
-                let a = angle(g.normals[f * per + s], n);
-                if regular(f) {
+                if !p.is_finite() {
+                    continue;
+                }
+                let d = (g.positions[k * per + s] - p).as_dvec3().length() / size * 100.0;
+                let a = angle(g.normals[k * per + s], n);
+                if regular[f] {
                     rmax = Some(rmax.unwrap_or(0.0).max(d));
                 }
                 dmax = dmax.max(d);

@@ -32,6 +32,7 @@
 //! same first-use way and would only repeat what the scanner's range checks already prove.
 
 pub mod features;
+pub mod refine;
 pub mod sectors;
 pub mod tags;
 pub mod topology;

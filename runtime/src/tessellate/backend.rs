@@ -24,10 +24,12 @@ pub(crate) fn run(v: &Validated<'_>, session: &mut Session) -> Result<Output, Er
 }
 
 /// The uniform level of a validated request (adaptive requests have none).
+/// A refined mesh runs its refined faces at the leaf level `N / 2ᵏ`.
 fn level(v: &Validated<'_>) -> u32 {
-    match v.request.sampling {
-        super::Sampling::Uniform(level) => level,
-        super::Sampling::Adaptive(_) => 0,
+    match (v.request.sampling.clone(), v.refined()) {
+        (super::Sampling::Uniform(_), Some(r)) => r.leaf_level,
+        (super::Sampling::Uniform(level), None) => level,
+        (super::Sampling::Adaptive(_), _) => 0,
     }
 }
 
@@ -40,7 +42,7 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
     let data: Option<DisplaceData> = match v.request.displacement {
         None => None,
         Some(d) => Some(match &v.domain {
-            Domain::Quads { topo, .. } => cpu::displacement_data(v.mesh, topo, &patches, d)?,
+            Domain::Quads { topo, .. } => cpu::displacement_data(v.run_mesh(), topo, &patches, d)?,
             Domain::Triangles(tri) => cpu::displacement_data_tri(v.mesh, tri, &patches, d)?,
         }),
     };
@@ -75,7 +77,7 @@ fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Er
     let m = match (&v.domain, v.request.displacement) {
         (Domain::Quads { topo, positions }, None) => GpuMesh::new(gpu, topo, positions, name)?,
         (Domain::Quads { topo, positions }, Some(d)) => {
-            GpuMesh::new_displaced(gpu, v.mesh, topo, positions, name, d)?
+            GpuMesh::new_displaced(gpu, v.run_mesh(), topo, positions, name, d)?
         }
         (Domain::Triangles(tri), None) => GpuMesh::new_tri(gpu, tri, name)?,
         (Domain::Triangles(tri), Some(d)) => GpuMesh::new_tri_displaced(gpu, v.mesh, tri, name, d)?,
@@ -109,7 +111,7 @@ fn run_vulkan(
             VkMesh::new(vk, topo, positions, name, &options)?
         }
         (Domain::Quads { topo, positions }, Some(d)) => {
-            VkMesh::new_displaced(vk, v.mesh, topo, positions, name, d, &options)?
+            VkMesh::new_displaced(vk, v.run_mesh(), topo, positions, name, d, &options)?
         }
         (Domain::Triangles(tri), None) => VkMesh::new_tri(vk, tri, name, &options)?,
         (Domain::Triangles(tri), Some(d)) => {

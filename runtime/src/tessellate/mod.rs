@@ -22,6 +22,7 @@
 //! device on first use and reuses it.
 
 mod backend;
+pub mod refined;
 mod request;
 
 pub use request::{
@@ -47,6 +48,10 @@ pub enum Output {
     /// Adaptive grids of the instanced path (CPU, wgpu): power-of-two
     /// buckets with snapped transitions.
     Instanced(AdaptiveTessellation),
+    /// A mesh with triangles or n-gons at a uniform level: base quads as
+    /// grids at `N`, the other faces as their sub-faces at `N/2`
+    /// ([`refined::PolygonGrids`], docs/boundaries.md §8).
+    Polygons(refined::PolygonGrids),
 }
 
 impl Output {
@@ -81,6 +86,7 @@ impl Output {
             }
             Output::Captured(c) => c.triangles(),
             Output::Instanced(a) => a.triangles(),
+            Output::Polygons(p) => p.triangles(),
         }
     }
 
@@ -92,6 +98,7 @@ impl Output {
             Output::Grid(t) => crate::check::obj::to_obj(t),
             Output::Captured(c) => c.to_obj(),
             Output::Instanced(_) => soup_obj(&self.triangles()),
+            Output::Polygons(p) => p.to_obj(),
         }
     }
 
@@ -100,7 +107,7 @@ impl Output {
         match self {
             Output::Grid(t) => crate::check::weld::weld(t),
             Output::Captured(c) => c.weld(),
-            Output::Instanced(_) => {
+            Output::Instanced(_) | Output::Polygons(_) => {
                 let soup: Vec<Vec3> = self.triangles().into_iter().flatten().collect();
                 crate::check::weld::weld_triangles(&soup, 3, &[[0, 1, 2]])
             }
@@ -148,6 +155,7 @@ impl Output {
                     })
                 })
                 .sum(),
+            Output::Polygons(p) => p.boundary_open_edges,
             _ => 0,
         }
     }
@@ -162,6 +170,14 @@ impl Output {
             ),
             Output::Captured(c) => (c.patches.len(), c.vertex_count(), c.triangle_count()),
             Output::Instanced(a) => (a.levels.len(), a.positions.len(), a.triangles().len()),
+            Output::Polygons(p) => {
+                let (q, s) = (&p.quads, &p.subfaces);
+                (
+                    q.faces + s.faces,
+                    q.positions.len() + s.positions.len(),
+                    q.faces * q.local_triangles().len() + s.faces * s.local_triangles().len(),
+                )
+            }
         }
     }
 }
@@ -230,17 +246,32 @@ impl Session {
     /// validation.
     pub fn tessellate(&mut self, mesh: &Mesh, request: &Request<'_>) -> Result<Output, Error> {
         let v = request.validate(mesh)?;
-        let out = backend::run(&v, self)?;
-        // Faces without a limit surface (holes; boundary rule 0) are
-        // evaluated like any other (their vertices shape the neighbours)
-        // but emit no grid (docs/boundaries.md §5).
-        Ok(match (out, v.no_limit()) {
-            (Output::Grid(mut t), Some(no_limit)) => {
+        self.run(&v)
+    }
+
+    /// Run a request validated by [`Request::validate`] (so a caller can
+    /// also read [`Validated::notes`] and [`Validated::expected_open_edges`]).
+    pub fn run(&mut self, v: &Validated<'_>) -> Result<Output, Error> {
+        let out = backend::run(v, self)?;
+        // A refined mesh comes back in the base layout (its holes are left
+        // out there); otherwise faces without a limit surface (holes;
+        // boundary rule 0) are evaluated like any other (their vertices
+        // shape the neighbours) but emit no grid (docs/boundaries.md §5).
+        Ok(match (out, v.refined(), v.no_limit()) {
+            (Output::Grid(t), Some(r), _) => {
+                let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
+                let mut out = r.assemble(&t, no_limit);
+                if let Output::Polygons(p) = &mut out {
+                    p.boundary_open_edges = v.refined_open_edges();
+                }
+                out
+            }
+            (Output::Grid(mut t), None, Some(no_limit)) => {
                 let keep: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
                 t.retain_faces(&keep);
                 Output::Grid(t)
             }
-            (out, _) => out,
+            (out, _, _) => out,
         })
     }
 }

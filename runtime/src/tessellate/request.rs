@@ -6,10 +6,12 @@
 //! is opened, so a wrong flag costs no GPU start-up and every backend
 //! refuses the same things with the same words.
 
+use super::refined::RefinedDomain;
 use crate::cpu::adaptive::{self, Adaptive, AdaptiveMesh, Metric, Partitioning};
 use crate::cpu::displace::{DisplaceError, Displacement};
 use crate::cpu::{self, TessError, MAX_LEVEL};
 use crate::kernels::common::SchemeKernels;
+use crate::mesh::features::Features;
 use crate::mesh::tags::TagFile;
 use crate::mesh::topology::Topology;
 use crate::mesh::trimesh::TriMesh;
@@ -104,6 +106,10 @@ pub struct Request<'a> {
     pub tags: Option<&'a TagFile>,
     /// Triangle schemes on a quad mesh: split each quad along v0–v2.
     pub split_quads: bool,
+    /// Most Catmull-Clark steps spent on semi-sharp creases
+    /// ([`super::refined`]; default [`super::refined::DEFAULT_CREASE_REFINEMENT`],
+    /// 0 applies them as infinitely sharp).
+    pub crease_refinement: u32,
 }
 
 impl<'a> Request<'a> {
@@ -125,7 +131,14 @@ impl<'a> Request<'a> {
             displacement: None,
             tags: None,
             split_quads: false,
+            crease_refinement: super::refined::DEFAULT_CREASE_REFINEMENT,
         }
+    }
+
+    /// At most `steps` Catmull-Clark steps for semi-sharp creases.
+    pub fn crease_refinement(mut self, steps: u32) -> Self {
+        self.crease_refinement = steps;
+        self
     }
 
     pub fn on(mut self, backend: Backend) -> Self {
@@ -179,18 +192,55 @@ impl<'a> Request<'a> {
                 });
             }
         }
+        let mut refined: Option<Box<RefinedDomain>> = None;
+        let mut notes: Vec<String> = Vec::new();
         let domain = if kernels.sides == 3 {
+            if let Ok((_, warnings)) = Features::from_mesh(mesh) {
+                notes = warnings.iter().map(|w| w.to_string()).collect();
+            }
             Domain::Triangles(cpu::tri_mesh(mesh, self.split_quads, self.tags)?)
         } else {
-            let topo = Topology::build(mesh, &cpu::topology_options()).map_err(TessError::from)?;
+            mesh.validate()?;
+            let (features, warnings) = Features::from_mesh(mesh)
+                .map_err(|e| TessError::from(crate::mesh::topology::TopologyError::from(e)))?;
+            let level = match self.sampling {
+                Sampling::Uniform(n) => Some(n),
+                Sampling::Adaptive(_) => None,
+            };
+            let opts = cpu::topology_options();
+            refined = RefinedDomain::for_mesh(
+                mesh,
+                &features,
+                &warnings,
+                level,
+                self.crease_refinement,
+                opts.max_valence,
+            )?
+            .map(Box::new);
+            let (topo, run_mesh) = match &refined {
+                Some(r) => {
+                    let m = &r.refinement.mesh;
+                    let topo = Topology::build_with(m, &opts, &r.refinement.features)
+                        .map_err(TessError::from)?;
+                    (topo, m)
+                }
+                None => {
+                    let mut topo =
+                        Topology::build_with(mesh, &opts, &features).map_err(TessError::from)?;
+                    notes = warnings.iter().map(|w| w.to_string()).collect();
+                    topo.warnings = warnings;
+                    (topo, mesh)
+                }
+            };
             // `regular` on an extraordinary face fails here, not on a device.
             cpu::face_classes(&topo, kernels)?;
             if let (Sampling::Adaptive(_), Some(face)) =
                 (&self.sampling, topo.no_limit.iter().position(|&n| n))
             {
+                let face = refined.as_ref().map_or(face, |r| r.base_face(face));
                 return Err(Error::HolesAdaptive { face });
             }
-            let positions = mesh
+            let positions = run_mesh
                 .positions
                 .iter()
                 .map(|p| Vec3::from_array(*p))
@@ -207,12 +257,17 @@ impl<'a> Request<'a> {
             Sampling::Uniform(_) => None,
             Sampling::Adaptive(a) => Some(self.resolve(a, &domain)),
         };
+        if let Some(r) = &refined {
+            notes.clone_from(&r.notes);
+        }
         Ok(Validated {
             request: self,
             mesh,
             kernels,
             domain,
             adaptive,
+            refined,
+            notes,
         })
     }
 
@@ -313,6 +368,9 @@ pub struct Validated<'r> {
     pub(crate) kernels: &'static SchemeKernels,
     pub(crate) domain: Domain,
     pub(crate) adaptive: Option<Resolved>,
+    /// The refinement the quad schemes run on, if the mesh needed one.
+    pub(crate) refined: Option<Box<RefinedDomain>>,
+    pub(crate) notes: Vec<String>,
 }
 
 impl Validated<'_> {
@@ -322,6 +380,57 @@ impl Validated<'_> {
         match &self.domain {
             Domain::Quads { topo, .. } if topo.no_limit.iter().any(|&n| n) => Some(&topo.no_limit),
             _ => None,
+        }
+    }
+
+    /// The refinement this request runs on (non-quads, semi-sharp creases).
+    pub fn refined(&self) -> Option<&RefinedDomain> {
+        self.refined.as_deref()
+    }
+
+    /// The mesh the backend evaluates: the refined mesh, or the input.
+    pub fn run_mesh(&self) -> &Mesh {
+        self.refined
+            .as_ref()
+            .map_or(self.mesh, |r| &r.refinement.mesh)
+    }
+
+    /// The quad topology the backend runs on (refined if refined).
+    pub fn topology(&self) -> Option<&Topology> {
+        match &self.domain {
+            Domain::Quads { topo, .. } => Some(topo),
+            Domain::Triangles(_) => None,
+        }
+    }
+
+    /// Tag warnings and refinement notes, each one line: what is not
+    /// applied exactly as written (never silently).
+    pub fn notes(&self) -> &[String] {
+        &self.notes
+    }
+
+    /// Open sample edges a watertight result of this request keeps on the
+    /// mesh's true boundary (see [`super::Output::boundary_open_edges`]);
+    /// a crack is any open edge beyond them.
+    pub fn expected_open_edges(&self, out: &super::Output) -> usize {
+        match (self.topology(), &self.request.sampling, out) {
+            (_, _, super::Output::Polygons(p)) => p.boundary_open_edges,
+            (Some(_), Sampling::Uniform(_), _) if self.refined.is_some() => {
+                self.refined_open_edges()
+            }
+            (Some(topo), _, out) => out.boundary_open_edges(topo),
+            (None, _, _) => 0,
+        }
+    }
+
+    /// Uniform refined runs: refined boundary half-edges × the leaf level
+    /// (= base boundary edges × `N`).
+    pub(crate) fn refined_open_edges(&self) -> usize {
+        match (self.topology(), &self.refined) {
+            (Some(topo), Some(r)) => {
+                crate::check::weld::open_base_halfedges(topo).len() * r.leaf_level as usize
+            }
+            _ => 0,
         }
     }
 
@@ -364,6 +473,8 @@ pub enum Error {
         backend: &'static str,
         partitioning: Partitioning,
     },
+    #[error(transparent)]
+    Refine(#[from] super::refined::RefineError),
     #[error(transparent)]
     Tess(#[from] TessError),
     #[error(transparent)]

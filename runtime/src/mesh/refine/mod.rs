@@ -1,0 +1,314 @@
+//! Uniform Catmull-Clark refinement of the base mesh, for what the patch
+//! schemes cannot take directly: triangles and n-gons (one step makes every
+//! face a quad) and semi-sharp creases (after `⌈s⌉` steps of the sharp
+//! rules a crease of sharpness `s` has become smooth, so the schemes see
+//! only smooth and infinitely sharp features). The Catmull-Clark limit of
+//! the refined mesh is the limit of the base mesh, so nothing is
+//! approximated by the step itself.
+//!
+//! What comes out (docs/boundaries.md §8):
+//! - [`Refinement::stencils`]: every refined vertex as one flat row over the
+//!   base vertices ([`StencilTable`]), so a deforming mesh refines in one
+//!   pass, on the CPU or a GPU, with the same bits;
+//! - [`Refinement::mesh`] and [`Refinement::features`]: the refined
+//!   all-quad mesh with its remaining sharpness, holes and boundary rule —
+//!   what [`crate::mesh::topology::Topology::build_with`] takes;
+//! - [`Refinement::blocks`] / [`Refinement::leaves`]: which refined faces
+//!   tile which output grid — one block per base quad (its `(u, v)` square,
+//!   cut into `2ᵏ × 2ᵏ` leaves) and one per sub-face of an n-gon.
+
+mod stencil;
+mod step;
+
+pub use stencil::StencilTable;
+pub use step::QUAD_CHILD_OFFSET;
+
+use std::collections::BTreeSet;
+
+use crate::mesh::features::{is_semi_sharp, Features};
+use crate::mesh::topology::{Topology, TopologyError, TopologyOptions};
+use crate::mesh::{Mesh, NO_NORMAL};
+
+/// Refinement steps that make the most refined grid still fit `u16` leaf
+/// coordinates and keep tables far from `u32` limits.
+pub const MAX_REFINE_LEVELS: u32 = 6;
+
+/// What a mesh needs refined before a quad scheme can take it exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Need {
+    /// Faces that are not quads (one step makes them quads).
+    pub non_quads: usize,
+    /// Interior edges with a semi-sharp sharpness (0 < s < 10).
+    pub semi_sharp_edges: usize,
+    /// Vertices with a semi-sharp sharpness.
+    pub semi_sharp_vertices: usize,
+    /// Largest semi-sharp sharpness (0 if none).
+    pub max_semi_sharpness: f32,
+}
+
+impl Need {
+    /// Steps after which every semi-sharp feature is smooth: `⌈max s⌉`.
+    pub fn crease_levels(&self) -> u32 {
+        self.max_semi_sharpness.ceil() as u32
+    }
+
+    /// Steps needed in all: at least one for non-quads.
+    pub fn levels(&self) -> u32 {
+        self.crease_levels().max(u32::from(self.non_quads > 0))
+    }
+}
+
+/// Counts what [`refine`] would be needed for.
+pub fn need(mesh: &Mesh, features: &Features) -> Need {
+    let mut n = Need {
+        non_quads: (0..mesh.num_faces())
+            .filter(|&f| mesh.face(f).len() != 4)
+            .count(),
+        ..Need::default()
+    };
+    let mut faces_of_edge = std::collections::HashMap::new();
+    for f in 0..mesh.num_faces() {
+        let face = mesh.face(f);
+        for (i, &a) in face.iter().enumerate() {
+            let b = face[(i + 1) % face.len()];
+            *faces_of_edge.entry((a.min(b), a.max(b))).or_insert(0u32) += 1;
+        }
+    }
+    for (e, &s) in &features.edge_sharpness {
+        // A boundary edge is sharp anyway: its tag changes nothing.
+        if is_semi_sharp(s) && faces_of_edge.get(e).copied().unwrap_or(0) > 1 {
+            n.semi_sharp_edges += 1;
+            n.max_semi_sharpness = n.max_semi_sharpness.max(s);
+        }
+    }
+    for &s in features.vertex_sharpness.values() {
+        if is_semi_sharp(s) {
+            n.semi_sharp_vertices += 1;
+            n.max_semi_sharpness = n.max_semi_sharpness.max(s);
+        }
+    }
+    n
+}
+
+/// One output grid: a base quad (`corner == None`), or sub-face `corner` of
+/// a base n-gon; `depth` steps cut it into `2^depth × 2^depth` leaves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Block {
+    pub face: u32,
+    pub corner: Option<u32>,
+    pub depth: u32,
+}
+
+/// Where a refined face lies: leaf `(x, y)` of block `block`, `x` along the
+/// block's `u`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Leaf {
+    pub block: u32,
+    pub x: u32,
+    pub y: u32,
+}
+
+/// A refined mesh and how it maps back to the base (module docs).
+#[derive(Debug, Clone)]
+pub struct Refinement {
+    /// Steps applied.
+    pub levels: u32,
+    /// Refined vertex `r` = row `r` over the base vertices.
+    pub stencils: StencilTable,
+    /// The refined all-quad mesh (positions from [`Refinement::stencils`],
+    /// texture coordinates refined linearly per face corner).
+    pub mesh: Mesh,
+    /// Remaining sharpness (`s − levels`, infinite stays infinite), holes
+    /// (children of holes and of faces without a limit), the boundary rule.
+    pub features: Features,
+    /// Output grids in base face order (n-gon sub-faces by corner).
+    pub blocks: Vec<Block>,
+    /// Per refined face.
+    pub leaves: Vec<Leaf>,
+}
+
+impl Refinement {
+    /// Refined positions for new base positions (same topology): the
+    /// deformation path, in the table's reference order.
+    pub fn positions(&self, base: &[[f32; 3]]) -> Vec<[f32; 3]> {
+        self.stencils.apply(base)
+    }
+}
+
+/// Refines `mesh` by `levels` uniform Catmull-Clark steps with `features`
+/// applied. The base mesh is checked first, as
+/// [`Topology::build_with`] checks a quad mesh (non-manifold edges and
+/// vertices, orientation, valence above `max_valence`), so a refinement
+/// never starts on a mesh the schemes would refuse for another reason.
+pub fn refine(
+    mesh: &Mesh,
+    features: &Features,
+    levels: u32,
+    max_valence: u32,
+) -> Result<Refinement, TopologyError> {
+    let opts = TopologyOptions {
+        max_valence,
+        require_quads: false,
+    };
+    let base = Topology::build_with(mesh, &opts, features)?;
+    let levels = levels.min(MAX_REFINE_LEVELS);
+
+    let mut level = step::Level {
+        num_vertices: mesh.num_vertices(),
+        face_offsets: mesh.face_offsets.clone(),
+        face_vertices: mesh.face_vertices.clone(),
+        edge_sharpness: features
+            .edge_sharpness
+            .iter()
+            .map(|(&k, &s)| (k, s))
+            .collect(),
+        vertex_sharpness: features
+            .vertex_sharpness
+            .iter()
+            .map(|(&k, &s)| (k, s))
+            .collect(),
+        boundary_corners: features.boundary == crate::mesh::features::BoundaryRule::EdgeAndCorner,
+    };
+    // Blocks and the leaf of every base face.
+    let mut blocks = Vec::new();
+    let mut leaves = Vec::new();
+    for f in 0..mesh.num_faces() {
+        if mesh.face(f).len() == 4 {
+            leaves.push(Leaf {
+                block: blocks.len() as u32,
+                x: 0,
+                y: 0,
+            });
+            blocks.push(Block {
+                face: f as u32,
+                corner: None,
+                depth: levels,
+            });
+        } else {
+            // Placeholder: an n-gon is no leaf; its children start blocks.
+            leaves.push(Leaf {
+                block: u32::MAX,
+                x: 0,
+                y: 0,
+            });
+        }
+    }
+    let mut empty: Vec<bool> = (0..mesh.num_faces())
+        .map(|f| base.no_limit[f] || features.holes.contains(&(f as u32)))
+        .collect();
+    let has_uv = !mesh.face_texcoords.is_empty() && !mesh.texcoords.is_empty();
+    let mut uv: Vec<[f32; 2]> = if has_uv {
+        (0..mesh.face_vertices.len())
+            .map(|c| mesh.corner_texcoord(c).unwrap_or([0.0; 2]))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut rows: Vec<Vec<(u32, f64)>> = (0..mesh.num_vertices() as u32)
+        .map(|v| vec![(v, 1.0)])
+        .collect();
+
+    for _ in 0..levels {
+        let s = step::step(&level);
+        rows = stencil::compose(&s.rows, &rows, mesh.num_vertices());
+        let mut child_leaves = Vec::with_capacity(s.child.num_faces());
+        let mut child_empty = Vec::with_capacity(s.child.num_faces());
+        let mut child_uv = Vec::with_capacity(if has_uv { 4 * uv.len() } else { 0 });
+        for f in 0..level.num_faces() {
+            let n = level.face(f).len();
+            let first = level.face_offsets[f] as usize;
+            let parent = leaves[f];
+            for i in 0..n {
+                child_empty.push(empty[f]);
+                child_leaves.push(if n == 4 {
+                    let (ox, oy) = QUAD_CHILD_OFFSET[i];
+                    Leaf {
+                        block: parent.block,
+                        x: 2 * parent.x + ox,
+                        y: 2 * parent.y + oy,
+                    }
+                } else {
+                    blocks.push(Block {
+                        face: f as u32,
+                        corner: Some(i as u32),
+                        depth: levels - 1,
+                    });
+                    Leaf {
+                        block: (blocks.len() - 1) as u32,
+                        x: 0,
+                        y: 0,
+                    }
+                });
+                if has_uv {
+                    let corner = |k: usize| uv[first + k % n];
+                    let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
+                    let mut c = [0.0f32; 2];
+                    for k in 0..n {
+                        c = [c[0] + corner(k)[0], c[1] + corner(k)[1]];
+                    }
+                    let c = [c[0] / n as f32, c[1] / n as f32];
+                    let next = mid(corner(i), corner(i + 1));
+                    let prev = mid(corner(i + n - 1), corner(i));
+                    child_uv.extend_from_slice(&step::child_face(n, i, corner(i), next, c, prev));
+                }
+            }
+        }
+        leaves = child_leaves;
+        empty = child_empty;
+        uv = child_uv;
+        level = s.child;
+    }
+    // Blocks in base face order: n-gon sub-face blocks were appended at the
+    // first step; sort by (face, corner) and renumber the leaves.
+    let mut order: Vec<u32> = (0..blocks.len() as u32).collect();
+    order.sort_by_key(|&b| (blocks[b as usize].face, blocks[b as usize].corner));
+    let mut new_index = vec![0u32; blocks.len()];
+    for (k, &b) in order.iter().enumerate() {
+        new_index[b as usize] = k as u32;
+    }
+    let blocks: Vec<Block> = order.iter().map(|&b| blocks[b as usize]).collect();
+    for l in &mut leaves {
+        l.block = new_index[l.block as usize];
+    }
+
+    let stencils = StencilTable::from_rows(&rows);
+    let positions = stencils.apply(&mesh.positions);
+    let nc = level.face_vertices.len();
+    let refined = Mesh {
+        positions,
+        face_offsets: level.face_offsets.clone(),
+        face_vertices: level.face_vertices.clone(),
+        tags: Vec::new(),
+        normals: Vec::new(),
+        face_normals: vec![NO_NORMAL; nc],
+        texcoords: uv.clone(),
+        face_texcoords: if has_uv {
+            (0..nc as u32).collect()
+        } else {
+            Vec::new()
+        },
+    };
+    let holes: BTreeSet<u32> = empty
+        .iter()
+        .enumerate()
+        .filter(|(_, &e)| e)
+        .map(|(f, _)| f as u32)
+        .collect();
+    let features = Features {
+        boundary: features.boundary,
+        edge_sharpness: level.edge_sharpness.into_iter().collect(),
+        vertex_sharpness: level.vertex_sharpness.into_iter().collect(),
+        holes,
+    };
+    Ok(Refinement {
+        levels,
+        stencils,
+        mesh: refined,
+        features,
+        blocks,
+        leaves,
+    })
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,212 @@
+use super::*;
+use crate::mesh::features::BoundaryRule;
+
+fn data(name: &str) -> Mesh {
+    let path = format!("{}/../tests/data/meshes/{name}", env!("CARGO_MANIFEST_DIR"));
+    Mesh::from_obj_path(path).expect("test mesh")
+}
+
+fn cube() -> Mesh {
+    let p = vec![
+        [-1.0, -1.0, -1.0],
+        [1.0, -1.0, -1.0],
+        [1.0, 1.0, -1.0],
+        [-1.0, 1.0, -1.0],
+        [-1.0, -1.0, 1.0],
+        [1.0, -1.0, 1.0],
+        [1.0, 1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+    ];
+    let f = vec![
+        vec![0, 3, 2, 1],
+        vec![4, 5, 6, 7],
+        vec![0, 1, 5, 4],
+        vec![1, 2, 6, 5],
+        vec![2, 3, 7, 6],
+        vec![3, 0, 4, 7],
+    ];
+    Mesh::from_raw(p, &f).expect("cube")
+}
+
+fn row_sum(t: &StencilTable, r: usize) -> f64 {
+    t.row(r).map(|(_, w)| w as f64).sum()
+}
+
+#[test]
+fn cube_vertex_point_is_the_catmull_clark_rule() {
+    let r = refine(&cube(), &Features::new(), 1, 32).expect("refine");
+    // Valence 3 corner at ±1: (n-2)/n·V + Σ neighbours/n² + Σ face points/n².
+    // Neighbours sum to (1,1,1)·(-1)… for V = (-1,-1,-1): each neighbour has one
+    // coordinate flipped; the face points are the face centres.
+    let v = r.mesh.positions[0];
+    let n = 3.0f64;
+    let expect = (n - 2.0) / n * -1.0 + (1.0 / 9.0) * (-1.0 - 1.0 + 1.0) + (1.0 / 9.0) * (-1.0);
+    for c in v {
+        assert!((c as f64 - expect).abs() < 1e-6, "{v:?} vs {expect}");
+    }
+    assert_eq!(r.mesh.num_faces(), 24);
+    assert_eq!(r.mesh.num_vertices(), 8 + 6 + 12);
+    for k in 0..r.stencils.rows() {
+        assert!((row_sum(&r.stencils, k) - 1.0).abs() < 1e-6, "row {k}");
+    }
+    assert_eq!(r.blocks.len(), 6);
+    assert!(r.blocks.iter().all(|b| b.corner.is_none() && b.depth == 1));
+}
+
+#[test]
+fn quad_children_keep_the_parent_parameterization() {
+    // One flat quad: child (x, y) must start at base (x/2, y/2) and keep u, v.
+    let m = Mesh::from_raw(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+        &[vec![0, 1, 2, 3]],
+    )
+    .expect("quad");
+    let r = refine(
+        &m,
+        &Features::new().with_boundary(BoundaryRule::EdgeAndCorner),
+        2,
+        32,
+    )
+    .expect("refine");
+    assert_eq!(r.leaves.len(), 16);
+    for (f, leaf) in r.leaves.iter().enumerate() {
+        let face = r.mesh.face(f);
+        let p0 = r.mesh.positions[face[0] as usize];
+        let p1 = r.mesh.positions[face[1] as usize];
+        let p3 = r.mesh.positions[face[3] as usize];
+        // Corners of a flat, sharp-bounded square refine to their affine
+        // positions, so the leaf's first corner sits at (x, y)/4.
+        assert!(
+            (p0[0] - leaf.x as f32 / 4.0).abs() < 1e-6,
+            "leaf {leaf:?} at {p0:?}"
+        );
+        assert!(
+            (p0[1] - leaf.y as f32 / 4.0).abs() < 1e-6,
+            "leaf {leaf:?} at {p0:?}"
+        );
+        assert!(p1[0] > p0[0] && (p1[1] - p0[1]).abs() < 1e-6, "u along +x");
+        assert!(p3[1] > p0[1] && (p3[0] - p0[0]).abs() < 1e-6, "v along +y");
+    }
+}
+
+#[test]
+fn nonquads_become_quads_with_one_block_per_sub_face() {
+    let m = data("catmark_nonquads.obj");
+    let (features, _) = Features::from_mesh(&m).expect("tags");
+    let need = need(&m, &features);
+    assert_eq!(need.non_quads, 10);
+    assert_eq!(need.levels(), 1);
+    let r = refine(&m, &features, 1, 32).expect("refine");
+    assert!((0..r.mesh.num_faces()).all(|f| r.mesh.face(f).len() == 4));
+    let quads = (0..m.num_faces()).filter(|&f| m.face(f).len() == 4).count();
+    let sub: usize = (0..m.num_faces())
+        .filter(|&f| m.face(f).len() != 4)
+        .map(|f| m.face(f).len())
+        .sum();
+    assert_eq!(r.blocks.len(), quads + sub);
+    // Blocks are in base face order, sub-faces by corner.
+    for w in r.blocks.windows(2) {
+        assert!((w[0].face, w[0].corner) < (w[1].face, w[1].corner));
+    }
+    // The refined mesh builds as an all-quad topology.
+    Topology::build_with(&r.mesh, &TopologyOptions::default(), &r.features).expect("topology");
+    for k in 0..r.stencils.rows() {
+        assert!((row_sum(&r.stencils, k) - 1.0).abs() < 1e-6, "row {k}");
+    }
+}
+
+#[test]
+fn semi_sharp_creases_lose_one_per_step() {
+    let m = cube();
+    let f = Features::new()
+        .with_crease(0, 1, 2.5)
+        .with_crease(1, 2, 10.0)
+        .with_corner(6, 0.5);
+    let n = need(&m, &f);
+    assert_eq!(n.crease_levels(), 3);
+    let r1 = refine(&m, &f, 1, 32).expect("refine");
+    let mut values: Vec<f32> = r1.features.edge_sharpness.values().copied().collect();
+    values.sort_by(f32::total_cmp);
+    assert_eq!(values, vec![1.5, 1.5, 10.0, 10.0]);
+    assert!(r1.features.vertex_sharpness.is_empty());
+    let r3 = refine(&m, &f, 3, 32).expect("refine");
+    assert!(r3.features.edge_sharpness.values().all(|&s| s == 10.0));
+    assert_eq!(r3.features.edge_sharpness.len(), 8);
+}
+
+#[test]
+fn fractional_edge_point_blends_sharp_and_smooth() {
+    let m = cube();
+    let smooth = refine(&m, &Features::new(), 1, 32).expect("refine");
+    let sharp = refine(&m, &Features::new().with_crease(0, 1, 1.0), 1, 32).expect("refine");
+    let half = refine(&m, &Features::new().with_crease(0, 1, 0.5), 1, 32).expect("refine");
+    // Edge (0, 1) is the first edge of face 0's corner 3 → find it by position.
+    let mid = [0.0f32, -1.0, -1.0];
+    let e = (0..sharp.mesh.num_vertices())
+        .find(|&v| sharp.mesh.positions[v] == mid)
+        .expect("sharp edge point at the midpoint");
+    for c in 0..3 {
+        let expect = 0.5 * (smooth.mesh.positions[e][c] + sharp.mesh.positions[e][c]);
+        assert!((half.mesh.positions[e][c] - expect).abs() < 1e-6);
+    }
+}
+
+#[test]
+fn holes_and_texcoords_follow_the_children() {
+    let m = data("catmark_cube_uv.obj");
+    let f = Features::new().with_hole(2);
+    let r = refine(&m, &f, 1, 32).expect("refine");
+    let holes: Vec<u32> = r.features.holes.iter().copied().collect();
+    assert_eq!(holes, vec![8, 9, 10, 11]);
+    assert_eq!(r.mesh.face_texcoords.len(), r.mesh.face_vertices.len());
+    // The first corner of child 0 of face 0 keeps the base corner's uv.
+    assert_eq!(r.mesh.corner_texcoord(0), m.corner_texcoord(0));
+}
+
+#[test]
+fn bad_base_meshes_are_refused_before_refining() {
+    // Three faces on one edge.
+    let m = Mesh::from_raw(
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        &[vec![0, 1, 2], vec![1, 0, 3], vec![0, 1, 4]],
+    )
+    .expect("mesh");
+    assert!(matches!(
+        refine(&m, &Features::new(), 1, 32),
+        Err(TopologyError::NonManifoldEdge { .. })
+    ));
+}
+
+#[test]
+#[ignore]
+fn dump_refined() {
+    let m = data("catmark_nonquads.obj");
+    let (features, _) = Features::from_mesh(&m).expect("tags");
+    let r = refine(&m, &features, 1, 32).expect("refine");
+    let mut s = String::new();
+    for p in &r.mesh.positions {
+        s += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for f in 0..r.mesh.num_faces() {
+        let face = r.mesh.face(f);
+        s += &format!(
+            "f {} {} {} {}\n",
+            face[0] + 1,
+            face[1] + 1,
+            face[2] + 1,
+            face[3] + 1
+        );
+    }
+    std::fs::write("/tmp/refined.obj", s).unwrap();
+}
