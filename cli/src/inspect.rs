@@ -81,7 +81,7 @@ pub(crate) fn inspect(args: &InspectArgs) -> CmdResult {
     );
     match &topology {
         Ok(_) if s.non_quads > 0 => println!(
-            "topology: ok, but {} non-quad faces (tessellate needs quads)",
+            "topology: ok, {} non-quad faces (the quad schemes run on one Catmull-Clark step)",
             s.non_quads
         ),
         Ok(t) if t.num_boundary_edges() == 0 && t.num_sectors() == 0 => {

@@ -209,7 +209,22 @@ impl FeatureStats {
                 .values()
                 .any(|&s| crate::mesh::features::is_semi_sharp(s))
         {
-            say("semi-sharp creases/corners: approximated as infinitely sharp");
+            let max = f
+                .edge_sharpness
+                .values()
+                .chain(f.vertex_sharpness.values())
+                .copied()
+                .filter(|&s| crate::mesh::features::is_semi_sharp(s))
+                .fold(0.0f32, f32::max);
+            say(&format!(
+                "semi-sharp creases/corners (sharpness up to {}): applied exactly by {} uniform \
+                 Catmull-Clark steps; tessellate takes at most --crease-refinement (default {}) \
+                 and as many as the power of two in the level allows, and applies what is left as \
+                 infinitely sharp (each step: 4x the patches)",
+                max,
+                max.ceil(),
+                crate::tessellate::refined::DEFAULT_CREASE_REFINEMENT
+            ));
         }
         if out.corners > 0 {
             say("corners: interpolated (corner sectors)");
@@ -221,12 +236,10 @@ impl FeatureStats {
             say("holes: no patch emitted, vertices still shape the neighbours");
         }
         if non_quad_faces > 0 {
-            say("non-quad faces: refused (one Catmull-Clark step not implemented yet)");
-        }
-        if t.num_sectors() > 0 || out.no_limit_faces > 0 {
             say(
-                "sectors: not read by the generated kernels yet, so tessellate refuses faces at \
-                 boundary, crease and corner vertices",
+                "non-quad faces: one uniform Catmull-Clark step makes every face a quad; base quads \
+                 keep one (N+1)^2 grid, each n-gon gives one (N/2+1)^2 grid per corner sub-face \
+                 (N must be even)",
             );
         }
         out
@@ -338,7 +351,7 @@ mod tests {
         assert!(sc
             .tessellation
             .iter()
-            .any(|l| l.contains("approximated as infinitely sharp")));
+            .any(|l| l.contains("semi-sharp") && l.contains("6 uniform Catmull-Clark steps")));
         let tent = get("catmark_tent.obj");
         assert_eq!(tent.boundary_rule, 2);
         assert!(tent.tessellation[0].contains("rule 2"));

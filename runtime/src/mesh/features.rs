@@ -240,7 +240,7 @@ impl fmt::Display for FeatureWarning {
             } => write!(
                 f,
                 "line {line}: {edges} semi-sharp crease edge{} (sharpness {}) approximated as \
-                 infinitely sharp",
+                 infinitely sharp beyond the refinement steps taken (exact after ⌈s⌉ steps)",
                 if *edges == 1 { "" } else { "s" },
                 range(*min, *max)
             ),
@@ -252,7 +252,7 @@ impl fmt::Display for FeatureWarning {
             } => write!(
                 f,
                 "line {line}: {vertices} semi-sharp corner{} (sharpness {}) approximated as \
-                 infinitely sharp",
+                 infinitely sharp beyond the refinement steps taken (exact after ⌈s⌉ steps)",
                 if *vertices == 1 { "" } else { "s" },
                 range(*min, *max)
             ),

@@ -24,8 +24,8 @@ pub enum TopologyError {
     Features(#[from] FeatureError),
     /// A face is not a quad while [`TopologyOptions::require_quads`] is set.
     #[error(
-        "face {face} has {arity} vertices; only quads are supported (non-quad faces need one \
-         Catmull-Clark step, which is not implemented yet)"
+        "face {face} has {arity} vertices; this topology takes quads only (the front door, \
+         `tessgen_runtime::tessellate`, refines non-quad faces by one Catmull-Clark step first)"
     )]
     NonQuad {
         /// 0-based face index.

@@ -7,8 +7,10 @@
 //! by [`super::Request::crease_refinement`], and at a uniform level `N` by
 //! the power of two in `N` (a base quad's `(N+1)²` grid is read off its
 //! `2ᵏ × 2ᵏ` refined faces at level `N / 2ᵏ`, so `2ᵏ` must divide `N`).
-//! Whatever sharpness is left after the last step is applied as infinitely
-//! sharp and said so in [`RefinedDomain::notes`].
+//! Adaptive requests take no crease steps (their output stays per base
+//! patch; a mesh with non-quads runs on its one-step refinement, one patch
+//! per refined face). Whatever sharpness is left after the last step is
+//! applied as infinitely sharp and said so in [`RefinedDomain::notes`].
 //!
 //! Why the output stays watertight: every refined face is evaluated by the
 //! unchanged backends at level `M = N / 2ᵏ`, and shared refined edges come
@@ -59,10 +61,11 @@ pub fn choose_levels(
     crease_cap: u32,
 ) -> Result<(u32, u32), RefineError> {
     let polygons = u32::from(need.non_quads > 0);
-    let mut creases = need.crease_levels().min(crease_cap);
-    if let Some(n) = level {
-        creases = creases.min(n.trailing_zeros());
-    }
+    // Adaptive runs keep their per-base-patch output: creases as sharp.
+    let creases = match level {
+        Some(n) => need.crease_levels().min(crease_cap).min(n.trailing_zeros()),
+        None => 0,
+    };
     let steps = creases
         .max(polygons)
         .min(crate::mesh::refine::MAX_REFINE_LEVELS);
@@ -119,9 +122,12 @@ impl RefinedDomain {
         if need.non_quads > 0 {
             notes.push(format!(
                 "{} non-quad faces: tessellated as their quad sub-faces after one Catmull-Clark step \
-                 (one grid per sub-face at level {})",
+                 ({})",
                 need.non_quads,
-                level.map_or(0, |n| n / 2)
+                level.map_or("one adaptive patch per refined face".to_string(), |n| format!(
+                    "one grid per sub-face at level {}",
+                    n / 2
+                ))
             ));
         }
         let by_level =
@@ -142,7 +148,9 @@ impl RefinedDomain {
                     need.max_semi_sharpness,
                     need.crease_levels(),
                     creases,
-                    if by_level {
+                    if level.is_none() {
+                        "adaptive tessellation takes no crease steps"
+                    } else if by_level {
                         "a level divisible by a higher power of two allows more"
                     } else {
                         "the crease refinement cap"

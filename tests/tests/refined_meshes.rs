@@ -1,0 +1,368 @@
+//! Meshes the quad schemes take through one or more uniform Catmull-Clark
+//! steps (docs/boundaries.md §8): triangles and n-gons, semi-sharp creases.
+//!
+//! * `catmark_nonquads` (triangles, a pentagon, hexagons, quads) and
+//!   `catmark_smoothtris0` (all triangles) on CPU, wgpu, Vulkan GLSL and
+//!   HLSL: the exact weld leaves only the true boundary open, and every GPU
+//!   backend gives the CPU's bits (HLSL Gregory within the parity bound);
+//! * the base quads of `catmark_nonquads` are the exact Catmull-Clark limit
+//!   (OpenSubdiv's samples) to f32 noise;
+//! * semi-sharp creases converge to OpenSubdiv's limit as steps are added,
+//!   and faces whose refined faces are regular stay exact;
+//! * adaptive, displaced and holed non-quad meshes weld;
+//! * odd levels with non-quads are a typed error; the stencils deform.
+
+mod common;
+
+use tessgen_runtime::accuracy::{compare_with, LimitSamples};
+use tessgen_runtime::adaptive::Partitioning;
+use tessgen_runtime::displace::Ownership;
+use tessgen_runtime::mesh::features::Features;
+use tessgen_runtime::mesh::refine;
+use tessgen_runtime::mesh::Tag;
+use tessgen_runtime::tessellate::refined::RefineError;
+use tessgen_runtime::tessellate::{
+    AdaptiveRequest, Backend, EdgeMetric, Error, Output, Request, Session,
+};
+use tessgen_runtime::Mesh;
+
+const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
+const POLYGON_MESHES: &[&str] = &["catmark_nonquads", "catmark_smoothtris0"];
+const LEVEL: u32 = 4;
+
+fn limit(name: &str) -> LimitSamples {
+    LimitSamples::load(common::data(&format!("cc_limit/{name}.bin"))).expect("limit")
+}
+
+/// Position bits of every sample of a polygon output, quads then sub-faces.
+fn bits(out: &Output) -> Vec<[u32; 3]> {
+    let p = match out {
+        Output::Polygons(p) => p,
+        other => panic!("not polygon grids: {other:?}"),
+    };
+    p.quads
+        .positions
+        .iter()
+        .chain(&p.subfaces.positions)
+        .map(|v| v.to_array().map(f32::to_bits))
+        .collect()
+}
+
+/// Runs `request` and checks the weld: only the true boundary open.
+fn welded(mesh: &Mesh, request: &Request<'_>, session: &mut Session, what: &str) -> Output {
+    let v = request
+        .validate(mesh)
+        .unwrap_or_else(|e| panic!("{what}: {e}"));
+    let out = session.run(&v).unwrap_or_else(|e| panic!("{what}: {e}"));
+    let w = out.weld();
+    let expected = v.expected_open_edges(&out);
+    assert_eq!(
+        w.cracks(expected),
+        0,
+        "{what}: {w:?}, expected {expected} open"
+    );
+    assert_eq!(w.open_edges, expected, "{what}: open edges");
+    assert_eq!(w.overused_edges, 0, "{what}");
+    assert_eq!(w.degenerate_triangles, 0, "{what}");
+    out
+}
+
+fn backends() -> Vec<Backend> {
+    let mut b = vec![Backend::Cpu, Backend::Wgpu];
+    b.extend([Backend::VulkanGlsl, Backend::VulkanHlsl]);
+    b
+}
+
+#[test]
+fn polygon_meshes_on_every_backend() {
+    let mut session = Session::new();
+    for name in POLYGON_MESHES {
+        let mesh = common::mesh(name);
+        let diag = common::bbox_diagonal(&mesh);
+        for scheme in SCHEMES {
+            let request = Request::uniform(scheme, LEVEL);
+            let cpu = welded(
+                &mesh,
+                &request,
+                &mut session,
+                &format!("{name} {scheme} cpu"),
+            );
+            let cpu_bits = bits(&cpu);
+            for backend in backends().into_iter().skip(1) {
+                let what = format!("{name} {scheme} {}", backend.name());
+                let out = welded(&mesh, &request.clone().on(backend), &mut session, &what);
+                let b = bits(&out);
+                assert_eq!(b.len(), cpu_bits.len(), "{what}");
+                if backend == Backend::VulkanHlsl && scheme.starts_with("gregory") {
+                    let worst = b
+                        .iter()
+                        .zip(&cpu_bits)
+                        .map(|(p, q)| {
+                            let d: f32 = (0..3)
+                                .map(|c| (f32::from_bits(p[c]) - f32::from_bits(q[c])).powi(2))
+                                .sum();
+                            d.sqrt() / diag
+                        })
+                        .fold(0.0f32, f32::max);
+                    assert!(worst <= 1e-5, "{what}: {worst}");
+                } else {
+                    let diffs = b.iter().zip(&cpu_bits).filter(|(p, q)| p != q).count();
+                    assert_eq!(diffs, 0, "{what}: samples ≠ CPU bits");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn polygon_output_layout() {
+    let mesh = common::mesh("catmark_nonquads");
+    let out = common_polygons(&mesh, LEVEL);
+    let Output::Polygons(p) = &out else {
+        panic!("not polygons")
+    };
+    let quads = (0..mesh.num_faces())
+        .filter(|&f| mesh.face(f).len() == 4)
+        .count();
+    let corners: usize = (0..mesh.num_faces())
+        .filter(|&f| mesh.face(f).len() != 4)
+        .map(|f| mesh.face(f).len())
+        .sum();
+    assert_eq!((p.quads.faces, p.quads.level), (quads, LEVEL));
+    assert_eq!((p.subfaces.faces, p.subfaces.level), (corners, LEVEL / 2));
+    // Sub-face k: corner `corners[k]` of face `face_ids[k]`, its (0,0)
+    // sample at that base vertex's limit point, its (1,1) sample shared by
+    // every sub-face of the face (the face point's limit).
+    let per = p.subfaces.grid_len();
+    let last = per - 1;
+    for k in 0..p.subfaces.faces {
+        let f = p.subfaces.face_of(k);
+        let same: Vec<usize> = (0..p.subfaces.faces)
+            .filter(|&j| p.subfaces.face_of(j) == f)
+            .collect();
+        assert_eq!(same.len(), mesh.face(f).len());
+        assert_eq!(p.corners[same[0]], 0);
+        for &j in &same {
+            assert_eq!(
+                p.subfaces.positions[j * per + last],
+                p.subfaces.positions[k * per + last],
+                "face {f}: centre differs between sub-faces"
+            );
+        }
+    }
+    // The OBJ names every grid and round-trips.
+    let text = out.to_obj();
+    assert_eq!(text.matches("\ng patch_").count(), quads + corners);
+    assert!(
+        text.contains("\ng patch_0_2\n"),
+        "triangle 0's third sub-face"
+    );
+    let back = Mesh::from_obj_str(&text).expect("OBJ");
+    assert_eq!(
+        back.num_vertices(),
+        p.quads.positions.len() + p.subfaces.positions.len()
+    );
+}
+
+fn common_polygons(mesh: &Mesh, level: u32) -> Output {
+    tessgen_runtime::tessellate::tessellate(mesh, &Request::uniform("pccm", level)).expect("run")
+}
+
+/// The base quads of catmark_nonquads border every non-quad face; after the
+/// step every refined face of theirs is regular, so all of them are the
+/// exact limit (measured: 3.2e-5 % RMS, 1.2e-4 % max, every scheme).
+#[test]
+fn nonquads_base_quads_are_the_exact_limit() {
+    let mesh = common::mesh("catmark_nonquads");
+    let lim = limit("catmark_nonquads");
+    for scheme in SCHEMES {
+        let a = compare_with(&mesh, &Request::uniform(scheme, 8), Some(&lim)).expect("compare");
+        let max = a.max_distance_pct.expect("max");
+        println!(
+            "nonquads {scheme}: max {max:.3e} % rms {:.3e} %",
+            a.rms_distance_pct.unwrap_or(0.0)
+        );
+        assert!(max < 1e-3, "{scheme}: {max} %");
+        assert!(a.max_normal_deg.expect("normal") < 1e-2, "{scheme}");
+        assert_eq!(a.cracks, 0);
+    }
+}
+
+/// Semi-sharp creases: each step takes the surface closer to OpenSubdiv's
+/// (single_crease, pccm, RMS % of quad size measured 6.40 / 2.16 / 0.645 /
+/// 0.155 for 0–3 steps), and the faces that are regular after the steps are
+/// exact — which checks the fractional Sdc rules against OpenSubdiv.
+#[test]
+fn semi_sharp_creases_converge_with_refinement() {
+    let mesh = common::mesh("catmark_single_crease");
+    let lim = limit("catmark_single_crease");
+    let mut last = f64::INFINITY;
+    for k in 0..=3 {
+        let r = Request::uniform("pccm", 8).crease_refinement(k);
+        let a = compare_with(&mesh, &r, Some(&lim)).expect("compare");
+        let rms = a.rms_distance_pct.expect("rms");
+        println!("single_crease, {k} steps: rms {rms:.3} %");
+        assert!(rms < 0.7 * last, "{k} steps: {rms} % (before {last} %)");
+        last = rms;
+        let regular = a.max_regular_distance_pct.expect("regular faces");
+        assert!(regular < 1e-3, "{k} steps: regular faces {regular} %");
+        assert_eq!(a.cracks, 0);
+    }
+    assert!(last < 0.2, "3 steps: {last} %");
+}
+
+/// The level decides how many steps fit (a base grid is read off 2ᵏ × 2ᵏ
+/// refined grids), and the notes say what is left approximated.
+#[test]
+fn crease_steps_follow_the_level() {
+    let mesh = common::mesh("catmark_single_crease");
+    for (level, steps) in [(8, 2), (6, 1), (5, 0), (4, 2)] {
+        let request = Request::uniform("pccm", level);
+        let v = request.validate(&mesh).expect("validate");
+        assert_eq!(
+            v.refined().map_or(0, |r| r.refinement.levels),
+            steps,
+            "level {level}"
+        );
+        assert!(
+            v.notes().iter().any(|n| n.contains("semi-sharp")),
+            "level {level}: {:?}",
+            v.notes()
+        );
+    }
+    let v = Request::uniform("pccm", 5);
+    let v = v.validate(&mesh).expect("validate");
+    assert!(v
+        .notes()
+        .iter()
+        .any(|n| n.contains("approximated as infinitely sharp")));
+}
+
+#[test]
+fn odd_level_with_polygons_is_an_error() {
+    let mesh = common::mesh("catmark_nonquads");
+    let err = Request::uniform("pccm", 7)
+        .validate(&mesh)
+        .expect_err("odd level");
+    match &err {
+        Error::Refine(RefineError::OddLevel {
+            level, face, arity, ..
+        }) => {
+            assert_eq!((*level, *face, *arity), (7, 0, 3));
+        }
+        other => panic!("{other:?}"),
+    }
+    let text = err.to_string();
+    assert!(text.contains("try 6 or 8"), "{text}");
+}
+
+#[test]
+fn adaptive_polygon_meshes_weld() {
+    let mesh = common::mesh("catmark_nonquads");
+    let mut session = Session::new();
+    for backend in [Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl] {
+        let request = Request::adaptive(
+            "pccm",
+            AdaptiveRequest {
+                metric: EdgeMetric::Random {
+                    seed: 7,
+                    lo: 1.0,
+                    hi: 8.0,
+                },
+                partitioning: Partitioning::Integer,
+                max_factor: 8.0,
+            },
+        )
+        .on(backend);
+        welded(
+            &mesh,
+            &request,
+            &mut session,
+            &format!("adaptive {}", backend.name()),
+        );
+    }
+}
+
+/// Every face its own chart (corners on a circle in its cell), so every
+/// edge is a texture seam, for any polygon.
+fn polygon_charts(mut mesh: Mesh) -> Mesh {
+    let nf = mesh.num_faces();
+    let side = (nf as f32).sqrt().ceil() as usize;
+    mesh.texcoords.clear();
+    mesh.face_texcoords.clear();
+    for f in 0..nf {
+        let cell = 1.0 / side as f32;
+        let (cx, cy) = ((f % side) as f32 + 0.5, (f / side) as f32 + 0.5);
+        let n = mesh.face(f).len();
+        for k in 0..n {
+            let a = std::f32::consts::TAU * k as f32 / n as f32;
+            mesh.face_texcoords.push(mesh.texcoords.len() as u32);
+            mesh.texcoords
+                .push([(cx + 0.4 * a.cos()) * cell, (cy + 0.4 * a.sin()) * cell]);
+        }
+    }
+    mesh
+}
+
+#[test]
+fn displaced_polygon_meshes_weld() {
+    let mesh = polygon_charts(common::mesh("catmark_nonquads"));
+    let d = common::displacement(Ownership::LowestFace, 0.05 * common::bbox_diagonal(&mesh));
+    let mut session = Session::new();
+    for backend in [Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl] {
+        let request = Request::uniform("pccm", LEVEL).displaced(&d).on(backend);
+        welded(
+            &mesh,
+            &request,
+            &mut session,
+            &format!("displaced {}", backend.name()),
+        );
+    }
+}
+
+#[test]
+fn holes_in_polygon_meshes_emit_nothing() {
+    let mut mesh = common::mesh("catmark_nonquads");
+    mesh.tags.push(Tag {
+        name: "hole".into(),
+        ints: vec![0, 3],
+        ..Tag::default()
+    });
+    let mut session = Session::new();
+    for backend in [Backend::Cpu, Backend::Wgpu] {
+        let out = welded(
+            &mesh,
+            &Request::uniform("pccm", LEVEL).on(backend),
+            &mut session,
+            &format!("holes {}", backend.name()),
+        );
+        let Output::Polygons(p) = &out else {
+            panic!("not polygons")
+        };
+        let ids: Vec<usize> = (0..p.subfaces.faces)
+            .map(|k| p.subfaces.face_of(k))
+            .chain((0..p.quads.faces).map(|k| p.quads.face_of(k)))
+            .collect();
+        assert!(!ids.contains(&0) && !ids.contains(&3), "{ids:?}");
+    }
+}
+
+/// A deformed base mesh refines by the same stencils: the table is
+/// topology only, and applying it gives the same bits as refining anew.
+#[test]
+fn stencils_deform_with_the_mesh() {
+    let mesh = common::mesh("catmark_nonquads");
+    let (features, _) = Features::from_mesh(&mesh).expect("tags");
+    let r = refine::refine(&mesh, &features, 2, 32).expect("refine");
+    let mut moved = mesh.clone();
+    for (k, p) in moved.positions.iter_mut().enumerate() {
+        p[1] += 0.01 * (k as f32).sin();
+    }
+    let again = refine::refine(&moved, &features, 2, 32).expect("refine");
+    assert_eq!(again.stencils, r.stencils);
+    assert_eq!(r.positions(&moved.positions), again.mesh.positions);
+    for row in 0..r.stencils.rows() {
+        let sum: f64 = r.stencils.row(row).map(|(_, w)| f64::from(w)).sum();
+        assert!((sum - 1.0).abs() < 1e-6, "row {row} sums to {sum}");
+    }
+}
