@@ -3,11 +3,11 @@
 # ground truth, every quad scheme, level 8 (`tessgen compare`). Prints Markdown.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --quiet -p tessgen
-bin=target/debug/tessgen
+cargo build --quiet --release -p tessgen
+bin=target/release/tessgen
 ref=tests/data/cc_limit
 closed="catmark_cube catmark_torus catmark_toroidal_tet catmark_righthanded"
-open="catmark_tent catmark_single_crease catmark_xord_boundary catmark_xord_interior catmark_fvar_bound3 catmark_gregory_test1 catmark_pawn catmark_car"
+open="catmark_tent catmark_single_crease catmark_xord_boundary catmark_xord_interior catmark_fvar_bound3 catmark_gregory_test1 catmark_pawn catmark_car catmark_nonquads"
 for group in closed open; do
   echo "### ${group} meshes"
   echo

@@ -63,7 +63,14 @@ fn welded(mesh: &Mesh, request: &Request<'_>, session: &mut Session, what: &str)
     );
     assert_eq!(w.open_edges, expected, "{what}: open edges");
     assert_eq!(w.overused_edges, 0, "{what}");
-    assert_eq!(w.degenerate_triangles, 0, "{what}");
+    // The instanced path's snapped transitions leave collapsed triangles
+    // (skipped by the weld, as in adaptive_cpu.rs); uniform grids have none.
+    if matches!(
+        request.sampling,
+        tessgen_runtime::tessellate::Sampling::Uniform(_)
+    ) {
+        assert_eq!(w.degenerate_triangles, 0, "{what}");
+    }
     out
 }
 

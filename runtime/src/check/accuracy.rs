@@ -382,7 +382,7 @@ pub fn compare_with(
     let v = request.validate(mesh)?;
     let topo = v
         .topology()
-        .ok_or_else(|| TessError::from(cpu::facet_error(v.kernels())))?;
+        .ok_or_else(|| cpu::facet_error(v.kernels()))?;
     let positions: Vec<Vec3> = v
         .run_mesh()
         .positions
@@ -454,7 +454,7 @@ pub fn compare_with(
         let g = match session.run(&vs)? {
             Output::Grid(g) => g,
             Output::Polygons(p) => p.quads,
-            _ => return Err(TessError::from(cpu::facet_error(kernels)).into()),
+            _ => return Err(cpu::facet_error(kernels).into()),
         };
         let per = lim.n * lim.n;
         let (mut dmax, mut dsum, mut amax, mut asum, mut count) =

@@ -232,8 +232,17 @@ impl<'a> Request<'a> {
                     (topo, mesh)
                 }
             };
-            // `regular` on an extraordinary face fails here, not on a device.
-            cpu::face_classes(&topo, kernels)?;
+            // `regular` on an extraordinary face fails here, not on a device
+            // (naming the base face a refined face comes from).
+            cpu::face_classes(&topo, kernels).map_err(|e| match (e, &refined) {
+                (TessError::ExtraordinaryFace { scheme, face }, Some(r)) => {
+                    TessError::ExtraordinaryFace {
+                        scheme,
+                        face: r.base_face(face),
+                    }
+                }
+                (e, _) => e,
+            })?;
             if let (Sampling::Adaptive(_), Some(face)) =
                 (&self.sampling, topo.no_limit.iter().position(|&n| n))
             {

@@ -218,6 +218,7 @@ pub fn refine(
             let n = level.face(f).len();
             let first = level.face_offsets[f] as usize;
             let parent = leaves[f];
+            #[allow(clippy::needless_range_loop)] // `i` is the corner, used four ways
             for i in 0..n {
                 child_empty.push(empty[f]);
                 child_leaves.push(if n == 4 {

@@ -40,7 +40,8 @@ fn cube_vertex_point_is_the_catmull_clark_rule() {
     // coordinate flipped; the face points are the face centres.
     let v = r.mesh.positions[0];
     let n = 3.0f64;
-    let expect = (n - 2.0) / n * -1.0 + (1.0 / 9.0) * (-1.0 - 1.0 + 1.0) + (1.0 / 9.0) * (-1.0);
+    // V·(n−2)/n + (neighbour x sum −1)/9 + (face-point x sum −1)/9 = −5/9.
+    let expect = -((n - 2.0) / n) - 1.0 / 9.0 - 1.0 / 9.0;
     for c in v {
         assert!((c as f64 - expect).abs() < 1e-6, "{v:?} vs {expect}");
     }
