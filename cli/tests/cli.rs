@@ -990,3 +990,67 @@ fn bench_uniform_and_adaptive() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("not supported"), "{}", stderr(&o));
 }
+
+/// Triangles and n-gons tessellate through one Catmull-Clark step (weld
+/// closed but for the true boundary, sub-face groups in the OBJ); an odd
+/// level is a usage error of the input (exit 1) that says why, and nothing
+/// is written; semi-sharp creases say how many steps were applied.
+#[test]
+fn tessellate_polygons_and_semi_sharp_creases() {
+    let tmp = TempDir::new("polygons");
+    let out = tmp.path().join("nq.obj");
+    let args = |m: &str, level: &str, extra: &[&str]| {
+        let mut a: Vec<std::ffi::OsString> = vec![
+            "tessellate".into(),
+            mesh(m).into(),
+            "--scheme".into(),
+            "gregory".into(),
+            "--level".into(),
+            level.into(),
+            "--out".into(),
+            out.clone().into(),
+            "--check-watertight".into(),
+        ];
+        a.extend(extra.iter().map(|s| s.into()));
+        a
+    };
+    let o = tessgen(args("catmark_nonquads.obj", "4", &[]));
+    assert_ok(&o);
+    assert!(
+        stdout(&o).contains("all on the mesh boundary"),
+        "{}",
+        all(&o)
+    );
+    assert!(stderr(&o).contains("non-quad faces"), "{}", all(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("\ng patch_1_4\n"), "pentagon's last sub-face");
+    std::fs::remove_file(&out).unwrap();
+
+    let o = tessgen(args("catmark_nonquads.obj", "5", &[]));
+    assert_exit(&o, 1);
+    assert!(
+        stderr(&o).contains("level must be even (got 5; try 4 or 6)"),
+        "{}",
+        all(&o)
+    );
+    assert!(!out.exists());
+
+    let o = tessgen(args("catmark_single_crease.obj", "4", &[]));
+    assert_ok(&o);
+    assert!(
+        stderr(&o).contains("need 6 Catmull-Clark steps; 2 applied"),
+        "{}",
+        all(&o)
+    );
+    let o = tessgen(args(
+        "catmark_single_crease.obj",
+        "4",
+        &["--crease-refinement", "0"],
+    ));
+    assert_ok(&o);
+    assert!(
+        stderr(&o).contains("approximated as infinitely sharp"),
+        "{}",
+        all(&o)
+    );
+}

@@ -380,9 +380,7 @@ pub fn compare_with(
     };
     let scheme = request.scheme.as_str();
     let v = request.validate(mesh)?;
-    let topo = v
-        .topology()
-        .ok_or_else(|| cpu::facet_error(v.kernels()))?;
+    let topo = v.topology().ok_or_else(|| cpu::facet_error(v.kernels()))?;
     let positions: Vec<Vec3> = v
         .run_mesh()
         .positions

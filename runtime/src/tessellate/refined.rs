@@ -33,7 +33,8 @@ pub struct RefinedDomain {
     pub need: Need,
     /// The uniform level of the refined faces (`N / 2ᵏ`; 0 when adaptive).
     pub leaf_level: u32,
-    /// Tag warnings that still hold, then what the refinement approximates.
+    /// What the refinement does and approximates, then the tag warnings
+    /// that still hold.
     pub notes: Vec<String>,
 }
 
@@ -107,7 +108,9 @@ impl RefinedDomain {
         let refinement = refine::refine(mesh, features, steps, max_valence)
             .map_err(crate::cpu::TessError::from)?;
         let resolved = creases >= need.crease_levels();
-        let mut notes: Vec<String> = warnings
+        // What the refinement does first, then the tag warnings that still hold.
+        let mut notes: Vec<String> = Vec::new();
+        let tag_notes: Vec<String> = warnings
             .iter()
             .filter(|w| {
                 !(resolved
@@ -158,6 +161,7 @@ impl RefinedDomain {
                 )
             });
         }
+        notes.extend(tag_notes);
         Ok(Some(RefinedDomain {
             leaf_level: level.map_or(0, |n| n >> steps),
             refinement,
