@@ -43,6 +43,7 @@ enum Command {
     Render(RenderArgs),
     Bench(BenchArgs),
     Compare(CompareArgs),
+    Refine(refine::RefineArgs),
 }
 
 /// Compare schemes with the exact Catmull-Clark limit: distance (% of local quad size), normal deviation, boundary smoothness (shading-normal spread, and the geometric normal jump: a finite-difference estimate from tessellated positions), watertightness.
@@ -331,6 +332,7 @@ fn parse_scheme(name: &str) -> Result<String, String> {
 
 mod inspect;
 use inspect::inspect;
+mod refine;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -338,6 +340,7 @@ fn main() -> ExitCode {
         Command::Generate(args) => generate(args),
         Command::Table(args) => table(args),
         Command::Inspect(args) => inspect(args),
+        Command::Refine(args) => refine::refine_cmd(args),
         Command::Tessellate(args) => tessellate(args),
         Command::Render(args) => gpu_cmds::render(args),
         Command::Bench(args) => gpu_cmds::bench(args),

@@ -1054,3 +1054,44 @@ fn tessellate_polygons_and_semi_sharp_creases() {
         all(&o)
     );
 }
+
+/// `tessgen refine` writes a refined mesh that tessellates as is, and a
+/// stencil table that reproduces its positions from the base mesh bit for
+/// bit in the documented order.
+#[test]
+fn refine_writes_mesh_and_stencils() {
+    let tmp = TempDir::new("refine");
+    let o = tessgen([
+        "refine".as_ref(),
+        mesh("catmark_nonquads.obj").as_os_str(),
+        "--out".as_ref(),
+        tmp.path().as_os_str(),
+    ]);
+    assert_ok(&o);
+    let base = tessgen_runtime::Mesh::from_obj_path(mesh("catmark_nonquads.obj")).unwrap();
+    let refined = tessgen_runtime::Mesh::from_obj_path(tmp.path().join("refined.obj")).unwrap();
+    let bin = std::fs::read(tmp.path().join("stencils.bin")).unwrap();
+    assert_eq!(&bin[..8], b"TGSTEN01");
+    let word = |k: usize| u32::from_le_bytes(bin[8 + 4 * k..12 + 4 * k].try_into().unwrap());
+    let (rows, terms, nv) = (word(0) as usize, word(1) as usize, word(2) as usize);
+    assert_eq!((rows, nv), (refined.num_vertices(), base.num_vertices()));
+    let at = |k: usize| word(4 + k);
+    for r in 0..rows {
+        let mut acc = [0.0f32; 3];
+        for k in at(r) as usize..at(r + 1) as usize {
+            let i = at(rows + 1 + k) as usize;
+            let w = f32::from_bits(at(rows + 1 + terms + k));
+            let p = base.positions[i];
+            acc = [acc[0] + p[0] * w, acc[1] + p[1] * w, acc[2] + p[2] * w];
+        }
+        assert_eq!(acc, refined.positions[r], "row {r}");
+    }
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("refinement.json")).unwrap())
+            .unwrap();
+    assert_eq!(j["levels"], 1);
+    assert_eq!(
+        j["leaf_list"].as_array().unwrap().len(),
+        refined.num_faces()
+    );
+}

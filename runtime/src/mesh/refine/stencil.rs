@@ -53,7 +53,8 @@ impl StencilTable {
     }
 
     /// The refined positions of `base` (one per row), in the reference order
-    /// every backend reproduces: `acc = w₀·p₀`, then `acc = acc + wₖ·pₖ`.
+    /// every backend reproduces, the vertex stage's summation
+    /// (DESIGN.md Rule 1): `acc = 0`, then `acc = acc + pₖ·wₖ` per term.
     pub fn apply(&self, base: &[[f32; 3]]) -> Vec<[f32; 3]> {
         let mut out = vec![[0.0f32; 3]; self.rows()];
         self.apply_into(base, &mut out);
@@ -61,19 +62,15 @@ impl StencilTable {
     }
 
     /// [`StencilTable::apply`] into the caller's buffer (`out.len() == rows`);
-    /// rows whose base index is out of range of `base` read 0.
+    /// a base index out of range of `base` reads 0.
     pub fn apply_into(&self, base: &[[f32; 3]], out: &mut [[f32; 3]]) {
         for (r, o) in out.iter_mut().enumerate().take(self.rows()) {
-            let mut acc: Option<[f32; 3]> = None;
+            let mut acc = [0.0f32; 3];
             for (i, w) in self.row(r) {
                 let p = base.get(i as usize).copied().unwrap_or([0.0; 3]);
-                let term = [w * p[0], w * p[1], w * p[2]];
-                acc = Some(match acc {
-                    None => term,
-                    Some(a) => [a[0] + term[0], a[1] + term[1], a[2] + term[2]],
-                });
+                acc = [acc[0] + p[0] * w, acc[1] + p[1] * w, acc[2] + p[2] * w];
             }
-            *o = acc.unwrap_or([0.0; 3]);
+            *o = acc;
         }
     }
 
