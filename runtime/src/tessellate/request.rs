@@ -659,10 +659,15 @@ mod tests {
     }
 
     #[test]
-    fn quad_scheme_needs_quads() {
+    fn quad_scheme_refines_triangles_at_even_levels() {
         let m = mesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
-        let e = Request::uniform("pccm", 2).validate(&m).unwrap_err();
-        assert!(matches!(e, Error::Tess(TessError::Topology(_))), "{e}");
+        let request = Request::uniform("pccm", 2);
+        let v = request.validate(&m).expect("one step");
+        let r = v.refined().expect("refined");
+        assert_eq!((r.refinement.levels, r.leaf_level), (1, 1));
+        assert_eq!(r.refinement.blocks.len(), 12);
+        let e = Request::uniform("pccm", 3).validate(&m).unwrap_err();
+        assert!(matches!(e, Error::Refine(_)), "{e}");
     }
 
     #[test]

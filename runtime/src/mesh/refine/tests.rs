@@ -188,26 +188,3 @@ fn bad_base_meshes_are_refused_before_refining() {
         Err(TopologyError::NonManifoldEdge { .. })
     ));
 }
-
-#[test]
-#[ignore]
-fn dump_refined() {
-    let m = data("catmark_nonquads.obj");
-    let (features, _) = Features::from_mesh(&m).expect("tags");
-    let r = refine(&m, &features, 1, 32).expect("refine");
-    let mut s = String::new();
-    for p in &r.mesh.positions {
-        s += &format!("v {} {} {}\n", p[0], p[1], p[2]);
-    }
-    for f in 0..r.mesh.num_faces() {
-        let face = r.mesh.face(f);
-        s += &format!(
-            "f {} {} {} {}\n",
-            face[0] + 1,
-            face[1] + 1,
-            face[2] + 1,
-            face[3] + 1
-        );
-    }
-    std::fs::write("/tmp/refined.obj", s).unwrap();
-}
