@@ -33,8 +33,14 @@
 use crate::kernels::common::SchemeKernels;
 use glam::Vec3;
 
-/// Lane granularity the column blocks are padded to (one AVX2 register).
+/// Lane granularity the column strips are padded to (one AVX2 register).
+/// Lane weights convert their integers through `i32` (levels are at most
+/// `MAX_LEVEL` = 4096, so every integer is exact in f32 either way and the
+/// bits are those of the generated `u32 as f32`): x86 has a packed
+/// signed conversion, not an unsigned one, before AVX-512.
 const LANES: usize = 8;
+/// The narrower strip for a grid's last few columns (one SSE register).
+const HALF: usize = 4;
 
 /// How one patch's grid is evaluated, chosen once per patch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -101,27 +107,27 @@ pub(crate) fn patch_grid(
         Path::Bicubic => {
             let mut g = [Vec3::ZERO; 16];
             g.copy_from_slice(&cp[..16]);
+            let mut curve = [0u32; 16];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
             match isa {
-                Isa::Baseline => bicubic_interior(&g, level, pos, nrm),
+                Isa::Baseline => bicubic_patch(&g, &curve, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `Isa::Avx2` is only produced after
                 // `is_x86_feature_detected!("avx2")`.
-                Isa::Avx2 => unsafe { bicubic_interior_avx2(&g, level, pos, nrm) },
+                Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, level, pos, nrm) },
             }
-            let curve = &kernels.edge_curve[(class as usize) * 16..(class as usize) * 16 + 16];
-            quad_border(&g, curve, level, pos);
         }
         Path::TriCubic => {
             let mut c = [Vec3::ZERO; 16];
             c.copy_from_slice(&cp[..16]);
+            let mut curve = [0u32; 12];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 12..][..12]);
             match isa {
-                Isa::Baseline => tri_cubic_interior(&c, level, pos, nrm),
+                Isa::Baseline => tri_cubic_patch(&c, &curve, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above.
-                Isa::Avx2 => unsafe { tri_cubic_interior_avx2(&c, level, pos, nrm) },
+                Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, level, pos, nrm) },
             }
-            let curve = &kernels.edge_curve[(class as usize) * 12..(class as usize) * 12 + 12];
-            tri_border(&c, curve, level, pos);
         }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
     }
@@ -152,10 +158,30 @@ fn per_sample(
     }
 }
 
+/// A bicubic patch's grid: the surface everywhere, then the border
+/// positions from the edge evaluator.
+#[inline(always)]
+fn bicubic_patch(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    bicubic_interior(g, level, pos, nrm);
+    quad_border(g, curve, level, pos);
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn bicubic_interior_avx2(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
-    bicubic_interior(g, level, pos, nrm)
+unsafe fn bicubic_patch_avx2(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    bicubic_patch(g, curve, level, pos, nrm)
 }
 
 /// The generated `ordinary_surface` at every grid point of a bicubic patch
@@ -168,54 +194,79 @@ unsafe fn bicubic_interior_avx2(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nr
 /// a few tens of KiB at the usual levels.
 #[inline(always)]
 fn bicubic_interior(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    let width = level as usize + 1;
+    let mut c0 = 0usize;
+    while c0 < width {
+        // Strips of 8 columns; a last one of at most 4 takes 4 lanes, so
+        // little work goes to padding (N = 9: 8 + 4 lanes for 10 columns).
+        if width - c0 <= HALF {
+            bicubic_strip::<HALF>(g, level, c0, pos, nrm);
+            c0 += HALF;
+        } else {
+            bicubic_strip::<LANES>(g, level, c0, pos, nrm);
+            c0 += LANES;
+        }
+    }
+}
+
+/// Columns `c0 .. c0 + L` (clamped to the grid) of a bicubic patch's grid.
+#[inline(always)]
+fn bicubic_strip<const L: usize>(
+    g: &[Vec3; 16],
+    level: u32,
+    c0: usize,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
     let n = level as usize;
     let nf = level as f32;
     let width = n + 1;
-    let mut c0 = 0usize;
-    while c0 < width {
-        // Padded lanes repeat column N.
-        let mut lu = [0.0f32; LANES];
-        let mut ru = [0.0f32; LANES];
-        for k in 0..LANES {
-            let iu = (c0 + k).min(n) as u32;
-            lu[k] = ((level - iu) as f32) / nf;
-            ru[k] = (iu as f32) / nf;
+    // Padded lanes repeat column N.
+    let mut lu = [0.0f32; L];
+    let mut ru = [0.0f32; L];
+    for k in 0..L {
+        let iu = (c0 + k).min(n) as u32;
+        lu[k] = ((level - iu) as i32 as f32) / nf;
+        ru[k] = (iu as i32 as f32) / nf;
+    }
+    // Row curves of the strip: [row][component] point and tangent.
+    let mut pt = [[[0.0f32; L]; 3]; 4];
+    let mut tg = [[[0.0f32; L]; 3]; 4];
+    for r in 0..4 {
+        let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
+        for c in 0..3 {
+            let bc = [
+                b[0].to_array()[c],
+                b[1].to_array()[c],
+                b[2].to_array()[c],
+                b[3].to_array()[c],
+            ];
+            row_curve_lanes(bc, &lu, &ru, &mut pt[r][c], &mut tg[r][c]);
         }
-        // Row curves of the strip: [row][component] point and tangent.
-        let mut pt = [[[0.0f32; LANES]; 3]; 4];
-        let mut tg = [[[0.0f32; LANES]; 3]; 4];
-        for r in 0..4 {
-            let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
-            for c in 0..3 {
-                let bc = b.map(|p| p.to_array()[c]);
-                row_curve_lanes(bc, &lu, &ru, &mut pt[r][c], &mut tg[r][c]);
-            }
-        }
-        let m = (width - c0).min(LANES);
-        for iv in 0..=level {
-            let lv = ((level - iv) as f32) / nf;
-            let rv = (iv as f32) / nf;
-            let mut out = [[0.0f32; LANES]; 6];
-            sample_lanes(&pt, &tg, lv, rv, &mut out);
-            let base = iv as usize * width + c0;
-            store_lanes(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
-            store_lanes(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
-        }
-        c0 += LANES;
+    }
+    let m = (width - c0).min(L);
+    for iv in 0..=level {
+        let lv = ((level - iv) as f32) / nf;
+        let rv = (iv as f32) / nf;
+        let mut out = [[0.0f32; L]; 6];
+        sample_lanes(&pt, &tg, lv, rv, &mut out);
+        let base = iv as usize * width + c0;
+        store_lanes(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
+        store_lanes(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
     }
 }
 
 /// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component, per lane:
 /// point `d0·l + d1·r` and tangent `(d1 − d0)·3`.
 #[inline(always)]
-fn row_curve_lanes(
+fn row_curve_lanes<const L: usize>(
     b: [f32; 4],
-    l: &[f32; LANES],
-    r: &[f32; LANES],
-    point: &mut [f32; LANES],
-    tangent: &mut [f32; LANES],
+    l: &[f32; L],
+    r: &[f32; L],
+    point: &mut [f32; L],
+    tangent: &mut [f32; L],
 ) {
-    for k in 0..LANES {
+    for k in 0..L {
         let (l, r) = (l[k], r[k]);
         let c0 = (b[0] * l) + (b[1] * r);
         let c1 = (b[1] * l) + (b[2] * r);
@@ -234,12 +285,12 @@ fn row_curve_lanes(
 /// (`px[r]` = x of row r's point, `tx[r]` = x of its tangent); `out` is
 /// position x, y, z, normal x, y, z.
 #[inline(always)]
-fn sample_lanes(
-    pt: &[[[f32; LANES]; 3]; 4],
-    tg: &[[[f32; LANES]; 3]; 4],
+fn sample_lanes<const L: usize>(
+    pt: &[[[f32; L]; 3]; 4],
+    tg: &[[[f32; L]; 3]; 4],
     l: f32,
     r: f32,
-    out: &mut [[f32; LANES]; 6],
+    out: &mut [[f32; L]; 6],
 ) {
     #[inline(always)]
     fn cubic(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> (f32, f32) {
@@ -250,8 +301,8 @@ fn sample_lanes(
         let d1 = (c1 * l) + (c2 * r);
         ((d0 * l) + (d1 * r), (d1 - d0) * 3.0f32)
     }
-    for k in 0..LANES {
-        let along = |a: &[[[f32; LANES]; 3]; 4], c: usize| {
+    for k in 0..L {
+        let along = |a: &[[[f32; L]; 3]; 4], c: usize| {
             cubic(a[0][c][k], a[1][c][k], a[2][c][k], a[3][c][k], l, r)
         };
         let (x, tvx) = along(pt, 0);
@@ -280,15 +331,15 @@ fn sample_lanes(
 /// The first `dst.len()` (≤ LANES) lanes of (x, y, z) into `dst`: full
 /// chunks interleave in registers, then one copy.
 #[inline(always)]
-fn store_lanes(x: &[f32; LANES], y: &[f32; LANES], z: &[f32; LANES], dst: &mut [Vec3]) {
-    if dst.len() == LANES {
-        let mut v = [Vec3::ZERO; LANES];
-        for k in 0..LANES {
+fn store_lanes<const L: usize>(x: &[f32; L], y: &[f32; L], z: &[f32; L], dst: &mut [Vec3]) {
+    if dst.len() == L {
+        let mut v = [Vec3::ZERO; L];
+        for k in 0..L {
             v[k] = Vec3::new(x[k], y[k], z[k]);
         }
         dst.copy_from_slice(&v);
     } else {
-        for (k, d) in dst.iter_mut().enumerate().take(LANES) {
+        for (k, d) in dst.iter_mut().enumerate().take(L) {
             *d = Vec3::new(x[k], y[k], z[k]);
         }
     }
@@ -299,7 +350,8 @@ fn store_lanes(x: &[f32; LANES], y: &[f32; LANES], z: &[f32; LANES], dst: &mut [
 /// `iu = N` edge 1 (`t = iv`), else `iv = N` edge 2 (`t = N − iu`), else
 /// `iu = 0` edge 3 (`t = N − iv`). `curve` is the class's 16 `EDGE_CURVE`
 /// entries (four points per edge).
-fn quad_border(g: &[Vec3; 16], curve: &[u32], level: u32, pos: &mut [Vec3]) {
+#[inline(always)]
+fn quad_border(g: &[Vec3; 16], curve: &[u32; 16], level: u32, pos: &mut [Vec3]) {
     let n = level as usize;
     let width = n + 1;
     let b = |e: usize| [0, 1, 2, 3].map(|k| g[curve[e * 4 + k] as usize]);
@@ -316,7 +368,7 @@ fn quad_border(g: &[Vec3; 16], curve: &[u32], level: u32, pos: &mut [Vec3]) {
 }
 
 /// `tessgen_edge(b0, b1, b2, b3, t, level)` for every `t` of `ts`, lane by
-/// lane, each handed to `put(t, point)`.
+/// lane (chunks of `LANES` values of `t`), each handed to `put(t, point)`.
 #[inline(always)]
 fn edge_run(
     b: &[Vec3; 4],
@@ -325,40 +377,41 @@ fn edge_run(
     mut put: impl FnMut(u32, Vec3),
 ) {
     let (first, last) = (*ts.start(), *ts.end());
+    let comp = [0, 1, 2].map(|c| b.map(|p| p.to_array()[c]));
     let mut t0 = first;
     while t0 <= last {
-        let mut t = [0u32; LANES];
-        for (k, tk) in t.iter_mut().enumerate() {
-            *tk = (t0 + k as u32).min(last);
-        }
         let mut out = [[0.0f32; LANES]; 3];
-        for (c, o) in out.iter_mut().enumerate() {
-            edge_lanes(b.map(|p| p.to_array()[c]), &t, level, o);
+        for (o, bc) in out.iter_mut().zip(&comp) {
+            edge_lanes(bc, t0, last, level, o);
         }
+        let mut v = [Vec3::ZERO; LANES];
+        store_lanes(&out[0], &out[1], &out[2], &mut v);
         let m = ((last - t0) as usize + 1).min(LANES);
-        for k in 0..m {
-            put(t[k], Vec3::new(out[0][k], out[1][k], out[2][k]));
+        for (k, p) in v.iter().take(m).enumerate() {
+            put(t0 + k as u32, *p);
         }
         t0 += LANES as u32;
     }
 }
 
-/// One component of `tessgen_edge` per lane: the corner point itself at
-/// `t = 0` and `t = level`, else symmetric de Casteljau with `r = t/level`,
-/// `l = (level − t)/level`.
+/// One component of `tessgen_edge` for `t = t0 + k` (clamped to `last`),
+/// per lane: the corner point itself at `t = 0` and `t = level`, else
+/// symmetric de Casteljau with `r = t/level`, `l = (level − t)/level`
+/// (integers below 2²⁴ convert exactly, through i32 or u32 alike).
 #[inline(always)]
-fn edge_lanes(b: [f32; 4], t: &[u32; LANES], level: u32, out: &mut [f32; LANES]) {
-    for k in 0..LANES {
-        let i = t[k];
-        let r = (i as f32) / (level as f32);
-        let l = ((level - i) as f32) / (level as f32);
+fn edge_lanes(b: &[f32; 4], t0: u32, last: u32, level: u32, out: &mut [f32; LANES]) {
+    let lf = level as i32 as f32;
+    for (k, o) in out.iter_mut().enumerate() {
+        let i = (t0 + k as u32).min(last);
+        let r = (i as i32 as f32) / lf;
+        let l = ((level - i) as i32 as f32) / lf;
         let c0 = (b[0] * l) + (b[1] * r);
         let c1 = (b[1] * l) + (b[2] * r);
         let c2 = (b[2] * l) + (b[3] * r);
         let d0 = (c0 * l) + (c1 * r);
         let d1 = (c1 * l) + (c2 * r);
         let v = (d0 * l) + (d1 * r);
-        out[k] = if i == 0 {
+        *o = if i == 0 {
             b[0]
         } else if i == level {
             b[3]
@@ -368,10 +421,30 @@ fn edge_lanes(b: [f32; 4], t: &[u32; LANES], level: u32, out: &mut [f32; LANES])
     }
 }
 
+/// A `tri_cubic` patch's grid: the surface everywhere, then the border
+/// positions from the edge evaluator.
+#[inline(always)]
+fn tri_cubic_patch(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    tri_cubic_interior(c, level, pos, nrm);
+    tri_border(c, curve, level, pos);
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn tri_cubic_interior_avx2(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
-    tri_cubic_interior(c, level, pos, nrm)
+unsafe fn tri_cubic_patch_avx2(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    tri_cubic_patch(c, curve, level, pos, nrm)
 }
 
 /// The generated `triangle_surface` at every grid point of a `tri_cubic`
@@ -381,52 +454,71 @@ unsafe fn tri_cubic_interior_avx2(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], 
 /// `tessgen_normalize` — lane by lane, the generated order.
 #[inline(always)]
 fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
-    let nf = level as f32;
     let mut base = 0usize;
     for iv in 0..=level {
         let m = (level - iv) as usize + 1;
-        let w2 = (iv as f32) / nf;
-        let dst_p = &mut pos[base..base + m];
-        let dst_n = &mut nrm[base..base + m];
+        let (dst_p, dst_n) = (&mut pos[base..base + m], &mut nrm[base..base + m]);
         let mut o = 0usize;
         while o < m {
-            let mut w0 = [0.0f32; LANES];
-            let mut w1 = [0.0f32; LANES];
-            for k in 0..LANES {
-                let iu = ((o + k).min(m - 1)) as u32;
-                w0[k] = (((level - iu) - iv) as f32) / nf;
-                w1[k] = (iu as f32) / nf;
+            if m - o <= HALF {
+                tri_cubic_chunk::<HALF>(c, level, iv, o, dst_p, dst_n);
+                o += HALF;
+            } else {
+                tri_cubic_chunk::<LANES>(c, level, iv, o, dst_p, dst_n);
+                o += LANES;
             }
-            let mut out = [[0.0f32; LANES]; 6];
-            for (a, o) in out.iter_mut().take(3).enumerate() {
-                tri_point_lanes(c.map(|p| p.to_array()[a]), &w0, &w1, w2, o);
-            }
-            tri_normal_lanes(c, &w0, &w1, w2, &mut out);
-            let n = (m - o).min(LANES);
-            store_lanes(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
-            store_lanes(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
-            o += LANES;
         }
         base += m;
     }
+}
+
+/// Samples `o .. o + L` (clamped to the row) of row `iv` of a `tri_cubic`
+/// patch's grid; `dst_p`, `dst_n` are the row.
+#[inline(always)]
+fn tri_cubic_chunk<const L: usize>(
+    c: &[Vec3; 16],
+    level: u32,
+    iv: u32,
+    o: usize,
+    dst_p: &mut [Vec3],
+    dst_n: &mut [Vec3],
+) {
+    let nf = level as f32;
+    let m = dst_p.len();
+    let w2 = (iv as f32) / nf;
+    let mut w0 = [0.0f32; L];
+    let mut w1 = [0.0f32; L];
+    for k in 0..L {
+        let iu = ((o + k).min(m - 1)) as u32;
+        w0[k] = (((level - iu) - iv) as i32 as f32) / nf;
+        w1[k] = (iu as i32 as f32) / nf;
+    }
+    let mut out = [[0.0f32; L]; 6];
+    for (a, oa) in out.iter_mut().take(3).enumerate() {
+        tri_point_lanes(c.map(|p| p.to_array()[a]), &w0, &w1, w2, oa);
+    }
+    tri_normal_lanes(c, &w0, &w1, w2, &mut out);
+    let n = (m - o).min(L);
+    store_lanes(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
+    store_lanes(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
 }
 
 /// One component of `triangle_surface_at`'s point, per lane: the 10-point
 /// net `b0 bn0 bp0 b1 bn1 bp1 b2 bn2 bp2 center` (slots 0 1 2 5 6 7 10 11 12
 /// 15), three steps of `(x·w0 + y·w1) + z·w2`.
 #[inline(always)]
-fn tri_point_lanes(
+fn tri_point_lanes<const L: usize>(
     c: [f32; 16],
-    w0: &[f32; LANES],
-    w1: &[f32; LANES],
+    w0: &[f32; L],
+    w1: &[f32; L],
     w2: f32,
-    out: &mut [f32; LANES],
+    out: &mut [f32; L],
 ) {
     let (b0, bn0, bp0) = (c[0], c[1], c[2]);
     let (b1, bn1, bp1) = (c[5], c[6], c[7]);
     let (b2, bn2, bp2) = (c[10], c[11], c[12]);
     let center = c[15];
-    for k in 0..LANES {
+    for k in 0..L {
         let (w0, w1) = (w0[k], w1[k]);
         let t = |x: f32, y: f32, z: f32| ((x * w0) + (y * w1)) + (z * w2);
         let s2_200 = t(b0, bn0, bp0);
@@ -446,15 +538,15 @@ fn tri_point_lanes(
 /// `((((n3·(w0·w0) + n4·(w0·w1)) + n8·(w1·w1)) + n9·(w1·w2)) + n13·(w2·w2))
 /// + n14·(w2·w0)`, into `out[3..6]`.
 #[inline(always)]
-fn tri_normal_lanes(
+fn tri_normal_lanes<const L: usize>(
     c: &[Vec3; 16],
-    w0: &[f32; LANES],
-    w1: &[f32; LANES],
+    w0: &[f32; L],
+    w1: &[f32; L],
     w2: f32,
-    out: &mut [[f32; LANES]; 6],
+    out: &mut [[f32; L]; 6],
 ) {
     let (n3, n4, n8, n9, n13, n14) = (c[3], c[4], c[8], c[9], c[13], c[14]);
-    for k in 0..LANES {
+    for k in 0..L {
         let (w0, w1) = (w0[k], w1[k]);
         let (q00, q01, q11, q12, q22, q20) = (w0 * w0, w0 * w1, w1 * w1, w1 * w2, w2 * w2, w2 * w0);
         let f = |a: f32, b: f32, c: f32, d: f32, e: f32, g: f32| {
@@ -476,7 +568,8 @@ fn tri_normal_lanes(
 /// with the generated `eval`'s edge choice: `iv = 0` is edge 0 (`t = iu`),
 /// else `iu + iv = N` edge 1 (`t = iv`), else `iu = 0` edge 2 (`t = N − iv`).
 /// `curve` is the class's 12 `EDGE_CURVE` entries.
-fn tri_border(c: &[Vec3; 16], curve: &[u32], level: u32, pos: &mut [Vec3]) {
+#[inline(always)]
+fn tri_border(c: &[Vec3; 16], curve: &[u32; 12], level: u32, pos: &mut [Vec3]) {
     let n = level as usize;
     let b = |e: usize| [0, 1, 2, 3].map(|k| c[curve[e * 4 + k] as usize]);
     // First sample of row iv: Σ_{r<iv} (N + 1 − r).
