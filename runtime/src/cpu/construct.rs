@@ -5,9 +5,12 @@
 //! face's class, the control-point and vertex-output offsets, the flat
 //! corner arrays, the parallel work split — is computed once in
 //! [`Construction::new`]; [`Construction::update`] then reruns only the
-//! generated kernels, writing into the [`Patches`] buffers in place (no
-//! allocation). The kernels and their summation order are the generated
-//! ones, so the control points are bit-identical to [`super::construct`]'s.
+//! vertex and patch stages, writing into the [`Patches`] buffers in place.
+//! The patch stage and crease/corner vertices run the generated kernels;
+//! smooth vertices run the flat vertex stage
+//! ([`super::vertex_flat`]: the generated sums, per-valence work done once).
+//! Every value is summed in the generated order, so the control points are
+//! bit-identical to [`super::construct`]'s (tests/tests/grid_path.rs).
 
 use super::vertex_flat::FlatVertexStage;
 use super::{corner_arrays, face_classes, facet_error, vertex_out_offsets, Patches, TessError};

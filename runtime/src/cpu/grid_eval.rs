@@ -454,6 +454,8 @@ unsafe fn tri_cubic_patch_avx2(
 /// `tessgen_normalize` — lane by lane, the generated order.
 #[inline(always)]
 fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    // The net's x, y and z, once per patch.
+    let comp = [0, 1, 2].map(|a| c.map(|p| p.to_array()[a]));
     let mut base = 0usize;
     for iv in 0..=level {
         let m = (level - iv) as usize + 1;
@@ -461,10 +463,10 @@ fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [V
         let mut o = 0usize;
         while o < m {
             if m - o <= HALF {
-                tri_cubic_chunk::<HALF>(c, level, iv, o, dst_p, dst_n);
+                tri_cubic_chunk::<HALF>(c, &comp, level, iv, o, dst_p, dst_n);
                 o += HALF;
             } else {
-                tri_cubic_chunk::<LANES>(c, level, iv, o, dst_p, dst_n);
+                tri_cubic_chunk::<LANES>(c, &comp, level, iv, o, dst_p, dst_n);
                 o += LANES;
             }
         }
@@ -477,6 +479,7 @@ fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [V
 #[inline(always)]
 fn tri_cubic_chunk<const L: usize>(
     c: &[Vec3; 16],
+    comp: &[[f32; 16]; 3],
     level: u32,
     iv: u32,
     o: usize,
@@ -494,8 +497,8 @@ fn tri_cubic_chunk<const L: usize>(
         w1[k] = (iu as i32 as f32) / nf;
     }
     let mut out = [[0.0f32; L]; 6];
-    for (a, oa) in out.iter_mut().take(3).enumerate() {
-        tri_point_lanes(c.map(|p| p.to_array()[a]), &w0, &w1, w2, oa);
+    for (ca, oa) in comp.iter().zip(out.iter_mut()) {
+        tri_point_lanes(ca, &w0, &w1, w2, oa);
     }
     tri_normal_lanes(c, &w0, &w1, w2, &mut out);
     let n = (m - o).min(L);
@@ -508,7 +511,7 @@ fn tri_cubic_chunk<const L: usize>(
 /// 15), three steps of `(x·w0 + y·w1) + z·w2`.
 #[inline(always)]
 fn tri_point_lanes<const L: usize>(
-    c: [f32; 16],
+    c: &[f32; 16],
     w0: &[f32; L],
     w1: &[f32; L],
     w2: f32,

@@ -102,7 +102,7 @@ impl FlatVertexStage {
         for (o, &(a, b)) in out.iter_mut().zip(rows) {
             let mut acc = Vec3::new(0.0f32, 0.0f32, 0.0f32);
             for t in &self.terms[a as usize..b as usize] {
-                acc += p[t.slot as usize % MAX_SLOTS] * t.weight;
+                acc += p[t.slot as usize] * t.weight;
             }
             *o = acc;
         }
