@@ -354,7 +354,7 @@ fn store_lanes<const L: usize>(x: &[f32; L], y: &[f32; L], z: &[f32; L], dst: &m
 fn quad_border(g: &[Vec3; 16], curve: &[u32; 16], level: u32, pos: &mut [Vec3]) {
     let n = level as usize;
     let width = n + 1;
-    let b = |e: usize| [0, 1, 2, 3].map(|k| g[curve[e * 4 + k] as usize]);
+    let b = |e: usize| edge_points(g, curve, e);
     edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);
     edge_run(&b(1), level, 1..=level, |t, p| {
         pos[t as usize * width + n] = p
@@ -367,6 +367,15 @@ fn quad_border(g: &[Vec3; 16], curve: &[u32; 16], level: u32, pos: &mut [Vec3]) 
     });
 }
 
+/// The four curve points of edge `e` (`EDGE_CURVE` entries `4e .. 4e + 4`
+/// of the class) of a 16-point patch. (Spelled out: `array::map` is not
+/// always inlined here, and costs a call per edge.)
+#[inline(always)]
+fn edge_points<const C: usize>(g: &[Vec3; 16], curve: &[u32; C], e: usize) -> [Vec3; 4] {
+    let k = |i: usize| g[curve[e * 4 + i] as usize];
+    [k(0), k(1), k(2), k(3)]
+}
+
 /// `tessgen_edge(b0, b1, b2, b3, t, level)` for every `t` of `ts`, lane by
 /// lane (chunks of `LANES` values of `t`), each handed to `put(t, point)`.
 #[inline(always)]
@@ -377,7 +386,11 @@ fn edge_run(
     mut put: impl FnMut(u32, Vec3),
 ) {
     let (first, last) = (*ts.start(), *ts.end());
-    let comp = [0, 1, 2].map(|c| b.map(|p| p.to_array()[c]));
+    let comp = [
+        [b[0].x, b[1].x, b[2].x, b[3].x],
+        [b[0].y, b[1].y, b[2].y, b[3].y],
+        [b[0].z, b[1].z, b[2].z, b[3].z],
+    ];
     let mut t0 = first;
     while t0 <= last {
         let mut out = [[0.0f32; LANES]; 3];
@@ -455,7 +468,10 @@ unsafe fn tri_cubic_patch_avx2(
 #[inline(always)]
 fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
     // The net's x, y and z, once per patch.
-    let comp = [0, 1, 2].map(|a| c.map(|p| p.to_array()[a]));
+    let mut comp = [[0.0f32; 16]; 3];
+    for (k, p) in c.iter().enumerate() {
+        (comp[0][k], comp[1][k], comp[2][k]) = (p.x, p.y, p.z);
+    }
     let mut base = 0usize;
     for iv in 0..=level {
         let m = (level - iv) as usize + 1;
@@ -574,7 +590,7 @@ fn tri_normal_lanes<const L: usize>(
 #[inline(always)]
 fn tri_border(c: &[Vec3; 16], curve: &[u32; 12], level: u32, pos: &mut [Vec3]) {
     let n = level as usize;
-    let b = |e: usize| [0, 1, 2, 3].map(|k| c[curve[e * 4 + k] as usize]);
+    let b = |e: usize| edge_points(c, curve, e);
     // First sample of row iv: Σ_{r<iv} (N + 1 − r).
     let row = |iv: usize| iv * (n + 1) - iv * iv.saturating_sub(1) / 2;
     edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);

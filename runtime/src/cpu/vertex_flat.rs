@@ -15,7 +15,7 @@
 
 use crate::kernels::common::{SchemeKernels, TABLE_WIDTH};
 use crate::mesh::topology::Topology;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// Largest ring of a smooth vertex: `2·MAX_VALENCE + 1` slots.
 const MAX_SLOTS: usize = 2 * crate::kernels::common::MAX_VALENCE as usize + 1;
@@ -90,21 +90,24 @@ impl FlatVertexStage {
         let n = topo.valence[v] as usize;
         let ring_base = topo.ring_offsets[v] as usize;
         let slots = 2 * n + 1;
-        let mut p = [Vec3::ZERO; MAX_SLOTS];
+        // `Vec3A` (one SSE register) does the generated `Vec3` sum's three
+        // component operations at once: the same IEEE `×` and `+` per
+        // component, the fourth lane unused.
+        let mut p = [Vec3A::ZERO; MAX_SLOTS];
         for (pk, &i) in p[..slots]
             .iter_mut()
             .zip(&topo.ring[ring_base..ring_base + slots])
         {
-            *pk = positions[i as usize];
+            *pk = Vec3A::from(positions[i as usize]);
         }
         let (first, last) = self.valence_rows[n];
         let rows = &self.rows[first as usize..last as usize];
         for (o, &(a, b)) in out.iter_mut().zip(rows) {
-            let mut acc = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+            let mut acc = Vec3A::new(0.0f32, 0.0f32, 0.0f32);
             for t in &self.terms[a as usize..b as usize] {
                 acc += p[t.slot as usize] * t.weight;
             }
-            *o = acc;
+            *o = Vec3::from(acc);
         }
     }
 }
