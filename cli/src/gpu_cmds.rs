@@ -138,7 +138,6 @@ fn median(mut xs: Vec<f64>) -> f64 {
 pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
     use std::time::Instant;
     let (topo, positions) = gpu_input(&args.mesh)?;
-    let faces = topo.corners.len() as f64;
     let runs = args.runs as usize;
     let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
     let gpu = match args.backend {
@@ -151,77 +150,61 @@ pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
             ))
         }
     };
+    // The pool the CPU figures come from, and its real size (the label
+    // once said "2 threads" when RAYON_NUM_THREADS=1 limited the pool).
+    let pool = crate::bench_cpu::pool(args.threads)?;
     let device = gpu
         .as_ref()
         .map(|g| g.info.name.clone())
-        .unwrap_or_else(|| format!("CPU, {} threads", rayon_threads()));
-    println!("# tessgen bench: {} ({} faces), scheme {}, backend {} ({device}), median of {runs} runs after 1 warm-up", args.mesh.display(), topo.corners.len(), args.scheme, args.backend.name());
+        .unwrap_or_else(|| {
+            format!(
+                "CPU, {} threads of {} cores",
+                pool.current_num_threads(),
+                cores()
+            )
+        });
+    let stat = if gpu.is_none() && args.adaptive.is_none() {
+        "minimum"
+    } else {
+        "median"
+    };
+    println!("# tessgen bench: {} ({} faces), scheme {}, backend {} ({device}), {stat} of {runs} runs after 1 warm-up", args.mesh.display(), topo.corners.len(), args.scheme, args.backend.name());
     if let Some(metric) = &args.adaptive {
-        return bench_adaptive(args, metric, &topo, &positions, kernels, gpu.as_ref());
+        return pool
+            .install(|| bench_adaptive(args, metric, &topo, &positions, kernels, gpu.as_ref()));
     }
+    let Some(g) = &gpu else {
+        return crate::bench_cpu::bench(args, &topo, &positions, kernels, &pool);
+    };
     println!("| N | samples | construct ms | evaluate ms | samples/s |");
     println!("|---|---|---|---|---|");
-    match &gpu {
-        None => {
-            for &level in &args.levels {
-                if level == 0 || level > cpu::MAX_LEVEL {
-                    return Err(format!("level {level} out of range 1..={}", cpu::MAX_LEVEL));
-                }
-                let (mut tc, mut te) = (Vec::new(), Vec::new());
-                let mut samples = 0;
-                for run in 0..=runs {
-                    let t0 = Instant::now();
-                    let patches =
-                        cpu::construct(&topo, &positions, kernels).map_err(|e| e.to_string())?;
-                    let t1 = Instant::now();
-                    let t = cpu::evaluate(&patches, level).map_err(|e| e.to_string())?;
-                    let t2 = Instant::now();
-                    samples = t.positions.len();
-                    if run > 0 {
-                        tc.push((t1 - t0).as_secs_f64());
-                        te.push((t2 - t1).as_secs_f64());
-                    }
-                }
-                let (c, e) = (median(tc), median(te));
-                println!(
-                    "| {level} | {samples} | {:.3} | {:.3} | {:.3e} |",
-                    c * 1e3,
-                    e * 1e3,
-                    samples as f64 / (c + e)
-                );
+    let mesh = tessgen_runtime::gpu::GpuMesh::new(g, &topo, &positions, &args.scheme)
+        .map_err(|e| e.to_string())?;
+    for &level in &args.levels {
+        let (mut tc, mut te) = (Vec::new(), Vec::new());
+        let mut samples = 0;
+        for run in 0..=runs {
+            let t0 = Instant::now();
+            mesh.construct().map_err(|e| e.to_string())?;
+            mesh.wait().map_err(|e| e.to_string())?;
+            let t1 = Instant::now();
+            let t = mesh.evaluate(level).map_err(|e| e.to_string())?;
+            let t2 = Instant::now();
+            samples = t.positions.len();
+            if run > 0 {
+                tc.push((t1 - t0).as_secs_f64());
+                te.push((t2 - t1).as_secs_f64());
             }
         }
-        Some(g) => {
-            let mesh = tessgen_runtime::gpu::GpuMesh::new(g, &topo, &positions, &args.scheme)
-                .map_err(|e| e.to_string())?;
-            for &level in &args.levels {
-                let (mut tc, mut te) = (Vec::new(), Vec::new());
-                let mut samples = 0;
-                for run in 0..=runs {
-                    let t0 = Instant::now();
-                    mesh.construct().map_err(|e| e.to_string())?;
-                    mesh.wait().map_err(|e| e.to_string())?;
-                    let t1 = Instant::now();
-                    let t = mesh.evaluate(level).map_err(|e| e.to_string())?;
-                    let t2 = Instant::now();
-                    samples = t.positions.len();
-                    if run > 0 {
-                        tc.push((t1 - t0).as_secs_f64());
-                        te.push((t2 - t1).as_secs_f64());
-                    }
-                }
-                let (c, e) = (median(tc), median(te));
-                println!(
-                    "| {level} | {samples} | {:.3} | {:.3} | {:.3e} |",
-                    c * 1e3,
-                    e * 1e3,
-                    samples as f64 / (c + e)
-                );
-            }
-            println!("(wgpu: evaluate includes the readback of positions and normals to the CPU)");
-        }
+        let (c, e) = (median(tc), median(te));
+        println!(
+            "| {level} | {samples} | {:.3} | {:.3} | {:.3e} |",
+            c * 1e3,
+            e * 1e3,
+            samples as f64 / (c + e)
+        );
     }
-    let _ = faces;
+    println!("(wgpu: evaluate includes the readback of positions and normals to the CPU)");
     Ok(ExitCode::SUCCESS)
 }
 
@@ -348,7 +331,7 @@ fn bench_adaptive(
     Ok(ExitCode::SUCCESS)
 }
 
-fn rayon_threads() -> usize {
+fn cores() -> usize {
     std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1)

@@ -3,6 +3,7 @@
 //! tessellation). One function per subcommand; all real work happens in the
 //! libraries.
 
+mod bench_cpu;
 mod gpu_cmds;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -122,6 +123,10 @@ struct BenchArgs {
     /// Timed runs per level (after one warm-up run).
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     runs: u32,
+    /// CPU backend: threads of the rayon pool the bench runs on (default:
+    /// rayon's, i.e. every core or `RAYON_NUM_THREADS`).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    threads: Option<u32>,
     /// Bench the instanced adaptive path instead: per largest level L of `--levels` (rounded down to a power of two), uniform evaluation at L against adaptive evaluation with this metric (random:SEED[:LO:HI], distance:K, screen:PX), on the CPU or on wgpu (host-built lists and GPU-driven buckets), in the same run.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,

@@ -134,6 +134,14 @@ pub mod common {
         pub grid_len: fn(u32) -> u32,
         pub grid_iu: fn(u32, u32) -> u32,
         pub grid_iv: fn(u32, u32) -> u32,
+        /// The scheme's `EDGE_CURVE` ([class][edge][4], `sides` edges per
+        /// class): the runtime's grid evaluator runs the shared edge evaluator
+        /// on these points for a whole border at once.
+        pub edge_curve: &'static [u32],
+        /// The scheme's `ROW_BASE` (first stencil-table row of each valence's
+        /// vertex-stage block): the runtime's flat vertex stage reads the same
+        /// weights in the same order for a whole deformation.
+        pub row_base: &'static [u32],
     }
     
     /// Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
@@ -778,6 +786,8 @@ pub mod regular {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -1491,6 +1501,8 @@ pub mod pccm {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -2156,6 +2168,8 @@ pub mod acc {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -2846,6 +2860,8 @@ pub mod gregory {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -3536,6 +3552,8 @@ pub mod gregory_osd {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -4043,6 +4061,8 @@ pub mod pn {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -4593,6 +4613,8 @@ pub mod stpn {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 
@@ -5094,6 +5116,8 @@ pub mod phong {
         grid_len: grid_len,
         grid_iu: grid_iu,
         grid_iv: grid_iv,
+        edge_curve: &EDGE_CURVE,
+        row_base: &ROW_BASE,
     };
 }
 

@@ -1,7 +1,11 @@
-//! `cpu_tessellate`: construction (vertex + patch stage) and evaluation of
-//! PCCM on the largest closed shared mesh (catmark_righthanded refined three
-//! times, 27,776 quads) at N = 9 and N = 33. Throughput is reported in
-//! samples (tessellated vertices) per second.
+//! `cpu_tessellate`: construction (vertex + patch stage; fresh, and per
+//! deformation into the same buffers) and evaluation of PCCM on the largest
+//! closed shared mesh (catmark_righthanded refined three times, 27,776
+//! quads) at N = 9, 17 and 33, into reused buffers: the grid path, the
+//! per-sample path and a plain fill of the same output (the write floor),
+//! so each figure has its same-run baselines. Throughput is reported in
+//! samples (tessellated vertices) per second. `tessgen bench` reports the
+//! same with a thread count (docs/performance.md).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
@@ -34,13 +38,32 @@ fn bench(c: &mut Criterion) {
     group.bench_function("construct", |b| {
         b.iter(|| cpu::construct(&topo, &positions, kernels).map(|p| p.control_points.len()))
     });
-    for level in [9u32, 33] {
-        let samples = mesh.num_faces() as u64 * ((level + 1) * (level + 1)) as u64;
-        group.throughput(Throughput::Elements(samples));
-        group.bench_function(format!("construct+evaluate/N={level}"), |b| {
+    let Ok(prep) = cpu::Construction::new(&topo, kernels) else {
+        panic!("pccm construction")
+    };
+    let mut patches = prep.construct(&positions);
+    group.bench_function("construct per deformation", |b| {
+        b.iter(|| prep.update(&positions, &mut patches).is_ok())
+    });
+    for level in [9u32, 17, 33] {
+        // Buffers allocated and first-touched once, outside the timings.
+        let Ok(mut t) = cpu::evaluate(&patches, level) else {
+            panic!("evaluate")
+        };
+        group.throughput(Throughput::Elements(t.positions.len() as u64));
+        group.bench_function(format!("evaluate_into/N={level}"), |b| {
+            b.iter(|| cpu::evaluate_into(&patches, level, &mut t).is_ok())
+        });
+        group.bench_function(format!("per-sample path/N={level}"), |b| {
             b.iter(|| {
-                let p = cpu::construct(&topo, &positions, kernels).ok()?;
-                cpu::evaluate(&p, level).ok().map(|t| t.positions.len())
+                cpu::evaluate_per_sample_into(&patches, level, &mut t.positions, &mut t.normals)
+                    .is_ok()
+            })
+        });
+        group.bench_function(format!("fill floor/N={level}"), |b| {
+            b.iter(|| {
+                t.positions.fill(Vec3::ONE);
+                t.normals.fill(Vec3::ONE);
             })
         });
     }

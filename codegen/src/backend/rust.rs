@@ -274,6 +274,14 @@ pub struct SchemeKernels {
     pub grid_len: fn(u32) -> u32,
     pub grid_iu: fn(u32, u32) -> u32,
     pub grid_iv: fn(u32, u32) -> u32,
+    /// The scheme's `EDGE_CURVE` ([class][edge][4], `sides` edges per
+    /// class): the runtime's grid evaluator runs the shared edge evaluator
+    /// on these points for a whole border at once.
+    pub edge_curve: &'static [u32],
+    /// The scheme's `ROW_BASE` (first stencil-table row of each valence's
+    /// vertex-stage block): the runtime's flat vertex stage reads the same
+    /// weights in the same order for a whole deformation.
+    pub row_base: &'static [u32],
 }"#;
         for l in text.lines().skip(1) {
             if l.is_empty() {
@@ -349,6 +357,8 @@ pub struct SchemeKernels {
         for (field, g) in ["grid_len", "grid_iu", "grid_iv"].iter().zip(e.grid) {
             self.line(&format!("    {field}: {},", m.functions[g].name));
         }
+        self.line("    edge_curve: &EDGE_CURVE,");
+        self.line("    row_base: &ROW_BASE,");
         self.line("};");
     }
 

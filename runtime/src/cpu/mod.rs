@@ -12,7 +12,12 @@
 //! graph free of circles (`tessellate → gpu → cpu`, `check → cpu`).
 
 pub mod adaptive;
+pub mod construct;
 pub mod displace;
+mod grid_eval;
+mod vertex_flat;
+
+pub use construct::Construction;
 
 use crate::cpu::displace::{DisplaceData, Displacement};
 use crate::kernels::{self, common::Inputs, common::Sample, common::SchemeKernels};
@@ -46,6 +51,10 @@ pub enum TessError {
     Tags(#[from] crate::mesh::tags::TagError),
     #[error(transparent)]
     Displace(#[from] crate::cpu::displace::DisplaceError),
+    #[error("output buffers hold {got} samples, the grids need {want}")]
+    OutputLength { want: usize, got: usize },
+    #[error("these patches were not made by this construction (scheme or layout differs, or too few positions)")]
+    Layout,
 }
 
 /// The error for a scheme given the wrong kind of facet.
@@ -397,19 +406,154 @@ fn displace_inputs(data: &DisplaceData) -> Inputs<'_> {
     }
 }
 
-/// Evaluate every patch on a `level × level` grid.
+/// Evaluate every patch on a `level × level` grid (the convenience API:
+/// fresh buffers; [`evaluate_into`] reuses them).
 pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError> {
+    let mut t = Tessellation {
+        level,
+        faces: 0,
+        sides: patches.scheme.sides,
+        positions: Vec::new(),
+        normals: Vec::new(),
+        face_ids: Vec::new(),
+    };
+    evaluate_into(patches, level, &mut t)?;
+    Ok(t)
+}
+
+/// [`evaluate`] into an existing [`Tessellation`], whose buffers are
+/// resized only when the grid size changed: an engine (or the bench)
+/// re-evaluating at the same level allocates and first-touches nothing.
+/// The result is [`evaluate`]'s, bit for bit.
+pub fn evaluate_into(patches: &Patches, level: u32, t: &mut Tessellation) -> Result<(), TessError> {
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let total = (patches.scheme.grid_len)(level) as usize * patches.face_class.len();
+    t.level = level;
+    t.faces = patches.face_class.len();
+    t.sides = patches.scheme.sides;
+    t.face_ids.clear();
+    t.positions.resize(total, Vec3::ZERO);
+    t.normals.resize(total, Vec3::ZERO);
+    evaluate_slices(patches, level, &mut t.positions, &mut t.normals)
+}
+
+/// Every patch's grid into the caller's `positions` and `normals` (each
+/// `grid_len(level) × faces` long, [`Tessellation`]'s layout), by the fast
+/// grid path: per-patch and per-column invariants hoisted, SIMD over the
+/// samples, border samples from the shared edge evaluator in their own
+/// loop — the same operations in the same order per sample as the
+/// generated per-sample `eval` ([`evaluate_per_sample_into`]), so the same
+/// bits.
+pub fn evaluate_slices(
+    patches: &Patches,
+    level: u32,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+) -> Result<(), TessError> {
+    grid_path(patches, level, positions, normals, grid_eval::Isa::detect())
+}
+
+/// [`evaluate_slices`] with the baseline copy of the lane loops even where
+/// AVX2 is available, so the tests check both copies give the same bits.
+#[doc(hidden)]
+pub fn evaluate_slices_baseline(
+    patches: &Patches,
+    level: u32,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+) -> Result<(), TessError> {
+    grid_path(patches, level, positions, normals, grid_eval::Isa::Baseline)
+}
+
+fn grid_path(
+    patches: &Patches,
+    level: u32,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+    isa: grid_eval::Isa,
+) -> Result<(), TessError> {
     let kernels = patches.scheme;
-    evaluate_grid(patches, level, |f, class, iu, iv| {
-        let cp = &patches.control_points
-            [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
-        (kernels.eval)(cp, class, 0, iu, iv, level)
-    })
+    let per = check_outputs(patches, level, positions, normals)?;
+    let paths = grid_eval::class_paths(kernels);
+    positions
+        .par_chunks_mut(per)
+        .zip(normals.par_chunks_mut(per))
+        .enumerate()
+        .with_min_len(8)
+        .for_each(|(f, (pos, nrm))| {
+            let class = patches.face_class[f];
+            let cp = &patches.control_points
+                [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+            grid_eval::patch_grid(
+                kernels,
+                paths[class as usize],
+                isa,
+                cp,
+                class,
+                level,
+                pos,
+                nrm,
+            );
+        });
+    Ok(())
+}
+
+/// The per-sample path: the generated `eval` at every sample `s`, at the
+/// grid point `(grid_iu(s), grid_iv(s))` — what [`evaluate`] ran before the
+/// grid path, kept as its reference (tests/tests/grid_path.rs) and as the
+/// bench's same-run baseline.
+pub fn evaluate_per_sample_into(
+    patches: &Patches,
+    level: u32,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+) -> Result<(), TessError> {
+    let kernels = patches.scheme;
+    let per = check_outputs(patches, level, positions, normals)?;
+    positions
+        .par_chunks_mut(per)
+        .zip(normals.par_chunks_mut(per))
+        .enumerate()
+        .for_each(|(f, (pos, nrm))| {
+            let class = patches.face_class[f];
+            let cp = &patches.control_points
+                [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];
+            for (s, (p, n)) in pos.iter_mut().zip(nrm.iter_mut()).enumerate() {
+                let s = s as u32;
+                let (iu, iv) = ((kernels.grid_iu)(s, level), (kernels.grid_iv)(s, level));
+                let out = (kernels.eval)(cp, class, 0, iu, iv, level);
+                *p = out.position;
+                *n = out.normal;
+            }
+        });
+    Ok(())
+}
+
+/// Samples per grid, after checking the level and both buffer lengths.
+fn check_outputs(
+    patches: &Patches,
+    level: u32,
+    positions: &[Vec3],
+    normals: &[Vec3],
+) -> Result<usize, TessError> {
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let per = (patches.scheme.grid_len)(level) as usize;
+    let want = per * patches.face_class.len();
+    for got in [positions.len(), normals.len()] {
+        if got != want {
+            return Err(TessError::OutputLength { want, got });
+        }
+    }
+    Ok(per)
 }
 
 /// Every patch's `grid_len(level)` samples in face order, sample `s` at the
 /// grid point `(grid_iu(s), grid_iv(s))`, from `sample(face, class, iu, iv)`:
-/// the one grid walk behind [`evaluate`] and [`evaluate_displaced`].
+/// the grid walk behind [`evaluate_displaced`].
 fn evaluate_grid(
     patches: &Patches,
     level: u32,

@@ -1,0 +1,144 @@
+//! `tessgen bench --backend cpu`: construction per deformation and grid
+//! evaluation on a rayon pool of `--threads` threads, each figure next to
+//! baselines measured in the same run.
+//!
+//! Output buffers are allocated and first-touched before the timed runs
+//! (the engine case: one reusable [`cpu::Tessellation`]), so the timings
+//! are the evaluator's, not the allocator's or the kernel's page-fault
+//! handler's. Each figure is the minimum of `--runs` timed runs after one
+//! warm-up (the minimum is the least disturbed by other work on the
+//! machine). Baselines, same pool, same buffers:
+//!
+//! * **fill floor**: a plain parallel fill of the same output (24 bytes a
+//!   sample: position + normal), the write bandwidth a sample costs at
+//!   least;
+//! * **per-sample path**: [`cpu::evaluate_per_sample_into`], the generated
+//!   `eval` called per sample (what `cpu::evaluate` ran before the grid
+//!   path);
+//! * **full construct**: [`cpu::construct`], which also recomputes the
+//!   topology-only layout, against [`cpu::Construction::update`].
+
+use super::{BenchArgs, CmdResult};
+use glam::Vec3;
+use std::process::ExitCode;
+use std::time::Instant;
+use tessgen_runtime::cpu;
+use tessgen_runtime::kernels::common::SchemeKernels;
+
+/// Minimum seconds of `runs` timed calls of `f` after one warm-up call.
+fn min_time(runs: usize, mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
+    f()?;
+    let mut best = f64::INFINITY;
+    for _ in 0..runs {
+        let t0 = Instant::now();
+        f()?;
+        best = best.min(t0.elapsed().as_secs_f64());
+    }
+    Ok(best)
+}
+
+/// The pool the bench runs on: `--threads N`, else rayon's default
+/// (all cores, or `RAYON_NUM_THREADS`).
+pub(crate) fn pool(threads: Option<u32>) -> Result<rayon::ThreadPool, String> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(n) = threads {
+        b = b.num_threads(n as usize);
+    }
+    b.build().map_err(|e| format!("bench: thread pool: {e}"))
+}
+
+/// The uniform-grid CPU bench (see the module doc).
+pub(crate) fn bench(
+    args: &BenchArgs,
+    topo: &tessgen_runtime::Topology,
+    positions: &[Vec3],
+    kernels: &'static SchemeKernels,
+    pool: &rayon::ThreadPool,
+) -> CmdResult {
+    let runs = args.runs as usize;
+    pool.install(|| -> CmdResult {
+        let patches = if kernels.sides == 3 {
+            // Triangle schemes run on the split quads (`--split-quads`);
+            // their patch stage has no per-deformation split to time.
+            let mesh = super::load_mesh(&args.mesh)?;
+            let tri = cpu::tri_mesh(&mesh, true, None).map_err(|e| e.to_string())?;
+            let t_full = min_time(runs, || {
+                cpu::construct_tri(&tri, kernels)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            })?;
+            println!(
+                "{} triangles (split quads); construct (patch stage, fresh buffers): {:.3} ms",
+                tri.triangles.len(),
+                t_full * 1e3
+            );
+            cpu::construct_tri(&tri, kernels).map_err(|e| e.to_string())?
+        } else {
+            let prep = cpu::Construction::new(topo, kernels).map_err(|e| e.to_string())?;
+            let mut patches = prep.construct(positions);
+            let t_update = min_time(runs, || {
+                prep.update(positions, &mut patches)
+                    .map_err(|e| e.to_string())
+            })?;
+            let t_full = min_time(runs, || {
+                cpu::construct(topo, positions, kernels)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            })?;
+            println!(
+                "construct per deformation (vertex + patch stage into the same buffers): {:.3} ms; full cpu::construct (layout too, fresh buffers): {:.3} ms",
+                t_update * 1e3,
+                t_full * 1e3
+            );
+            patches
+        };
+        println!("| N | samples | evaluate ms | ns/sample | samples/s | fill floor ns/sample | evaluate / floor | per-sample path ns/sample | per-sample / grid |");
+        println!("|---|---|---|---|---|---|---|---|---|");
+        for &level in &args.levels {
+            if level == 0 || level > cpu::MAX_LEVEL {
+                return Err(format!("level {level} out of range 1..={}", cpu::MAX_LEVEL));
+            }
+            // Allocated and first-touched here, outside every timing.
+            let mut t = cpu::evaluate(&patches, level).map_err(|e| e.to_string())?;
+            let samples = t.positions.len();
+            let per = t.grid_len();
+            let t_grid = min_time(runs, || {
+                cpu::evaluate_into(&patches, level, &mut t).map_err(|e| e.to_string())
+            })?;
+            let t_fill = min_time(runs, || {
+                fill(&mut t.positions, &mut t.normals, per, level);
+                Ok(())
+            })?;
+            let t_per_sample = min_time(runs, || {
+                cpu::evaluate_per_sample_into(&patches, level, &mut t.positions, &mut t.normals)
+                    .map_err(|e| e.to_string())
+            })?;
+            let ns = |s: f64| s * 1e9 / samples as f64;
+            println!(
+                "| {level} | {samples} | {:.3} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                t_grid * 1e3,
+                ns(t_grid),
+                samples as f64 / t_grid,
+                ns(t_fill),
+                t_grid / t_fill,
+                ns(t_per_sample),
+                t_per_sample / t_grid,
+            );
+        }
+        Ok(ExitCode::SUCCESS)
+    })
+}
+
+/// The write floor: every position and normal of every grid set, one grid
+/// per task as the evaluators split the work.
+fn fill(positions: &mut [Vec3], normals: &mut [Vec3], per: usize, level: u32) {
+    use rayon::prelude::*;
+    let v = Vec3::splat(level as f32);
+    positions
+        .par_chunks_mut(per)
+        .zip(normals.par_chunks_mut(per))
+        .for_each(|(p, n)| {
+            p.fill(v);
+            n.fill(v);
+        });
+}

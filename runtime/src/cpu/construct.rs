@@ -1,0 +1,193 @@
+//! Construction per deformation: the vertex and patch stages for new
+//! positions on a topology that does not change.
+//!
+//! Everything that depends only on the topology and the scheme — each
+//! face's class, the control-point and vertex-output offsets, the flat
+//! corner arrays, the parallel work split — is computed once in
+//! [`Construction::new`]; [`Construction::update`] then reruns only the
+//! vertex and patch stages, writing into the [`Patches`] buffers in place.
+//! The patch stage and crease/corner vertices run the generated kernels;
+//! smooth vertices run the flat vertex stage
+//! ([`super::vertex_flat`]: the generated sums, per-valence work done once).
+//! Every value is summed in the generated order, so the control points are
+//! bit-identical to [`super::construct`]'s (tests/tests/grid_path.rs).
+
+use super::vertex_flat::FlatVertexStage;
+use super::{corner_arrays, face_classes, facet_error, vertex_out_offsets, Patches, TessError};
+use crate::kernels::{self, common::Inputs, common::SchemeKernels};
+use crate::mesh::topology::Topology;
+use glam::Vec3;
+use rayon::prelude::*;
+
+/// Vertices (faces) per parallel task: large enough that rayon's per-task
+/// cost vanishes, small enough to balance two to many cores.
+const BLOCK: usize = 512;
+
+/// The topology-only part of the construction of one scheme on one mesh.
+#[derive(Clone, Debug)]
+pub struct Construction<'t> {
+    topo: &'t Topology,
+    scheme: &'static SchemeKernels,
+    face_class: Vec<u32>,
+    cp_offsets: Vec<u32>,
+    vertex_out_offsets: Vec<u32>,
+    corner_vertex: Vec<u32>,
+    corner_sector: Vec<u32>,
+    /// The smooth vertices' stage with per-valence work done once.
+    flat: FlatVertexStage,
+    /// Per vertex: whether [`FlatVertexStage`] computes it (else the
+    /// generated kernel does).
+    flat_vertex: Vec<bool>,
+}
+
+impl<'t> Construction<'t> {
+    /// Classes, offsets and corner arrays of `topo` for `scheme` (a quad
+    /// scheme).
+    pub fn new(topo: &'t Topology, scheme: &'static SchemeKernels) -> Result<Self, TessError> {
+        if scheme.sides != 4 {
+            return Err(facet_error(scheme));
+        }
+        let face_class = face_classes(topo, scheme)?;
+        let mut cp_offsets = Vec::with_capacity(face_class.len() + 1);
+        let mut total = 0u32;
+        for &c in &face_class {
+            cp_offsets.push(total);
+            total += scheme.classes[c as usize].control_points;
+        }
+        cp_offsets.push(total);
+        let (vertex_out_offsets, _) = vertex_out_offsets(topo, scheme);
+        let (corner_vertex, corner_sector) = corner_arrays(topo);
+        let flat = FlatVertexStage::new(topo, scheme, kernels::table());
+        let flat_vertex = (0..topo.valence.len())
+            .map(|v| flat.covers(topo, v))
+            .collect();
+        Ok(Construction {
+            topo,
+            scheme,
+            face_class,
+            cp_offsets,
+            vertex_out_offsets,
+            corner_vertex,
+            corner_sector,
+            flat,
+            flat_vertex,
+        })
+    }
+
+    /// Fresh [`Patches`] for `positions` (allocates the buffers once).
+    pub fn construct(&self, positions: &[Vec3]) -> Patches {
+        let vertices = self.vertex_out_offsets.last().copied().unwrap_or(0) as usize;
+        let points = self.cp_offsets.last().copied().unwrap_or(0) as usize;
+        let mut patches = Patches {
+            scheme: self.scheme,
+            face_class: self.face_class.clone(),
+            cp_offsets: self.cp_offsets.clone(),
+            control_points: vec![Vec3::ZERO; points],
+            vertex_out_offsets: self.vertex_out_offsets.clone(),
+            vertex_out: vec![Vec3::ZERO; vertices],
+        };
+        self.update_buffers(
+            positions,
+            &mut patches.vertex_out,
+            &mut patches.control_points,
+        );
+        patches
+    }
+
+    /// Reruns the vertex and patch stages for new `positions` (one per mesh
+    /// vertex) into `patches`, which must come from [`Construction::construct`]
+    /// of this construction (same scheme and layout; checked).
+    pub fn update(&self, positions: &[Vec3], patches: &mut Patches) -> Result<(), TessError> {
+        let same = std::ptr::eq(patches.scheme, self.scheme)
+            && patches.cp_offsets == self.cp_offsets
+            && patches.vertex_out_offsets == self.vertex_out_offsets;
+        if !same || positions.len() < self.topo.valence.len() {
+            return Err(TessError::Layout);
+        }
+        self.update_buffers(
+            positions,
+            &mut patches.vertex_out,
+            &mut patches.control_points,
+        );
+        Ok(())
+    }
+
+    fn inputs<'a>(&'a self, positions: &'a [Vec3], vertex_out: &'a [Vec3]) -> Inputs<'a> {
+        let topo = self.topo;
+        Inputs {
+            positions,
+            valence: &topo.valence,
+            ring_offsets: &topo.ring_offsets,
+            ring: &topo.ring,
+            vertex_out_offsets: &self.vertex_out_offsets,
+            vertex_out,
+            corner_vertex: &self.corner_vertex,
+            corner_sector: &self.corner_sector,
+            vertex_sectors: &topo.vertex_sectors,
+            sectors: &topo.sectors,
+            corner_valence: &topo.corner_valence,
+            table: kernels::table(),
+            ..Default::default()
+        }
+    }
+
+    fn update_buffers(
+        &self,
+        positions: &[Vec3],
+        vertex_out: &mut [Vec3],
+        control_points: &mut [Vec3],
+    ) {
+        let scheme = self.scheme;
+        {
+            let inputs = self.inputs(positions, &[]);
+            let offsets = &self.vertex_out_offsets;
+            blocks(vertex_out, offsets).for_each(|(first, out)| {
+                let base = offsets[first];
+                let last = (first + BLOCK).min(offsets.len() - 1);
+                for v in first..last {
+                    let (a, b) = (offsets[v] - base, offsets[v + 1] - base);
+                    if b == a {
+                        continue;
+                    }
+                    if self.flat_vertex[v] {
+                        self.flat
+                            .vertex(self.topo, positions, v, &mut out[a as usize..b as usize]);
+                    } else {
+                        (scheme.vertex_stage)(&inputs, out, v as u32, a);
+                    }
+                }
+            });
+        }
+        let inputs = self.inputs(positions, vertex_out);
+        let offsets = &self.cp_offsets;
+        let classes = &self.face_class;
+        blocks(control_points, offsets).for_each(|(first, out)| {
+            let base = offsets[first];
+            let last = (first + BLOCK).min(offsets.len() - 1);
+            for f in first..last {
+                let patch = scheme.classes[classes[f] as usize].patch;
+                patch(&inputs, out, f as u32, offsets[f] - base);
+            }
+        });
+    }
+}
+
+/// `data` split at every `BLOCK`-th entry of `offsets` (len items + 1), as
+/// a parallel iterator of (first item, its block's slice).
+fn blocks<'a>(
+    data: &'a mut [Vec3],
+    offsets: &'a [u32],
+) -> impl ParallelIterator<Item = (usize, &'a mut [Vec3])> + 'a {
+    let items = offsets.len().saturating_sub(1);
+    let mut slices = Vec::with_capacity(items.div_ceil(BLOCK));
+    let mut rest = data;
+    let mut first = 0;
+    while first < items {
+        let last = (first + BLOCK).min(items);
+        let (head, tail) = rest.split_at_mut((offsets[last] - offsets[first]) as usize);
+        slices.push((first, head));
+        rest = tail;
+        first = last;
+    }
+    slices.into_par_iter()
+}

@@ -1,0 +1,604 @@
+//! The fast grid path: every patch's sample grid written straight into the
+//! caller's buffers, with the per-patch and per-(patch, column) invariants
+//! hoisted out of the per-sample work.
+//!
+//! The per-sample path ([`super::evaluate_per_sample_into`]) calls the
+//! generated `eval` once per sample, which recomputes the four row curves
+//! of a bicubic patch, the class dispatch and the border test for every
+//! sample. Here, for a patch of the `bicubic` form (the ordinary class of
+//! every quad scheme), the row curves of a column `iu` are computed once and
+//! reused by all `N + 1` samples of that column; each sample then executes
+//! exactly the operations the generated `ordinary_surface` executes after
+//! its row curves, in the same order (no FMA contraction, no reassociation:
+//! Rust never contracts `a * b + c`, and LLVM vectorises these loops only
+//! across samples, never within one sample's sums). A `tri_cubic` patch
+//! (the triangle schemes) has no row invariant but the same lanes over the
+//! samples of a row. Border samples get their positions from the shared
+//! edge evaluator (`tessgen_edge`'s operations, lanes over `t`) in their
+//! own loop, after the interior loop wrote the surface everywhere: the
+//! generated `eval` also keeps the surface normal and replaces only the
+//! position. Every other form (c-patches, ACC and Gregory extraordinary
+//! patches) runs the generated `eval` per sample, walking the grid row by
+//! row instead of decoding each sample index.
+//!
+//! The lane loops are written over fixed-width arrays so LLVM vectorises
+//! them; an AVX2 copy is chosen at run time (`is_x86_feature_detected!`),
+//! and the baseline copy (SSE2 on x86-64, whatever the target has
+//! elsewhere) computes the same bits: both are IEEE single precision
+//! `+ − × ÷ √` lane by lane.
+//!
+//! `tests/tests/grid_path.rs` checks that this path and the per-sample path
+//! give the same bits for every scheme, class and level 1–64.
+
+use crate::kernels::common::SchemeKernels;
+use glam::Vec3;
+
+/// Lane granularity the column strips are padded to (one AVX2 register).
+/// Lane weights convert their integers through `i32` (levels are at most
+/// `MAX_LEVEL` = 4096, so every integer is exact in f32 either way and the
+/// bits are those of the generated `u32 as f32`): x86 has a packed
+/// signed conversion, not an unsigned one, before AVX-512.
+const LANES: usize = 8;
+/// The narrower strip for a grid's last few columns (one SSE register).
+const HALF: usize = 4;
+
+/// How one patch's grid is evaluated, chosen once per patch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Path {
+    /// Bicubic form: hoisted row curves, vectorised over the columns.
+    Bicubic,
+    /// Cubic Bézier triangle: vectorised over the samples of a row.
+    TriCubic,
+    /// Any other form: the generated `eval` per sample.
+    PerSample,
+}
+
+/// The path of every class of `kernels` (index = class).
+pub(crate) fn class_paths(kernels: &SchemeKernels) -> Vec<Path> {
+    kernels
+        .classes
+        .iter()
+        .map(|c| {
+            if kernels.sides == 4 && c.form == "bicubic" && c.control_points == 16 {
+                Path::Bicubic
+            } else if kernels.sides == 3 && c.form == "tri_cubic" && c.control_points == 16 {
+                Path::TriCubic
+            } else {
+                Path::PerSample
+            }
+        })
+        .collect()
+}
+
+/// The SIMD flavour of this machine, detected once per evaluation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Isa {
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2,
+}
+
+impl Isa {
+    pub(crate) fn detect() -> Isa {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Isa::Avx2;
+            }
+        }
+        Isa::Baseline
+    }
+}
+
+/// One patch's grid (`(N+1)²` quad samples or `(N+1)(N+2)/2` triangle
+/// samples, [`crate::grid`]'s order) into `pos` and `nrm`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn patch_grid(
+    kernels: &SchemeKernels,
+    path: Path,
+    isa: Isa,
+    cp: &[Vec3],
+    class: u32,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    match path {
+        Path::Bicubic => {
+            let mut g = [Vec3::ZERO; 16];
+            g.copy_from_slice(&cp[..16]);
+            let mut curve = [0u32; 16];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
+            match isa {
+                Isa::Baseline => bicubic_patch(&g, &curve, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `Isa::Avx2` is only produced after
+                // `is_x86_feature_detected!("avx2")`.
+                Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, level, pos, nrm) },
+            }
+        }
+        Path::TriCubic => {
+            let mut c = [Vec3::ZERO; 16];
+            c.copy_from_slice(&cp[..16]);
+            let mut curve = [0u32; 12];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 12..][..12]);
+            match isa {
+                Isa::Baseline => tri_cubic_patch(&c, &curve, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as above.
+                Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, level, pos, nrm) },
+            }
+        }
+        Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
+    }
+}
+
+/// The generated `eval` at every grid point, row by row.
+fn per_sample(
+    kernels: &SchemeKernels,
+    cp: &[Vec3],
+    class: u32,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    let mut s = 0usize;
+    for iv in 0..=level {
+        let row = if kernels.sides == 3 {
+            level - iv
+        } else {
+            level
+        };
+        for iu in 0..=row {
+            let out = (kernels.eval)(cp, class, 0, iu, iv, level);
+            pos[s] = out.position;
+            nrm[s] = out.normal;
+            s += 1;
+        }
+    }
+}
+
+/// A bicubic patch's grid: the surface everywhere, then the border
+/// positions from the edge evaluator.
+#[inline(always)]
+fn bicubic_patch(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    bicubic_interior(g, level, pos, nrm);
+    quad_border(g, curve, level, pos);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn bicubic_patch_avx2(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    bicubic_patch(g, curve, level, pos, nrm)
+}
+
+/// The generated `ordinary_surface` at every grid point of a bicubic patch
+/// `g` (16 points, `4k + l`): per strip of `LANES` columns, the row curves
+/// `row_k = cubic(g[k], g[4+k], g[8+k], g[12+k], lu, ru)` once per column,
+/// then per grid row `along_v = cubic(row points, lv, rv)`, `along_u =
+/// cubic(row tangents, lv, rv)`, position `along_v.point`, normal
+/// `normalize(along_u.point × along_v.tangent)` — lane by lane. A strip's
+/// writes (`LANES` samples of each row) stay in cache: one grid is at most
+/// a few tens of KiB at the usual levels.
+#[inline(always)]
+fn bicubic_interior(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    let width = level as usize + 1;
+    let mut c0 = 0usize;
+    while c0 < width {
+        // Strips of 8 columns; a last one of at most 4 takes 4 lanes, so
+        // little work goes to padding (N = 9: 8 + 4 lanes for 10 columns).
+        if width - c0 <= HALF {
+            bicubic_strip::<HALF>(g, level, c0, pos, nrm);
+            c0 += HALF;
+        } else {
+            bicubic_strip::<LANES>(g, level, c0, pos, nrm);
+            c0 += LANES;
+        }
+    }
+}
+
+/// Columns `c0 .. c0 + L` (clamped to the grid) of a bicubic patch's grid.
+#[inline(always)]
+fn bicubic_strip<const L: usize>(
+    g: &[Vec3; 16],
+    level: u32,
+    c0: usize,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    let n = level as usize;
+    let nf = level as f32;
+    let width = n + 1;
+    // Padded lanes repeat column N.
+    let mut lu = [0.0f32; L];
+    let mut ru = [0.0f32; L];
+    for k in 0..L {
+        let iu = (c0 + k).min(n) as u32;
+        lu[k] = ((level - iu) as i32 as f32) / nf;
+        ru[k] = (iu as i32 as f32) / nf;
+    }
+    // Row curves of the strip: [row][component] point and tangent.
+    let mut pt = [[[0.0f32; L]; 3]; 4];
+    let mut tg = [[[0.0f32; L]; 3]; 4];
+    for r in 0..4 {
+        let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
+        for c in 0..3 {
+            let bc = [
+                b[0].to_array()[c],
+                b[1].to_array()[c],
+                b[2].to_array()[c],
+                b[3].to_array()[c],
+            ];
+            row_curve_lanes(bc, &lu, &ru, &mut pt[r][c], &mut tg[r][c]);
+        }
+    }
+    let m = (width - c0).min(L);
+    for iv in 0..=level {
+        let lv = ((level - iv) as f32) / nf;
+        let rv = (iv as f32) / nf;
+        let mut out = [[0.0f32; L]; 6];
+        sample_lanes(&pt, &tg, lv, rv, &mut out);
+        let base = iv as usize * width + c0;
+        store_lanes(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
+        store_lanes(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
+    }
+}
+
+/// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component, per lane:
+/// point `d0·l + d1·r` and tangent `(d1 − d0)·3`.
+#[inline(always)]
+fn row_curve_lanes<const L: usize>(
+    b: [f32; 4],
+    l: &[f32; L],
+    r: &[f32; L],
+    point: &mut [f32; L],
+    tangent: &mut [f32; L],
+) {
+    for k in 0..L {
+        let (l, r) = (l[k], r[k]);
+        let c0 = (b[0] * l) + (b[1] * r);
+        let c1 = (b[1] * l) + (b[2] * r);
+        let c2 = (b[2] * l) + (b[3] * r);
+        let d0 = (c0 * l) + (c1 * r);
+        let d1 = (c1 * l) + (c2 * r);
+        point[k] = (d0 * l) + (d1 * r);
+        tangent[k] = (d1 - d0) * 3.0f32;
+    }
+}
+
+/// One grid row's samples for `LANES` columns: `along_v = cubic(row
+/// points, lv, rv)` (point and tangent), `along_u = cubic(row tangents,
+/// lv, rv)` (point), glam's cross `along_u.point × along_v.tangent` and
+/// `tessgen_normalize`. Inputs are the four rows' components
+/// (`px[r]` = x of row r's point, `tx[r]` = x of its tangent); `out` is
+/// position x, y, z, normal x, y, z.
+#[inline(always)]
+fn sample_lanes<const L: usize>(
+    pt: &[[[f32; L]; 3]; 4],
+    tg: &[[[f32; L]; 3]; 4],
+    l: f32,
+    r: f32,
+    out: &mut [[f32; L]; 6],
+) {
+    #[inline(always)]
+    fn cubic(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> (f32, f32) {
+        let c0 = (b0 * l) + (b1 * r);
+        let c1 = (b1 * l) + (b2 * r);
+        let c2 = (b2 * l) + (b3 * r);
+        let d0 = (c0 * l) + (c1 * r);
+        let d1 = (c1 * l) + (c2 * r);
+        ((d0 * l) + (d1 * r), (d1 - d0) * 3.0f32)
+    }
+    for k in 0..L {
+        let along = |a: &[[[f32; L]; 3]; 4], c: usize| {
+            cubic(a[0][c][k], a[1][c][k], a[2][c][k], a[3][c][k], l, r)
+        };
+        let (x, tvx) = along(pt, 0);
+        let (y, tvy) = along(pt, 1);
+        let (z, tvz) = along(pt, 2);
+        let (ux, _) = along(tg, 0);
+        let (uy, _) = along(tg, 1);
+        let (uz, _) = along(tg, 2);
+        // glam's cross a × b: (a.y·b.z − b.y·a.z, a.z·b.x − b.z·a.x, a.x·b.y − b.x·a.y).
+        let cx = (uy * tvz) - (tvy * uz);
+        let cy = (uz * tvx) - (tvz * ux);
+        let cz = (ux * tvy) - (tvx * uy);
+        // tessgen_normalize: x / √(x·x) when x·x > 0, else x itself.
+        let len2 = ((cx * cx) + (cy * cy)) + (cz * cz);
+        let len = len2.sqrt();
+        let ok = len2 > 0.0f32;
+        out[0][k] = x;
+        out[1][k] = y;
+        out[2][k] = z;
+        out[3][k] = if ok { cx / len } else { cx };
+        out[4][k] = if ok { cy / len } else { cy };
+        out[5][k] = if ok { cz / len } else { cz };
+    }
+}
+
+/// The first `dst.len()` (≤ LANES) lanes of (x, y, z) into `dst`: full
+/// chunks interleave in registers, then one copy.
+#[inline(always)]
+fn store_lanes<const L: usize>(x: &[f32; L], y: &[f32; L], z: &[f32; L], dst: &mut [Vec3]) {
+    if dst.len() == L {
+        let mut v = [Vec3::ZERO; L];
+        for k in 0..L {
+            v[k] = Vec3::new(x[k], y[k], z[k]);
+        }
+        dst.copy_from_slice(&v);
+    } else {
+        for (k, d) in dst.iter_mut().enumerate().take(L) {
+            *d = Vec3::new(x[k], y[k], z[k]);
+        }
+    }
+}
+
+/// Border positions of a quad patch from the shared edge evaluator, with
+/// the generated `eval`'s edge choice: `iv = 0` is edge 0 (`t = iu`), else
+/// `iu = N` edge 1 (`t = iv`), else `iv = N` edge 2 (`t = N − iu`), else
+/// `iu = 0` edge 3 (`t = N − iv`). `curve` is the class's 16 `EDGE_CURVE`
+/// entries (four points per edge).
+#[inline(always)]
+fn quad_border(g: &[Vec3; 16], curve: &[u32; 16], level: u32, pos: &mut [Vec3]) {
+    let n = level as usize;
+    let width = n + 1;
+    let b = |e: usize| edge_points(g, curve, e);
+    edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);
+    edge_run(&b(1), level, 1..=level, |t, p| {
+        pos[t as usize * width + n] = p
+    });
+    edge_run(&b(2), level, 1..=level, |t, p| {
+        pos[n * width + (n - t as usize)] = p
+    });
+    edge_run(&b(3), level, 1..=level.saturating_sub(1), |t, p| {
+        pos[(n - t as usize) * width] = p
+    });
+}
+
+/// The four curve points of edge `e` (`EDGE_CURVE` entries `4e .. 4e + 4`
+/// of the class) of a 16-point patch. (Spelled out: `array::map` is not
+/// always inlined here, and costs a call per edge.)
+#[inline(always)]
+fn edge_points<const C: usize>(g: &[Vec3; 16], curve: &[u32; C], e: usize) -> [Vec3; 4] {
+    let k = |i: usize| g[curve[e * 4 + i] as usize];
+    [k(0), k(1), k(2), k(3)]
+}
+
+/// `tessgen_edge(b0, b1, b2, b3, t, level)` for every `t` of `ts`, lane by
+/// lane (chunks of `LANES` values of `t`), each handed to `put(t, point)`.
+#[inline(always)]
+fn edge_run(
+    b: &[Vec3; 4],
+    level: u32,
+    ts: std::ops::RangeInclusive<u32>,
+    mut put: impl FnMut(u32, Vec3),
+) {
+    let (first, last) = (*ts.start(), *ts.end());
+    let comp = [
+        [b[0].x, b[1].x, b[2].x, b[3].x],
+        [b[0].y, b[1].y, b[2].y, b[3].y],
+        [b[0].z, b[1].z, b[2].z, b[3].z],
+    ];
+    let mut t0 = first;
+    while t0 <= last {
+        let mut out = [[0.0f32; LANES]; 3];
+        for (o, bc) in out.iter_mut().zip(&comp) {
+            edge_lanes(bc, t0, last, level, o);
+        }
+        let mut v = [Vec3::ZERO; LANES];
+        store_lanes(&out[0], &out[1], &out[2], &mut v);
+        let m = ((last - t0) as usize + 1).min(LANES);
+        for (k, p) in v.iter().take(m).enumerate() {
+            put(t0 + k as u32, *p);
+        }
+        t0 += LANES as u32;
+    }
+}
+
+/// One component of `tessgen_edge` for `t = t0 + k` (clamped to `last`),
+/// per lane: the corner point itself at `t = 0` and `t = level`, else
+/// symmetric de Casteljau with `r = t/level`, `l = (level − t)/level`
+/// (integers below 2²⁴ convert exactly, through i32 or u32 alike).
+#[inline(always)]
+fn edge_lanes(b: &[f32; 4], t0: u32, last: u32, level: u32, out: &mut [f32; LANES]) {
+    let lf = level as i32 as f32;
+    for (k, o) in out.iter_mut().enumerate() {
+        let i = (t0 + k as u32).min(last);
+        let r = (i as i32 as f32) / lf;
+        let l = ((level - i) as i32 as f32) / lf;
+        let c0 = (b[0] * l) + (b[1] * r);
+        let c1 = (b[1] * l) + (b[2] * r);
+        let c2 = (b[2] * l) + (b[3] * r);
+        let d0 = (c0 * l) + (c1 * r);
+        let d1 = (c1 * l) + (c2 * r);
+        let v = (d0 * l) + (d1 * r);
+        *o = if i == 0 {
+            b[0]
+        } else if i == level {
+            b[3]
+        } else {
+            v
+        };
+    }
+}
+
+/// A `tri_cubic` patch's grid: the surface everywhere, then the border
+/// positions from the edge evaluator.
+#[inline(always)]
+fn tri_cubic_patch(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    tri_cubic_interior(c, level, pos, nrm);
+    tri_border(c, curve, level, pos);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn tri_cubic_patch_avx2(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    tri_cubic_patch(c, curve, level, pos, nrm)
+}
+
+/// The generated `triangle_surface` at every grid point of a `tri_cubic`
+/// patch `c` (16 points): per row `iv` (`w2 = iv/N` shared), lanes over
+/// `iu` with `w0 = (N − iu − iv)/N`, `w1 = iu/N`; the three de Casteljau
+/// steps over the 10-point net and the quadratic normal field, then
+/// `tessgen_normalize` — lane by lane, the generated order.
+#[inline(always)]
+fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+    // The net's x, y and z, once per patch.
+    let mut comp = [[0.0f32; 16]; 3];
+    for (k, p) in c.iter().enumerate() {
+        (comp[0][k], comp[1][k], comp[2][k]) = (p.x, p.y, p.z);
+    }
+    let mut base = 0usize;
+    for iv in 0..=level {
+        let m = (level - iv) as usize + 1;
+        let (dst_p, dst_n) = (&mut pos[base..base + m], &mut nrm[base..base + m]);
+        let mut o = 0usize;
+        while o < m {
+            if m - o <= HALF {
+                tri_cubic_chunk::<HALF>(c, &comp, level, iv, o, dst_p, dst_n);
+                o += HALF;
+            } else {
+                tri_cubic_chunk::<LANES>(c, &comp, level, iv, o, dst_p, dst_n);
+                o += LANES;
+            }
+        }
+        base += m;
+    }
+}
+
+/// Samples `o .. o + L` (clamped to the row) of row `iv` of a `tri_cubic`
+/// patch's grid; `dst_p`, `dst_n` are the row.
+#[inline(always)]
+fn tri_cubic_chunk<const L: usize>(
+    c: &[Vec3; 16],
+    comp: &[[f32; 16]; 3],
+    level: u32,
+    iv: u32,
+    o: usize,
+    dst_p: &mut [Vec3],
+    dst_n: &mut [Vec3],
+) {
+    let nf = level as f32;
+    let m = dst_p.len();
+    let w2 = (iv as f32) / nf;
+    let mut w0 = [0.0f32; L];
+    let mut w1 = [0.0f32; L];
+    for k in 0..L {
+        let iu = ((o + k).min(m - 1)) as u32;
+        w0[k] = (((level - iu) - iv) as i32 as f32) / nf;
+        w1[k] = (iu as i32 as f32) / nf;
+    }
+    let mut out = [[0.0f32; L]; 6];
+    for (ca, oa) in comp.iter().zip(out.iter_mut()) {
+        tri_point_lanes(ca, &w0, &w1, w2, oa);
+    }
+    tri_normal_lanes(c, &w0, &w1, w2, &mut out);
+    let n = (m - o).min(L);
+    store_lanes(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
+    store_lanes(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
+}
+
+/// One component of `triangle_surface_at`'s point, per lane: the 10-point
+/// net `b0 bn0 bp0 b1 bn1 bp1 b2 bn2 bp2 center` (slots 0 1 2 5 6 7 10 11 12
+/// 15), three steps of `(x·w0 + y·w1) + z·w2`.
+#[inline(always)]
+fn tri_point_lanes<const L: usize>(
+    c: &[f32; 16],
+    w0: &[f32; L],
+    w1: &[f32; L],
+    w2: f32,
+    out: &mut [f32; L],
+) {
+    let (b0, bn0, bp0) = (c[0], c[1], c[2]);
+    let (b1, bn1, bp1) = (c[5], c[6], c[7]);
+    let (b2, bn2, bp2) = (c[10], c[11], c[12]);
+    let center = c[15];
+    for k in 0..L {
+        let (w0, w1) = (w0[k], w1[k]);
+        let t = |x: f32, y: f32, z: f32| ((x * w0) + (y * w1)) + (z * w2);
+        let s2_200 = t(b0, bn0, bp0);
+        let s2_110 = t(bn0, bp1, center);
+        let s2_101 = t(bp0, center, bn2);
+        let s2_020 = t(bp1, b1, bn1);
+        let s2_011 = t(center, bn1, bp2);
+        let s2_002 = t(bn2, bp2, b2);
+        let s1_100 = t(s2_200, s2_110, s2_101);
+        let s1_010 = t(s2_110, s2_020, s2_011);
+        let s1_001 = t(s2_101, s2_011, s2_002);
+        out[k] = t(s1_100, s1_010, s1_001);
+    }
+}
+
+/// `triangle_surface_at`'s normal per lane: `tessgen_normalize` of
+/// `((((n3·(w0·w0) + n4·(w0·w1)) + n8·(w1·w1)) + n9·(w1·w2)) + n13·(w2·w2))
+/// + n14·(w2·w0)`, into `out[3..6]`.
+#[inline(always)]
+fn tri_normal_lanes<const L: usize>(
+    c: &[Vec3; 16],
+    w0: &[f32; L],
+    w1: &[f32; L],
+    w2: f32,
+    out: &mut [[f32; L]; 6],
+) {
+    let (n3, n4, n8, n9, n13, n14) = (c[3], c[4], c[8], c[9], c[13], c[14]);
+    for k in 0..L {
+        let (w0, w1) = (w0[k], w1[k]);
+        let (q00, q01, q11, q12, q22, q20) = (w0 * w0, w0 * w1, w1 * w1, w1 * w2, w2 * w2, w2 * w0);
+        let f = |a: f32, b: f32, c: f32, d: f32, e: f32, g: f32| {
+            (((((a * q00) + (b * q01)) + (c * q11)) + (d * q12)) + (e * q22)) + (g * q20)
+        };
+        let x = f(n3.x, n4.x, n8.x, n9.x, n13.x, n14.x);
+        let y = f(n3.y, n4.y, n8.y, n9.y, n13.y, n14.y);
+        let z = f(n3.z, n4.z, n8.z, n9.z, n13.z, n14.z);
+        let len2 = ((x * x) + (y * y)) + (z * z);
+        let len = len2.sqrt();
+        let ok = len2 > 0.0f32;
+        out[3][k] = if ok { x / len } else { x };
+        out[4][k] = if ok { y / len } else { y };
+        out[5][k] = if ok { z / len } else { z };
+    }
+}
+
+/// Border positions of a triangle patch from the shared edge evaluator,
+/// with the generated `eval`'s edge choice: `iv = 0` is edge 0 (`t = iu`),
+/// else `iu + iv = N` edge 1 (`t = iv`), else `iu = 0` edge 2 (`t = N − iv`).
+/// `curve` is the class's 12 `EDGE_CURVE` entries.
+#[inline(always)]
+fn tri_border(c: &[Vec3; 16], curve: &[u32; 12], level: u32, pos: &mut [Vec3]) {
+    let n = level as usize;
+    let b = |e: usize| edge_points(c, curve, e);
+    // First sample of row iv: Σ_{r<iv} (N + 1 − r).
+    let row = |iv: usize| iv * (n + 1) - iv * iv.saturating_sub(1) / 2;
+    edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);
+    edge_run(&b(1), level, 1..=level, |t, p| {
+        let iv = t as usize;
+        pos[row(iv) + (n - iv)] = p
+    });
+    edge_run(&b(2), level, 1..=level.saturating_sub(1), |t, p| {
+        pos[row(n - t as usize)] = p
+    });
+}
