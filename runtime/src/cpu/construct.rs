@@ -48,13 +48,7 @@ impl<'t> Construction<'t> {
             return Err(facet_error(scheme));
         }
         let face_class = face_classes(topo, scheme)?;
-        let mut cp_offsets = Vec::with_capacity(face_class.len() + 1);
-        let mut total = 0u32;
-        for &c in &face_class {
-            cp_offsets.push(total);
-            total += scheme.classes[c as usize].control_points;
-        }
-        cp_offsets.push(total);
+        let (cp_offsets, _) = super::control_point_offsets(&face_class, scheme);
         let (vertex_out_offsets, _) = vertex_out_offsets(topo, scheme);
         let (corner_vertex, corner_sector) = corner_arrays(topo);
         let flat = FlatVertexStage::new(topo, scheme, kernels::table());

@@ -94,6 +94,19 @@ pub fn topology_options() -> TopologyOptions {
     }
 }
 
+/// Control-point offset of every face (its class's count, in face order),
+/// then the total: the patch stage's output layout.
+pub(crate) fn control_point_offsets(face_class: &[u32], scheme: &SchemeKernels) -> (Vec<u32>, u32) {
+    let mut offsets = Vec::with_capacity(face_class.len() + 1);
+    let mut total = 0u32;
+    for &c in face_class {
+        offsets.push(total);
+        total += scheme.classes[c as usize].control_points;
+    }
+    offsets.push(total);
+    (offsets, total)
+}
+
 /// Constructed patches: vertex-stage outputs and per-face control points.
 #[derive(Clone, Debug)]
 pub struct Patches {
@@ -206,13 +219,7 @@ pub fn construct(
             .for_each(|(v, out)| (scheme.vertex_stage)(&inputs, out, v as u32, 0));
     }
     // Patch stage.
-    let mut cp_offsets = Vec::with_capacity(face_class.len() + 1);
-    let mut total = 0u32;
-    for &c in &face_class {
-        cp_offsets.push(total);
-        total += scheme.classes[c as usize].control_points;
-    }
-    cp_offsets.push(total);
+    let (cp_offsets, total) = control_point_offsets(&face_class, scheme);
     let mut control_points = vec![Vec3::ZERO; total as usize];
     {
         let inputs = Inputs {
