@@ -223,7 +223,7 @@ impl FeatureStats {
                  infinitely sharp (each step: 4x the patches)",
                 max,
                 max.ceil(),
-                crate::tessellate::refined::DEFAULT_CREASE_REFINEMENT
+                crate::mesh::refine::DEFAULT_CREASE_REFINEMENT
             ));
         }
         if out.corners > 0 {

@@ -22,8 +22,7 @@ use crate::mesh::features::{FeatureWarning, Features};
 use crate::mesh::refine::{self, Need, Refinement};
 use glam::Vec3;
 
-/// Refinement steps for semi-sharp creases when the request does not say.
-pub const DEFAULT_CREASE_REFINEMENT: u32 = 2;
+pub use crate::mesh::refine::DEFAULT_CREASE_REFINEMENT;
 
 /// A refined mesh as a backend runs it, and how to map the result back.
 #[derive(Debug)]

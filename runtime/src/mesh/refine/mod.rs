@@ -33,6 +33,10 @@ use crate::mesh::{Mesh, NO_NORMAL};
 /// coordinates and keep tables far from `u32` limits.
 pub const MAX_REFINE_LEVELS: u32 = 6;
 
+/// Refinement steps the front door spends on semi-sharp creases when the
+/// request does not say (16× the patches; docs/boundaries.md §8).
+pub const DEFAULT_CREASE_REFINEMENT: u32 = 2;
+
 /// What a mesh needs refined before a quad scheme can take it exactly.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Need {
