@@ -10,7 +10,7 @@ mod common;
 
 use glam::Vec3;
 use tessgen_runtime::tags::TagFile;
-use tessgen_runtime::{cpu, kernels, Topology};
+use tessgen_runtime::{cpu, kernels};
 
 /// Meshes whose faces cover both classes of every quad scheme: the torus
 /// is all ordinary, the cube all extraordinary, the toroidal tetrahedron
@@ -65,12 +65,7 @@ fn quad_schemes_grid_path_matches_per_sample_path() {
         }
         for mesh_name in QUAD_MESHES {
             let mesh = common::mesh(mesh_name);
-            let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
-            let positions: Vec<Vec3> = mesh
-                .positions
-                .iter()
-                .map(|p| Vec3::from_array(*p))
-                .collect();
+            let (topo, positions) = common::topo_positions(&mesh);
             let patches = match cpu::construct(&topo, &positions, k) {
                 Ok(p) => p,
                 // `regular` has no patch for extraordinary faces.
@@ -89,12 +84,7 @@ fn every_quad_class_is_covered() {
         let mut seen = vec![false; k.classes.len()];
         for mesh_name in QUAD_MESHES {
             let mesh = common::mesh(mesh_name);
-            let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
-            let positions: Vec<Vec3> = mesh
-                .positions
-                .iter()
-                .map(|p| Vec3::from_array(*p))
-                .collect();
+            let (topo, positions) = common::topo_positions(&mesh);
             let patches = cpu::construct(&topo, &positions, k).expect("construct");
             for &c in &patches.face_class {
                 seen[c as usize] = true;
@@ -138,12 +128,7 @@ fn construction_update_matches_fresh_construct() {
         }
         for mesh_name in QUAD_MESHES.iter().chain(&["catmark_righthanded"]) {
             let mesh = common::mesh(mesh_name);
-            let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
-            let positions: Vec<Vec3> = mesh
-                .positions
-                .iter()
-                .map(|p| Vec3::from_array(*p))
-                .collect();
+            let (topo, positions) = common::topo_positions(&mesh);
             let prep = match cpu::Construction::new(&topo, k) {
                 Ok(p) => p,
                 Err(cpu::TessError::ExtraordinaryFace { .. }) => continue,

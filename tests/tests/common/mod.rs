@@ -70,6 +70,19 @@ pub fn cc_limit(name: &str) -> (usize, Vec<[glam::Vec3; 2]>) {
     (n, samples)
 }
 
+/// The quad topology of `mesh` (CPU options, tags applied) and its
+/// positions as `Vec3`: what `cpu::construct` takes.
+pub fn topo_positions(mesh: &Mesh) -> (tessgen_runtime::Topology, Vec<glam::Vec3>) {
+    let topo = tessgen_runtime::Topology::build(mesh, &tessgen_runtime::cpu::topology_options())
+        .expect("topology");
+    let positions = mesh
+        .positions
+        .iter()
+        .map(|p| glam::Vec3::from_array(*p))
+        .collect();
+    (topo, positions)
+}
+
 /// Bounding-box diagonal of a mesh.
 pub fn bbox_diagonal(mesh: &Mesh) -> f32 {
     let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
