@@ -64,6 +64,30 @@ pub fn tri_to_obj(positions: &[Vec3], normals: &[Vec3], level: u32) -> String {
     )
 }
 
+/// One patch: `g <name>`, its `v` and `vn` lines, then its triangles with
+/// 1-based indices from `base` (`f a//a …`). Shared by every grid layout
+/// (also [`crate::tessellate::refined::PolygonGrids::to_obj`]).
+pub(crate) fn write_patch(
+    s: &mut String,
+    name: &str,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    tris: &[[u32; 3]],
+    base: u32,
+) {
+    let _ = writeln!(s, "g {name}");
+    for p in positions {
+        let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+    }
+    for n in normals {
+        let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
+    }
+    for tri in tris {
+        let [a, b, c] = tri.map(|k| k + base);
+        let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
+    }
+}
+
 /// The common writer: a header comment, then per patch a group, its `v` and
 /// `vn` lines and its triangles (1-based, `f a//a …`).
 fn write_patches(
@@ -77,18 +101,14 @@ fn write_patches(
     let mut s = String::with_capacity(positions.len() * 64);
     let _ = writeln!(s, "{header}");
     for f in 0..faces {
-        let _ = writeln!(s, "g patch_{f}");
-        for p in &positions[f * per..(f + 1) * per] {
-            let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
-        }
-        for n in &normals[f * per..(f + 1) * per] {
-            let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
-        }
-        let base = (f * per) as u32 + 1;
-        for tri in tris {
-            let [a, b, c] = tri.map(|k| k + base);
-            let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
-        }
+        write_patch(
+            &mut s,
+            &format!("patch_{f}"),
+            &positions[f * per..(f + 1) * per],
+            &normals[f * per..(f + 1) * per],
+            tris,
+            (f * per) as u32 + 1,
+        );
     }
     s
 }

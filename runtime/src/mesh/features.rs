@@ -266,7 +266,7 @@ pub fn is_semi_sharp(s: f32) -> bool {
 }
 
 /// Undirected edges of a mesh → number of faces using them.
-fn edge_faces(mesh: &Mesh) -> HashMap<(u32, u32), u32> {
+pub(crate) fn edge_faces(mesh: &Mesh) -> HashMap<(u32, u32), u32> {
     let mut edges = HashMap::with_capacity(mesh.face_vertices.len());
     for f in 0..mesh.num_faces() {
         let face = mesh.face(f);

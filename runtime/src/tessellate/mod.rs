@@ -74,16 +74,7 @@ impl Output {
     /// Every triangle as world positions (a triangle soup).
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
         match self {
-            Output::Grid(t) => {
-                let (per, local) = (t.grid_len(), t.local_triangles());
-                (0..t.faces)
-                    .flat_map(|f| {
-                        local
-                            .iter()
-                            .map(move |tri| tri.map(|k| t.positions[f * per + k as usize]))
-                    })
-                    .collect()
-            }
+            Output::Grid(t) => grid_triangles(t),
             Output::Captured(c) => c.triangles(),
             Output::Instanced(a) => a.triangles(),
             Output::Polygons(p) => p.triangles(),
@@ -180,6 +171,18 @@ impl Output {
             }
         }
     }
+}
+
+/// Every triangle of a grid tessellation as world positions.
+fn grid_triangles(t: &Tessellation) -> Vec<[Vec3; 3]> {
+    let (per, local) = (t.grid_len(), t.local_triangles());
+    (0..t.faces)
+        .flat_map(|f| {
+            local
+                .iter()
+                .map(move |tri| tri.map(|k| t.positions[f * per + k as usize]))
+        })
+        .collect()
 }
 
 /// A triangle soup as OBJ: `v` per triangle corner, `f` per triangle.

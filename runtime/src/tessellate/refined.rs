@@ -54,12 +54,9 @@ pub enum RefineError {
     },
 }
 
-/// Steps to apply for `need` at uniform `level` (`None`: adaptive).
-pub fn choose_levels(
-    need: &Need,
-    level: Option<u32>,
-    crease_cap: u32,
-) -> Result<(u32, u32), RefineError> {
+/// `(steps, crease steps)` to apply for `need` at uniform `level`
+/// (`None`: adaptive).
+pub fn choose_levels(need: &Need, level: Option<u32>, crease_cap: u32) -> (u32, u32) {
     let polygons = u32::from(need.non_quads > 0);
     // Adaptive runs keep their per-base-patch output: creases as sharp.
     let creases = match level {
@@ -69,7 +66,7 @@ pub fn choose_levels(
     let steps = creases
         .max(polygons)
         .min(crate::mesh::refine::MAX_REFINE_LEVELS);
-    Ok((steps, creases))
+    (steps, creases)
 }
 
 impl RefinedDomain {
@@ -100,7 +97,7 @@ impl RefinedDomain {
                 .into());
             }
         }
-        let (steps, creases) = choose_levels(&need, level, crease_cap)?;
+        let (steps, creases) = choose_levels(&need, level, crease_cap);
         if steps == 0 {
             return Ok(None);
         }
@@ -288,8 +285,8 @@ pub struct PolygonGrids {
 impl PolygonGrids {
     /// Every triangle, base face order: quads, then sub-faces.
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
-        let mut out = super::Output::Grid(self.quads.clone()).triangles();
-        out.extend(super::Output::Grid(self.subfaces.clone()).triangles());
+        let mut out = super::grid_triangles(&self.quads);
+        out.extend(super::grid_triangles(&self.subfaces));
         out
     }
 
@@ -298,7 +295,6 @@ impl PolygonGrids {
     /// order, each with its `v`/`vn` lines and triangles
     /// ([`crate::check::obj`]'s layout).
     pub fn to_obj(&self) -> String {
-        use std::fmt::Write;
         let mut s = format!(
             "# tessgen {} level {} (n-gon sub-faces at level {})\n",
             env!("CARGO_PKG_VERSION"),
@@ -317,21 +313,19 @@ impl PolygonGrids {
         for (face, corner, sub, g) in order {
             let t = if sub { &self.subfaces } else { &self.quads };
             let per = t.grid_len();
-            let _ = if sub {
-                writeln!(s, "g patch_{face}_{corner}")
+            let name = if sub {
+                format!("patch_{face}_{corner}")
             } else {
-                writeln!(s, "g patch_{face}")
+                format!("patch_{face}")
             };
-            for p in &t.positions[g * per..(g + 1) * per] {
-                let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
-            }
-            for n in &t.normals[g * per..(g + 1) * per] {
-                let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
-            }
-            for tri in crate::grid::grid_triangles(t.level) {
-                let [a, b, c] = tri.map(|k| k + base);
-                let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
-            }
+            crate::check::obj::write_patch(
+                &mut s,
+                &name,
+                &t.positions[g * per..(g + 1) * per],
+                &t.normals[g * per..(g + 1) * per],
+                &t.local_triangles(),
+                base,
+            );
             base += per as u32;
         }
         s

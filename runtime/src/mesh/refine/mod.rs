@@ -70,14 +70,7 @@ pub fn need(mesh: &Mesh, features: &Features) -> Need {
             .count(),
         ..Need::default()
     };
-    let mut faces_of_edge = std::collections::HashMap::new();
-    for f in 0..mesh.num_faces() {
-        let face = mesh.face(f);
-        for (i, &a) in face.iter().enumerate() {
-            let b = face[(i + 1) % face.len()];
-            *faces_of_edge.entry((a.min(b), a.max(b))).or_insert(0u32) += 1;
-        }
-    }
+    let faces_of_edge = crate::mesh::features::edge_faces(mesh);
     for (e, &s) in &features.edge_sharpness {
         // A boundary edge is sharp anyway: its tag changes nothing.
         if is_semi_sharp(s) && faces_of_edge.get(e).copied().unwrap_or(0) > 1 {
