@@ -6,13 +6,15 @@
 // entry: vertex_stage_main stage: comp
 // entry: patch_main stage: comp
 // entry: eval_main stage: comp
+// entry: refine_main stage: comp
 //
 // HLSL (Shader Model 5.0) for the `phong` scheme. Compile each entry point
 // above on its own, e.g. with glslang's HLSL front end:
 //     glslangValidator -D -V -e ENTRY -S STAGE phong.hlsl
 // Tessellation pipeline: vs_main -> hs_main (patch stage in
 // hs_patch_constants, once per patch) -> ds_main. Compute: vertex_stage_main,
-// patch_main, eval_main. All bindings are in set 0 (generated/README.md).
+// patch_main, eval_main, and refine_main before them for a refined mesh
+// (docs/boundaries.md §8). All bindings are in set 0 (generated/README.md).
 
 // ---- bindings (set 0; register number = binding number) ----
 
@@ -131,6 +133,21 @@ struct Params {
 // binding 33: valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
 [[vk::binding(33, 0)]] StructuredBuffer<uint> corner_valence : register(t33);
 
+// binding 34: base-mesh positions of a refined mesh, 3 f32 per base vertex: the refinement stage's input (docs/boundaries.md §8)
+[[vk::binding(34, 0)]] StructuredBuffer<float> refine_base : register(t34);
+
+// binding 35: start of each refined vertex's stencil row in refine_indices / refine_weights (one per refined vertex plus a final total)
+[[vk::binding(35, 0)]] StructuredBuffer<uint> refine_offsets : register(t35);
+
+// binding 36: base vertex of each stencil term, ascending within a row
+[[vk::binding(36, 0)]] StructuredBuffer<uint> refine_indices : register(t36);
+
+// binding 37: weight of each stencil term (rows sum to 1)
+[[vk::binding(37, 0)]] StructuredBuffer<float> refine_weights : register(t37);
+
+// binding 38: refined positions, 3 f32 per refined vertex, written by refine_main: bind the buffer the vertex stage reads as positions (binding 0)
+[[vk::binding(38, 0)]] RWStructuredBuffer<float> refined_positions : register(u38);
+
 // Most control points of any class of this scheme (size of every control-point array).
 static const uint KMAX = 16u;
 // vec4 slots of the packed per-patch control points (3·KMAX floats): per-patch
@@ -171,6 +188,16 @@ float3 fetch_normals(uint i) {
 
 float3 fetch_crease(uint i) {
     return float3(crease[(3u * i)], crease[((3u * i) + 1u)], crease[((3u * i) + 2u)]);
+}
+
+float3 fetch_refine_base(uint i) {
+    return float3(refine_base[(3u * i)], refine_base[((3u * i) + 1u)], refine_base[((3u * i) + 2u)]);
+}
+
+void store_refined_positions(uint i, float3 v) {
+    refined_positions[(3u * i)] = v.x;
+    refined_positions[((3u * i) + 1u)] = v.y;
+    refined_positions[((3u * i) + 2u)] = v.z;
 }
 
 // ---- module `common` ----
@@ -278,6 +305,17 @@ precise float tessgen_edge_factor(float3 a, float3 b, uint va, uint vb, uint edg
         factor = adaptive[24u];
     }
     return factor;
+}
+
+// Refined vertex `v`: the sum over its stencil row (refine_offsets[v] .. refine_offsets[v + 1]) of base point × weight, in row order from a zero vector, one rounded multiply and one rounded add per term, into refined_positions[v] (docs/boundaries.md §8).
+precise void tessgen_refine_vertex(uint v) {
+    precise uint first = refine_offsets[v];
+    precise uint end = refine_offsets[(v + 1u)];
+    precise float3 acc = float3(0.0f, 0.0f, 0.0f);
+    for (precise uint j = first; j < end; j += 1u) {
+        acc = (acc + (fetch_refine_base(refine_indices[j]) * refine_weights[j]));
+    }
+    store_refined_positions(v, acc);
 }
 
 // ---- module `phong` ----
@@ -804,6 +842,17 @@ void eval_main(uint3 global_id : SV_DispatchThreadID) {
         samples[(at + 3u)] = result.normal.x;
         samples[(at + 4u)] = result.normal.y;
         samples[(at + 5u)] = result.normal.z;
+    }
+}
+
+// Refinement stage of refined vertices params.first .. params.first + params.count:
+// each its stencil row over refine_base, into refined_positions (bind the buffer
+// the vertex stage reads as positions). Run before vertex_stage_main.
+[numthreads(64, 1, 1)]
+void refine_main(uint3 global_id : SV_DispatchThreadID) {
+    uint k = global_id.x;
+    if ((k < params.count)) {
+        tessgen_refine_vertex((params.first + k));
     }
 }
 

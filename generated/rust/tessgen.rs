@@ -72,6 +72,14 @@ pub mod common {
         /// Displacement map texels, row-major, `displace_width` columns.
         pub displace_map: &'a [f32],
         pub displace_width: u32,
+        /// Refinement (docs/boundaries.md §8): base-mesh positions.
+        pub refine_base: &'a [Vec3],
+        /// Refinement: start of each refined vertex's stencil row (plus a final total).
+        pub refine_offsets: &'a [u32],
+        /// Refinement: base vertex of each stencil term.
+        pub refine_indices: &'a [u32],
+        /// Refinement: weight of each stencil term.
+        pub refine_weights: &'a [f32],
     }
     
     /// Patch stage of one facet class.
@@ -276,6 +284,17 @@ pub mod common {
             bucket = l3;
         }
         return bucket;
+    }
+    
+    /// Refined vertex `v`: the sum over its stencil row (refine_offsets[v] .. refine_offsets[v + 1]) of base point × weight, in row order from a zero vector, one rounded multiply and one rounded add per term, into refined_positions[v] (docs/boundaries.md §8).
+    pub fn tessgen_refine_vertex(inputs: &Inputs, out: &mut [Vec3], v: u32) {
+        let first: u32 = inputs.refine_offsets[(v) as usize];
+        let end: u32 = inputs.refine_offsets[((v + 1u32)) as usize];
+        let mut acc: Vec3 = Vec3::new(0.0f32, 0.0f32, 0.0f32);
+        for j in (first)..(end) {
+            acc = (acc + (inputs.refine_base[(inputs.refine_indices[(j) as usize]) as usize] * inputs.refine_weights[(j) as usize]));
+        }
+        out[(v) as usize] = acc;
     }
 }
 

@@ -133,6 +133,21 @@ struct Params {
 // valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices
 @group(0) @binding(33) var<storage, read> corner_valence: array<u32>;
 
+// base-mesh positions of a refined mesh, 3 f32 per base vertex: the refinement stage's input (docs/boundaries.md §8)
+@group(0) @binding(34) var<storage, read> refine_base: array<f32>;
+
+// start of each refined vertex's stencil row in refine_indices / refine_weights (one per refined vertex plus a final total)
+@group(0) @binding(35) var<storage, read> refine_offsets: array<u32>;
+
+// base vertex of each stencil term, ascending within a row
+@group(0) @binding(36) var<storage, read> refine_indices: array<u32>;
+
+// weight of each stencil term (rows sum to 1)
+@group(0) @binding(37) var<storage, read> refine_weights: array<f32>;
+
+// refined positions, 3 f32 per refined vertex, written by refine_main: bind the buffer the vertex stage reads as positions (binding 0)
+@group(0) @binding(38) var<storage, read_write> refined_positions: array<f32>;
+
 // control_points[i] = v: the packed f32 triple at 3i.
 fn store_control_points(i: u32, v: vec3<f32>) {
     let o: u32 = (3u * i);
@@ -157,6 +172,20 @@ fn load_normals(i: u32) -> vec3<f32> {
 fn load_positions(i: u32) -> vec3<f32> {
     let o: u32 = (3u * i);
     return vec3<f32>(positions[o], positions[(o + 1u)], positions[(o + 2u)]);
+}
+
+// refine_base[i]: the packed f32 triple at 3i.
+fn load_refine_base(i: u32) -> vec3<f32> {
+    let o: u32 = (3u * i);
+    return vec3<f32>(refine_base[o], refine_base[(o + 1u)], refine_base[(o + 2u)]);
+}
+
+// refined_positions[i] = v: the packed f32 triple at 3i.
+fn store_refined_positions(i: u32, v: vec3<f32>) {
+    let o: u32 = (3u * i);
+    refined_positions[o] = v.x;
+    refined_positions[(o + 1u)] = v.y;
+    refined_positions[(o + 2u)] = v.z;
 }
 
 // vertex_out[i] = v: the packed f32 triple at 3i.
@@ -322,6 +351,18 @@ fn tessgen_bucket_level(l0: u32, l1: u32, l2: u32, l3: u32) -> u32 {
         bucket = l3;
     }
     return bucket;
+}
+
+// Refined vertex `v`: the sum over its stencil row (refine_offsets[v] .. refine_offsets[v + 1]) of base point × weight, in row order from a zero vector, one rounded multiply and one rounded add per term, into refined_positions[v] (docs/boundaries.md §8).
+// Shared-boundary arithmetic (`precise` in GLSL/HLSL; WGSL has no such qualifier).
+fn tessgen_refine_vertex(v: u32) {
+    let first: u32 = refine_offsets[v];
+    let end: u32 = refine_offsets[(v + 1u)];
+    var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
+    for (var j: u32 = first; j < end; j = (j + 1u)) {
+        acc = (acc + (load_refine_base(refine_indices[j]) * refine_weights[j]));
+    }
+    store_refined_positions(v, acc);
 }
 
 // ---- Scheme `pn` ----
@@ -812,6 +853,15 @@ fn eval_domain_displaced(face: u32, class_: u32, cp_base: u32, x: f32, y: f32, z
 }
 
 // ---- Entry points ----
+
+// Refinement stage for refined vertices first .. first + count: each its stencil row over the base positions, into refined_positions (bound to the buffer the vertex stage reads as positions).
+@compute @workgroup_size(64)
+fn refine_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k: u32 = gid.x;
+    if (k < params.count) {
+        tessgen_refine_vertex((params.first + k));
+    }
+}
 
 // Vertex stage for vertices first .. first + count (valence 0: unused vertex).
 @compute @workgroup_size(64)

@@ -32,52 +32,60 @@ const FILES: &[&str] = &[
     "glsl/regular_vertex_stage.comp",
     "glsl/regular_patch.comp",
     "glsl/regular_eval.comp",
+    "glsl/regular_refine.comp",
     "glsl/pccm.vert",
     "glsl/pccm.tesc",
     "glsl/pccm.tese",
     "glsl/pccm_vertex_stage.comp",
     "glsl/pccm_patch.comp",
     "glsl/pccm_eval.comp",
+    "glsl/pccm_refine.comp",
     "glsl/acc.vert",
     "glsl/acc.tesc",
     "glsl/acc.tese",
     "glsl/acc_vertex_stage.comp",
     "glsl/acc_patch.comp",
     "glsl/acc_eval.comp",
+    "glsl/acc_refine.comp",
     "glsl/gregory.vert",
     "glsl/gregory.tesc",
     "glsl/gregory.tese",
     "glsl/gregory_vertex_stage.comp",
     "glsl/gregory_patch.comp",
     "glsl/gregory_eval.comp",
+    "glsl/gregory_refine.comp",
     "glsl/gregory_osd.vert",
     "glsl/gregory_osd.tesc",
     "glsl/gregory_osd.tese",
     "glsl/gregory_osd_vertex_stage.comp",
     "glsl/gregory_osd_patch.comp",
     "glsl/gregory_osd_eval.comp",
+    "glsl/gregory_osd_refine.comp",
     "glsl/pn.vert",
     "glsl/pn.tesc",
     "glsl/pn.tese",
     "glsl/pn_vertex_stage.comp",
     "glsl/pn_patch.comp",
     "glsl/pn_eval.comp",
+    "glsl/pn_refine.comp",
     "glsl/stpn.vert",
     "glsl/stpn.tesc",
     "glsl/stpn.tese",
     "glsl/stpn_vertex_stage.comp",
     "glsl/stpn_patch.comp",
     "glsl/stpn_eval.comp",
+    "glsl/stpn_refine.comp",
     "glsl/phong.vert",
     "glsl/phong.tesc",
     "glsl/phong.tese",
     "glsl/phong_vertex_stage.comp",
     "glsl/phong_patch.comp",
     "glsl/phong_eval.comp",
+    "glsl/phong_refine.comp",
 ];
 
 #[test]
-fn glsl_emits_six_files_per_scheme() {
+fn glsl_emits_seven_files_per_scheme() {
     let out = build();
     let mut emitted: Vec<&str> = out
         .files
@@ -107,7 +115,7 @@ fn glsl_pccm() {
     }
 }
 
-/// The six files of one scheme (the prefix alone would let `gregory` catch
+/// The seven files of one scheme (the prefix alone would let `gregory` catch
 /// `gregory_osd`).
 fn files_of(scheme: &str) -> Vec<String> {
     [
@@ -117,6 +125,7 @@ fn files_of(scheme: &str) -> Vec<String> {
         "_vertex_stage.comp",
         "_patch.comp",
         "_eval.comp",
+        "_refine.comp",
     ]
     .iter()
     .map(|suffix| format!("glsl/{scheme}{suffix}"))

@@ -114,6 +114,7 @@ fn expected_paths(schemes: &[&str]) -> Vec<String> {
             "_vertex_stage.comp",
             "_patch.comp",
             "_eval.comp",
+            "_refine.comp",
         ] {
             v.push(format!("glsl/{s}{suffix}"));
         }

@@ -31,6 +31,7 @@ const EXPECTED: &[(&str, &str)] = &[
     ("vertex_stage_main", "comp"),
     ("patch_main", "comp"),
     ("eval_main", "comp"),
+    ("refine_main", "comp"),
 ];
 
 /// PCCM with a user-chosen sigma (the `scheme!` front end).

@@ -367,6 +367,16 @@ fn entry_point_bindings() {
                 })
                 .collect();
             let want: &[&str] = match ep.name.as_str() {
+                // The refinement stage: the stencils in, the refined
+                // positions out (6 bindings, 5 storage buffers).
+                "refine_main" => &[
+                    "10 params -",
+                    "34 refine_base read",
+                    "35 refine_offsets read",
+                    "36 refine_indices read",
+                    "37 refine_weights read",
+                    "38 refined_positions read_write",
+                ],
                 "vertex_stage_main" => &[
                     "0 positions read",
                     "1 valence read",

@@ -1,6 +1,6 @@
 //! GLSL 450 printer (Vulkan flavour: `glslangValidator -V`).
 //!
-//! Every scheme becomes six files, each with one `main`:
+//! Every scheme becomes seven files, each with one `main`:
 //!
 //! | file | stage | work |
 //! |---|---|---|
@@ -10,6 +10,7 @@
 //! | `glsl/<scheme>_vertex_stage.comp` | compute | `vertex_stage_main` |
 //! | `glsl/<scheme>_patch.comp` | compute | `patch_main` |
 //! | `glsl/<scheme>_eval.comp` | compute | `eval_main` |
+//! | `glsl/<scheme>_refine.comp` | compute | `refine_main` (refined meshes, before the vertex stage) |
 //!
 //! Bindings follow [`abi::BINDINGS`] (set 0); each file declares only the
 //! bindings its entry point reaches, read-only unless that file writes them.
@@ -66,16 +67,18 @@ enum Stage {
     CompVertex,
     CompPatch,
     CompEval,
+    CompRefine,
 }
 
 impl Stage {
-    const ALL: [Stage; 6] = [
+    const ALL: [Stage; 7] = [
         Stage::Vert,
         Stage::Tesc,
         Stage::Tese,
         Stage::CompVertex,
         Stage::CompPatch,
         Stage::CompEval,
+        Stage::CompRefine,
     ];
     fn suffix(self) -> &'static str {
         match self {
@@ -85,6 +88,7 @@ impl Stage {
             Stage::CompVertex => "_vertex_stage.comp",
             Stage::CompPatch => "_patch.comp",
             Stage::CompEval => "_eval.comp",
+            Stage::CompRefine => "_refine.comp",
         }
     }
     /// Control points live in `tcs_cp`, not in a buffer.
@@ -99,6 +103,7 @@ impl Stage {
             Stage::CompVertex => "Compute entry point vertex_stage_main: the vertex stage for vertices first .. first + count.",
             Stage::CompPatch => "Compute entry point patch_main: the patch stage for patches first .. first + count of one class.",
             Stage::CompEval => "Compute entry point eval_main: (level+1)² samples of each patch into `samples`.",
+            Stage::CompRefine => "Compute entry point refine_main: the refinement stage for refined vertices first .. first + count (bind refined_positions to the buffer the vertex stage reads as positions).",
         }
     }
 }
@@ -420,6 +425,7 @@ impl<'a> Writer<'a> {
             },
             Stage::CompEval => called(&self.entries.compute_eval),
             Stage::CompVertex => vec![FnRef::Local(self.entries.vertex_stage)],
+            Stage::CompRefine => called(&self.entries.compute_refine),
         }
     }
 
@@ -520,7 +526,7 @@ impl<'a> Writer<'a> {
                     add(by_name("patch_faces"), false);
                 }
             }
-            Stage::Vert => {}
+            Stage::Vert | Stage::CompRefine => {}
         }
         need
     }
@@ -803,7 +809,7 @@ impl<'a> Writer<'a> {
             let Some(&(read, written)) = need.get(&b.binding) else {
                 continue;
             };
-            let (n, Some(r)) = (b.name, b.resource) else {
+            let (n, Some(r)) = (b.name, abi::resource_of(b)) else {
                 continue;
             };
             let module = self.module;
@@ -860,6 +866,11 @@ impl<'a> Writer<'a> {
             }
             Stage::CompEval => {
                 let body = &self.entries.compute_eval;
+                self.name_locals(body);
+                self.stmts(self.module, body, &body.body);
+            }
+            Stage::CompRefine => {
+                let body = &self.entries.compute_refine;
                 self.name_locals(body);
                 self.stmts(self.module, body, &body.body);
             }

@@ -60,6 +60,7 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     (abi::entry::VERTEX_STAGE, "comp"),
     (abi::entry::PATCH_STAGE, "comp"),
     (abi::entry::EVAL, "comp"),
+    (abi::entry::REFINE, "comp"),
 ];
 
 /// Vertex shader of the tessellation pipeline (one point per patch).
@@ -240,6 +241,7 @@ impl<'a> Writer<'a> {
             abi::entry::VERTEX_STAGE,
             abi::entry::PATCH_STAGE,
             abi::entry::EVAL,
+            abi::entry::REFINE,
         ]
         .iter()
         .map(|s| s.to_string())
@@ -322,7 +324,8 @@ impl<'a> Writer<'a> {
 //     glslangValidator -D -V -e ENTRY -S STAGE {scheme}.hlsl
 // Tessellation pipeline: vs_main -> hs_main (patch stage in
 // hs_patch_constants, once per patch) -> ds_main. Compute: vertex_stage_main,
-// patch_main, eval_main. All bindings are in set 0 (generated/README.md)."#
+// patch_main, eval_main, and refine_main before them for a refined mesh
+// (docs/boundaries.md §8). All bindings are in set 0 (generated/README.md)."#
         );
         for l in text.lines() {
             self.line(l);
@@ -436,7 +439,7 @@ impl<'a> Writer<'a> {
             "// ---- vec3 buffers: packed float triples, point i at floats 3i, 3i+1, 3i+2 ----",
         );
         for b in abi::BINDINGS.iter().filter(|b| b.kind == Kind::Vec3Buffer) {
-            let Some(r) = b.resource else {
+            let Some(r) = abi::resource_of(b) else {
                 continue;
             };
             let module = self.module;
@@ -546,6 +549,7 @@ impl<'a> Writer<'a> {
             &e.compute_vertex,
             &e.compute_patch_local,
             &e.compute_eval,
+            &e.compute_refine,
         ] {
             todo.extend(called(body));
         }
@@ -708,6 +712,24 @@ impl<'a> Writer<'a> {
         ));
         self.indent += 1;
         self.tess_body(&entries.compute_eval, "patch_id", None, &[]);
+        self.indent -= 1;
+        self.line("}");
+
+        self.line("");
+        self.line(
+            "// Refinement stage of refined vertices params.first .. params.first + params.count:",
+        );
+        self.line(
+            "// each its stencil row over refine_base, into refined_positions (bind the buffer",
+        );
+        self.line("// the vertex stage reads as positions). Run before vertex_stage_main.");
+        self.line(&format!("[numthreads({wg}, 1, 1)]"));
+        self.line(&format!(
+            "void {}(uint3 global_id : SV_DispatchThreadID) {{",
+            abi::entry::REFINE
+        ));
+        self.indent += 1;
+        self.tess_body(&entries.compute_refine, "patch_id", None, &[]);
         self.indent -= 1;
         self.line("}");
     }

@@ -212,6 +212,14 @@ pub struct Inputs<'a> {
     /// Displacement map texels, row-major, `displace_width` columns.
     pub displace_map: &'a [f32],
     pub displace_width: u32,
+    /// Refinement (docs/boundaries.md §8): base-mesh positions.
+    pub refine_base: &'a [Vec3],
+    /// Refinement: start of each refined vertex's stencil row (plus a final total).
+    pub refine_offsets: &'a [u32],
+    /// Refinement: base vertex of each stencil term.
+    pub refine_indices: &'a [u32],
+    /// Refinement: weight of each stencil term.
+    pub refine_weights: &'a [f32],
 }
 
 /// Patch stage of one facet class.

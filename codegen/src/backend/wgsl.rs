@@ -54,6 +54,7 @@ pub fn write(plan: &Plan, command: &str) -> Vec<GeneratedFile> {
 
 /// Entry points of every emitted module, with their stages.
 pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    (abi::entry::REFINE, "compute"),
     (abi::entry::VERTEX_STAGE, "compute"),
     (abi::entry::PATCH_STAGE, "compute"),
     (abi::entry::EVAL, "compute"),

@@ -137,6 +137,7 @@ pub fn common_module(table: &StencilTable) -> Module {
     m.functions.push(edge_factor_fn(true));
     m.functions.push(crate::lower::adaptive::edge_level_fn());
     m.functions.push(crate::lower::adaptive::bucket_level_fn());
+    m.functions.push(crate::lower::refine::refine_vertex_fn());
     m
 }
 

@@ -24,6 +24,7 @@ pub mod entries;
 mod eval;
 mod grid;
 mod patch;
+pub mod refine;
 mod surface;
 pub mod tess;
 mod vertex;
@@ -300,6 +301,7 @@ pub fn scheme_module(
         compute_eval: Function::new("", ""),
         compute_patch: Function::new("", ""),
         compute_patch_local: Function::new("", ""),
+        compute_refine: crate::lower::refine::refine_main(),
         instanced: Vec::new(),
     };
     // The hardware tessellation stages' bodies call the functions above.

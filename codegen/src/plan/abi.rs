@@ -73,6 +73,11 @@ pub const BINDINGS: &[Binding] = &[
     Binding { binding: 31, name: "vertex_sectors", kind: Kind::U32Buffer, resource: Some(Resource::VertexSectors), written: false, doc: "first sector of each vertex in `sectors` (one per vertex plus a final total); an empty range is a smooth vertex, which uses the per-valence rows (docs/boundaries.md §2)" },
     Binding { binding: 32, name: "sectors", kind: Kind::U32Buffer, resource: Some(Resource::Sectors), written: false, doc: "sector records of crease and corner vertices, SECTOR_WORDS u32 each: kind (0 crease, 1 corner; row block kind·SECTOR_MAX_FACES + m − 1), faces m, ring positions written (m, or m + 1 for the last sector of a boundary vertex), first ring position, start of its partial ring [p, q_0, d_0, .., q_m] in `ring`" },
     Binding { binding: 33, name: "corner_valence", kind: Kind::U32Buffer, resource: Some(Resource::CornerValence), written: false, doc: "valence whose per-valence constants corner i of face f uses, at 4f + i: the vertex valence, or the sector's virtual valence (4 for one face, 2m for m faces) at crease and corner vertices" },
+    Binding { binding: 34, name: "refine_base", kind: Kind::Vec3Buffer, resource: Some(Resource::RefineBase), written: false, doc: "base-mesh positions of a refined mesh, 3 f32 per base vertex: the refinement stage's input (docs/boundaries.md §8)" },
+    Binding { binding: 35, name: "refine_offsets", kind: Kind::U32Buffer, resource: Some(Resource::RefineOffsets), written: false, doc: "start of each refined vertex's stencil row in refine_indices / refine_weights (one per refined vertex plus a final total)" },
+    Binding { binding: 36, name: "refine_indices", kind: Kind::U32Buffer, resource: Some(Resource::RefineIndices), written: false, doc: "base vertex of each stencil term, ascending within a row" },
+    Binding { binding: 37, name: "refine_weights", kind: Kind::F32Buffer, resource: Some(Resource::RefineWeights), written: false, doc: "weight of each stencil term (rows sum to 1)" },
+    Binding { binding: 38, name: "refined_positions", kind: Kind::Vec3Buffer, resource: None, written: true, doc: "refined positions, 3 f32 per refined vertex, written by refine_main: bind the buffer the vertex stage reads as positions (binding 0)" },
 ];
 
 /// Layout of the `adaptive` buffer (binding 19): `(name, first float,
@@ -93,6 +98,14 @@ pub const ADAPTIVE: &[(&str, u32, u32, &str)] = &[
 /// Floats in the `adaptive` buffer.
 pub const ADAPTIVE_LEN: u32 = 26;
 
+/// The Plan resource binding `b` holds: its own, or for a buffer whose
+/// binding keeps one view (`resource: None`: host-filled or output-only,
+/// such as `refined_positions`) the resource of the same name.
+pub fn resource_of(b: &Binding) -> Option<Resource> {
+    b.resource
+        .or_else(|| Resource::ALL.into_iter().find(|r| r.name() == b.name))
+}
+
 /// Binding of a Plan resource.
 pub fn binding_of(r: Resource) -> &'static Binding {
     // The global view of the control points is the same buffer.
@@ -100,7 +113,7 @@ pub fn binding_of(r: Resource) -> &'static Binding {
         Resource::GlobalControlPoints => Resource::ControlPoints,
         // Host-filled or output-only buffers whose binding has no Plan
         // resource of its own (`resource: None` keeps their one view).
-        Resource::PatchFaces | Resource::Samples => {
+        Resource::PatchFaces | Resource::Samples | Resource::RefinedPositions => {
             return BINDINGS
                 .iter()
                 .find(|b| b.name == r.name())
@@ -191,6 +204,8 @@ pub mod entry {
     pub const PATCH_STAGE: &str = "patch_main";
     /// Compute: evaluate `(level+1)²` samples of each patch into `samples`.
     pub const EVAL: &str = "eval_main";
+    /// Compute: refinement stage for refined vertices `first .. first + count`.
+    pub const REFINE: &str = "refine_main";
 }
 
 /// Binding of the Vulkan harness's own geometry-shader triangle capture
@@ -269,6 +284,13 @@ const DISPLACE: [(u32, Access); 4] = [(21, R), (22, R), (23, R), (24, R)];
 /// against naga's reflection of every emitted module by the tests
 /// (`tests/tests/validate_wgsl.rs`), so this cannot drift from the shaders.
 pub const WGSL_ENTRIES: &[EntryPoint] = &[
+    EntryPoint {
+        name: entry::REFINE,
+        stage: Stage::Compute,
+        workgroup_size: WORKGROUP_SIZE,
+        bindings: &[(10, R), (34, R), (35, R), (36, R), (37, R), (38, RW)],
+        invocation: "invocation `k = global_invocation_id.x` refines vertex `params.first + k` for `k < params.count` (its stencil row over `refine_base` into `refined_positions`); dispatch x = ⌈count / WORKGROUP_SIZE⌉; run before `vertex_stage_main`, with `refined_positions` bound to the buffer bound as `positions` there",
+    },
     EntryPoint {
         name: entry::VERTEX_STAGE,
         stage: Stage::Compute,

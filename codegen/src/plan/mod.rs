@@ -597,6 +597,10 @@ pub struct Entries {
     /// ([`Resource::GlobalControlPoints`]) from `params.cp_base +
     /// k·CONTROL_POINTS[class]` (see `crate::lower::tess::compute_patch_local`).
     pub compute_patch_local: Function,
+    /// The body of the compute entry `refine_main` (every GPU target): the
+    /// refinement stage of refined vertex `params.first + k` for
+    /// invocation `k < params.count` (see `crate::lower::refine`).
+    pub compute_refine: Function,
     /// The WGSL module's entry points and the declarations between them,
     /// in order (targets without a tessellator: compute construction,
     /// instanced evaluation, adaptive buckets; see `crate::lower::entries`).
@@ -751,6 +755,8 @@ pub mod common_fn {
     pub const EDGE_LEVEL: usize = 5;
     /// `tessgen_bucket_level`: a patch's bucket, the largest edge level.
     pub const BUCKET_LEVEL: usize = 6;
+    /// `tessgen_refine_vertex`: one refined vertex's stencil row.
+    pub const REFINE_VERTEX: usize = 7;
 }
 
 /// Name of the adaptive per-edge tessellation factor.

@@ -105,6 +105,21 @@ pub enum Resource {
     /// uses (the virtual valence at crease and corner vertices), by
     /// `4·face + corner`.
     CornerValence,
+    /// `vec3` base-mesh positions of a refined mesh, by base vertex (the
+    /// refinement stage's input; docs/boundaries.md §8).
+    RefineBase,
+    /// `u32` start of each refined vertex's stencil row in
+    /// [`Resource::RefineIndices`] / [`Resource::RefineWeights`], by refined
+    /// vertex (plus a final total).
+    RefineOffsets,
+    /// `u32` base vertex of each stencil term, flat.
+    RefineIndices,
+    /// `f32` weight of each stencil term, flat.
+    RefineWeights,
+    /// `vec3` refined positions, by refined vertex (written by the
+    /// refinement stage): the host binds the buffer the vertex stage reads
+    /// as [`Resource::Positions`].
+    RefinedPositions,
 }
 
 impl Resource {
@@ -115,7 +130,9 @@ impl Resource {
             | Resource::ControlPoints
             | Resource::GlobalControlPoints
             | Resource::Normals
-            | Resource::Crease => Ty::Vec3,
+            | Resource::Crease
+            | Resource::RefineBase
+            | Resource::RefinedPositions => Ty::Vec3,
             Resource::Tags
             | Resource::CornerSide
             | Resource::EdgeFactors
@@ -123,7 +140,8 @@ impl Resource {
             | Resource::TexCoords
             | Resource::DisplaceInfo
             | Resource::DisplaceMap
-            | Resource::Samples => Ty::F32,
+            | Resource::Samples
+            | Resource::RefineWeights => Ty::F32,
             _ => Ty::U32,
         }
     }
@@ -161,9 +179,14 @@ impl Resource {
             Resource::VertexSectors => "vertex_sectors",
             Resource::Sectors => "sectors",
             Resource::CornerValence => "corner_valence",
+            Resource::RefineBase => "refine_base",
+            Resource::RefineOffsets => "refine_offsets",
+            Resource::RefineIndices => "refine_indices",
+            Resource::RefineWeights => "refine_weights",
+            Resource::RefinedPositions => "refined_positions",
         }
     }
-    pub const ALL: [Resource; 23] = [
+    pub const ALL: [Resource; 28] = [
         Resource::Positions,
         Resource::Valence,
         Resource::RingOffsets,
@@ -187,5 +210,10 @@ impl Resource {
         Resource::VertexSectors,
         Resource::Sectors,
         Resource::CornerValence,
+        Resource::RefineBase,
+        Resource::RefineOffsets,
+        Resource::RefineIndices,
+        Resource::RefineWeights,
+        Resource::RefinedPositions,
     ];
 }

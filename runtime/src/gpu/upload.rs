@@ -24,6 +24,27 @@ pub enum UploadError {
     Tess(#[from] TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    #[error(
+        "refinement: the stencil table has {rows} rows for {vertices} refined vertices, or a \
+         term names base vertex {index} of {base}"
+    )]
+    Refinement {
+        rows: usize,
+        vertices: usize,
+        index: u32,
+        base: usize,
+    },
+}
+
+/// The refinement stage of an [`Upload`] (docs/boundaries.md §8): the GPU
+/// computes the refined positions from the base positions and the stencil
+/// table before the vertex stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RefineLayout {
+    /// Refined vertices (stencil rows), = the vertex stage's positions.
+    pub rows: u32,
+    /// Base-mesh positions (`refine_base`), what an animation updates.
+    pub base: u32,
 }
 
 /// One class's patches: a contiguous range of `patch_faces` and of the
@@ -67,6 +88,9 @@ pub struct Upload {
     /// The displacement map (binding 24, an `R32Float` texture); a 1×1 zero
     /// map while displacement is off.
     pub displace_map: crate::cpu::displace::DisplaceMap,
+    /// The refinement stage, when the positions are refined on the GPU
+    /// ([`Upload::with_refinement`]).
+    pub refine: Option<RefineLayout>,
 }
 
 /// The Params block (`abi::PARAMS`), each field at its generated offset
@@ -247,6 +271,7 @@ impl Upload {
             patch_faces,
             classes,
             displace_map: crate::cpu::displace::DisplaceMap::flat(),
+            refine: None,
         }
         .with_displacement(&crate::cpu::displace::DisplaceData::off()))
     }
@@ -280,6 +305,61 @@ impl Upload {
         ]);
         self.displace_map = d.map.clone();
         self
+    }
+
+    /// Refine on the GPU: `base` (the base mesh's positions) and `stencils`
+    /// (one row per vertex of this upload's refined topology) go into
+    /// bindings 34–37, and `positions` (binding 0, which `refine_main`
+    /// writes through `refined_positions`, binding 38) starts zeroed, so
+    /// every refined position the later stages read comes from the GPU's
+    /// refinement stage.
+    pub fn with_refinement(
+        mut self,
+        base: &[Vec3],
+        stencils: &crate::mesh::refine::StencilTable,
+    ) -> Result<Self, UploadError> {
+        let rows = stencils.rows();
+        let bad = stencils
+            .indices
+            .iter()
+            .copied()
+            .find(|&i| i as usize >= base.len());
+        if rows != self.num_positions as usize || bad.is_some() {
+            return Err(UploadError::Refinement {
+                rows,
+                vertices: self.num_positions as usize,
+                index: bad.unwrap_or(0),
+                base: base.len(),
+            });
+        }
+        for b in &mut self.buffers {
+            if b.binding == binding::POSITIONS {
+                b.bytes = vec3_bytes(&vec![Vec3::ZERO; rows]);
+            }
+        }
+        self.buffers.extend([
+            buf(binding::REFINE_BASE, "refine_base", vec3_bytes(base)),
+            buf(
+                binding::REFINE_OFFSETS,
+                "refine_offsets",
+                u32_bytes(&stencils.offsets),
+            ),
+            buf(
+                binding::REFINE_INDICES,
+                "refine_indices",
+                u32_bytes(&stencils.indices),
+            ),
+            buf(
+                binding::REFINE_WEIGHTS,
+                "refine_weights",
+                f32_bytes(&stencils.weights),
+            ),
+        ]);
+        self.refine = Some(RefineLayout {
+            rows: rows as u32,
+            base: base.len() as u32,
+        });
+        Ok(self)
     }
 
     /// A triangle mesh for a triangle scheme: corner vertices, positions,
@@ -334,6 +414,7 @@ impl Upload {
             patch_faces,
             classes,
             displace_map: crate::cpu::displace::DisplaceMap::flat(),
+            refine: None,
         }
         .with_displacement(&crate::cpu::displace::DisplaceData::off()))
     }

@@ -33,6 +33,23 @@ fn level(v: &Validated<'_>) -> u32 {
     }
 }
 
+/// A refined request's base positions and stencil table: the GPU backends
+/// refine on the device (`refine_main`) from these, to the bits the CPU's
+/// `StencilTable::apply` gave the refined mesh.
+#[cfg(any(feature = "gpu", feature = "vulkan"))]
+fn gpu_refined<'a>(
+    v: &'a Validated<'_>,
+) -> Option<(Vec<glam::Vec3>, &'a crate::mesh::refine::StencilTable)> {
+    let r = v.refined()?;
+    let base = v
+        .mesh
+        .positions
+        .iter()
+        .map(|&p| glam::Vec3::from(p))
+        .collect();
+    Some((base, &r.refinement.stencils))
+}
+
 /// The CPU: construct in face order, then the grid walk or the adaptive walk.
 fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
     let patches = match &v.domain {
@@ -74,13 +91,21 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
 fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Error> {
     use crate::gpu::wgpu::GpuMesh;
     let name = v.kernels.name;
-    let m = match (&v.domain, v.request.displacement) {
-        (Domain::Quads { topo, positions }, None) => GpuMesh::new(gpu, topo, positions, name)?,
-        (Domain::Quads { topo, positions }, Some(d)) => {
+    let displaced = v.request.displacement.map(|d| (v.run_mesh(), d));
+    let m = match (&v.domain, v.request.displacement, gpu_refined(v)) {
+        (Domain::Quads { topo, .. }, _, Some((base, stencils))) => {
+            GpuMesh::new_refined(gpu, topo, &base, stencils, name, displaced)?
+        }
+        (Domain::Quads { topo, positions }, None, None) => {
+            GpuMesh::new(gpu, topo, positions, name)?
+        }
+        (Domain::Quads { topo, positions }, Some(d), None) => {
             GpuMesh::new_displaced(gpu, v.run_mesh(), topo, positions, name, d)?
         }
-        (Domain::Triangles(tri), None) => GpuMesh::new_tri(gpu, tri, name)?,
-        (Domain::Triangles(tri), Some(d)) => GpuMesh::new_tri_displaced(gpu, v.mesh, tri, name, d)?,
+        (Domain::Triangles(tri), None, _) => GpuMesh::new_tri(gpu, tri, name)?,
+        (Domain::Triangles(tri), Some(d), _) => {
+            GpuMesh::new_tri_displaced(gpu, v.mesh, tri, name, d)?
+        }
     };
     Ok(match &v.adaptive {
         None => Output::Grid(m.evaluate(level(v))?),
@@ -106,15 +131,19 @@ fn run_vulkan(
         ..Options::new(language)
     };
     let name = v.kernels.name;
-    let m = match (&v.domain, v.request.displacement) {
-        (Domain::Quads { topo, positions }, None) => {
+    let displaced = v.request.displacement.map(|d| (v.run_mesh(), d));
+    let m = match (&v.domain, v.request.displacement, gpu_refined(v)) {
+        (Domain::Quads { topo, .. }, _, Some((base, stencils))) => {
+            VkMesh::new_refined(vk, topo, &base, stencils, name, displaced, &options)?
+        }
+        (Domain::Quads { topo, positions }, None, None) => {
             VkMesh::new(vk, topo, positions, name, &options)?
         }
-        (Domain::Quads { topo, positions }, Some(d)) => {
+        (Domain::Quads { topo, positions }, Some(d), None) => {
             VkMesh::new_displaced(vk, v.run_mesh(), topo, positions, name, d, &options)?
         }
-        (Domain::Triangles(tri), None) => VkMesh::new_tri(vk, tri, name, &options)?,
-        (Domain::Triangles(tri), Some(d)) => {
+        (Domain::Triangles(tri), None, _) => VkMesh::new_tri(vk, tri, name, &options)?,
+        (Domain::Triangles(tri), Some(d), _) => {
             VkMesh::new_tri_displaced(vk, v.mesh, tri, name, d, &options)?
         }
     };

@@ -169,7 +169,12 @@ pub fn patch_main(entries: &Entries) -> Function {
 
 /// Every WGSL entry point, in print order.
 pub fn instanced(entries: &Entries) -> Vec<EntryItem> {
-    let mut out = uniform(entries);
+    let mut out = vec![entry(
+        COMPUTE,
+        vec![StageIn::GlobalId],
+        entries.compute_refine.clone(),
+    )];
+    out.extend(uniform(entries));
     out.extend(adaptive(entries));
     out.extend(buckets::gpu_driven(entries));
     out

@@ -55,6 +55,10 @@ pub enum VkError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    /// The upload was refused for another reason (a refinement stencil
+    /// table that does not fit the mesh).
+    #[error(transparent)]
+    Upload(UploadError),
     #[error("scheme `{scheme}` has a triangle domain: the hardware's inner vertices are not grid points, so capture its triangles with evaluate_triangles")]
     TriangleDomain { scheme: String },
     #[error("scheme `{scheme}` has a quad domain: evaluate_triangles is for triangle schemes")]
@@ -85,6 +89,7 @@ impl From<UploadError> for VkError {
             UploadError::PositionCount { expected, got } => {
                 VkError::PositionCount { expected, got }
             }
+            e @ UploadError::Refinement { .. } => VkError::Upload(e),
         }
     }
 }

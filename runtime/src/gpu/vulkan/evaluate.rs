@@ -71,9 +71,32 @@ impl<'v> VkMesh<'v> {
         Ok(())
     }
 
-    /// The vertex stage as a compute dispatch (quad schemes).
+    /// The vertex stage as a compute dispatch (quad schemes), after the
+    /// refinement stage of a mesh refined on the GPU (its output is the
+    /// vertex stage's `positions`; every submit is ordered after the last).
     fn vertex_stage(&self) -> Result<(), VkError> {
         let per = abi::WORKGROUP_SIZE * self.vk.limits.max_compute_work_group_count_x.max(1);
+        if let Some(r) = self.refine {
+            let mut first = 0;
+            while first < r.rows {
+                let count = per.min(r.rows - first);
+                self.set_params([first, count, 0, 0, 1, 0]);
+                let (pipe, layout, set) = (self.refine_pipeline, self.layout, self.set);
+                self.vk.submit(|d, cb| unsafe {
+                    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
+                    d.cmd_bind_descriptor_sets(
+                        cb,
+                        vk::PipelineBindPoint::COMPUTE,
+                        layout,
+                        0,
+                        &[set],
+                        &[],
+                    );
+                    d.cmd_dispatch(cb, count.div_ceil(abi::WORKGROUP_SIZE), 1, 1);
+                })?;
+                first += count;
+            }
+        }
         let mut first = 0;
         while first < self.num_vertices {
             let count = per.min(self.num_vertices - first);

@@ -27,6 +27,35 @@ impl<'v> VkMesh<'v> {
         Self::build(vk, upload, options)
     }
 
+    /// A refined quad mesh whose positions the GPU computes
+    /// (docs/boundaries.md §8): `topo` is the refined topology, `base` the
+    /// base mesh's positions, `stencils` one row per refined vertex; the
+    /// emitted `refine_main` runs before the vertex stage. `displaced` adds
+    /// displacement as [`Self::new_displaced`] does (`mesh`: the refined
+    /// mesh).
+    pub fn new_refined(
+        vk: &'v Vulkan,
+        topo: &Topology,
+        base: &[Vec3],
+        stencils: &crate::mesh::refine::StencilTable,
+        scheme: &str,
+        displaced: Option<(&crate::Mesh, &crate::cpu::displace::Displacement)>,
+        options: &Options,
+    ) -> Result<Self, VkError> {
+        let zeros = vec![Vec3::ZERO; topo.valence.len()];
+        let upload = Self::quad_upload(vk, topo, &zeros, scheme, options)?
+            .with_refinement(base, stencils)?;
+        match displaced {
+            None => Self::build(vk, upload, options),
+            Some((mesh, d)) => {
+                let (class, cp_base) = upload.face_layout();
+                let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
+                    .map_err(cpu::TessError::from)?;
+                Self::build(vk, upload.with_displacement(&data), &displacing(options))
+            }
+        }
+    }
+
     /// A quad mesh with displacement ([`crate::cpu::displace`]): the texture
     /// coordinates come from `mesh` (the OBJ's `vt`), the owners are
     /// recorded in this upload's class-sorted control-point layout, and the
@@ -142,6 +171,8 @@ impl<'v> VkMesh<'v> {
             framebuffer: vk::Framebuffer::null(),
             modules: Vec::new(),
             vertex_pipeline: vk::Pipeline::null(),
+            refine_pipeline: vk::Pipeline::null(),
+            refine: upload.refine,
             patch_pipeline: vk::Pipeline::null(),
             eval_pipeline: vk::Pipeline::null(),
             draw_pipeline: vk::Pipeline::null(),
@@ -282,12 +313,19 @@ impl<'v> VkMesh<'v> {
                 unsafe { d.update_descriptor_sets(&[w], &[]) };
                 continue;
             }
+            // The refinement stage writes the buffer the vertex stage reads
+            // as `positions`.
+            let b_buf = if b == binding::REFINED_POSITIONS && self.refine.is_some() {
+                binding::POSITIONS
+            } else {
+                b
+            };
             let buf = if b == binding::PARAMS {
                 self.params.as_ref()
             } else {
                 self.buffers
                     .iter()
-                    .find(|(k, _)| *k == b)
+                    .find(|(k, _)| *k == b_buf)
                     .map(|(_, buf)| buf)
                     .or(self.dummy.as_ref())
             };
@@ -323,6 +361,9 @@ impl<'v> VkMesh<'v> {
     fn pipelines(&mut self) -> Result<(), VkError> {
         if self.num_vertices > 0 {
             self.vertex_pipeline = self.compute_pipeline("comp")?;
+        }
+        if self.refine.is_some() {
+            self.refine_pipeline = self.compute_pipeline("refine")?;
         }
         if self.displaced() {
             self.patch_pipeline = self.compute_pipeline("patch")?;
@@ -471,6 +512,7 @@ impl Drop for VkMesh<'_> {
             let _ = d.device_wait_idle();
             d.destroy_pipeline(self.draw_pipeline, None);
             d.destroy_pipeline(self.vertex_pipeline, None);
+            d.destroy_pipeline(self.refine_pipeline, None);
             for m in &self.modules {
                 d.destroy_shader_module(*m, None);
             }

@@ -88,15 +88,27 @@ pub const DISPLACE: &str = crate::abi::define::DISPLACE;
 /// left out of the set).
 const LAYOUT_BINDINGS: &[u32] = &{
     const LOW: usize = binding::DISPLACE_MAP as usize + 1;
-    let mut all = [0u32; LOW + 3];
+    const HIGH: [u32; 8] = [
+        binding::VERTEX_SECTORS,
+        binding::SECTORS,
+        binding::CORNER_VALENCE,
+        binding::REFINE_BASE,
+        binding::REFINE_OFFSETS,
+        binding::REFINE_INDICES,
+        binding::REFINE_WEIGHTS,
+        binding::REFINED_POSITIONS,
+    ];
+    let mut all = [0u32; LOW + HIGH.len()];
     let mut b = 0;
     while b < LOW {
         all[b] = b as u32;
         b += 1;
     }
-    all[LOW] = binding::VERTEX_SECTORS;
-    all[LOW + 1] = binding::SECTORS;
-    all[LOW + 2] = binding::CORNER_VALENCE;
+    let mut k = 0;
+    while k < HIGH.len() {
+        all[LOW + k] = HIGH[k];
+        k += 1;
+    }
     all
 };
 
@@ -190,6 +202,10 @@ pub struct VkMesh<'v> {
     framebuffer: vk::Framebuffer,
     modules: Vec<vk::ShaderModule>,
     vertex_pipeline: vk::Pipeline,
+    /// The refinement stage (`refine_main`) of a mesh refined on the GPU
+    /// ([`VkMesh::new_refined`]), run before the vertex stage.
+    refine_pipeline: vk::Pipeline,
+    refine: Option<crate::gpu::upload::RefineLayout>,
     /// The compute patch stage (displacing builds, and
     /// [`VkMesh::evaluate_compute`]): fills the global control-point buffer
     /// the evaluation stage reads owners from.

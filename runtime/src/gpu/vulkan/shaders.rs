@@ -146,6 +146,7 @@ impl<'v> VkMesh<'v> {
                     "comp" => format!("glsl/{s}_vertex_stage.comp"),
                     "patch" => format!("glsl/{s}_patch.comp"),
                     "eval" => format!("glsl/{s}_eval.comp"),
+                    "refine" => format!("glsl/{s}_refine.comp"),
                     other => format!("glsl/{s}.{other}"),
                 },
                 None,
@@ -158,6 +159,7 @@ impl<'v> VkMesh<'v> {
                     "tese" => "ds_main",
                     "patch" => "patch_main",
                     "eval" => "eval_main",
+                    "refine" => "refine_main",
                     _ => "vertex_stage_main",
                 }),
             ),
@@ -185,7 +187,7 @@ impl<'v> VkMesh<'v> {
         };
         // The compute patch and evaluation stages are compute shaders like
         // the vertex stage.
-        let glslang_stage = if matches!(stage, "patch" | "eval") {
+        let glslang_stage = if matches!(stage, "patch" | "eval" | "refine") {
             "comp"
         } else {
             stage
@@ -211,6 +213,7 @@ impl<'v> VkMesh<'v> {
             Some("ds_main") => c"ds_main",
             Some("patch_main") => c"patch_main",
             Some("eval_main") => c"eval_main",
+            Some("refine_main") => c"refine_main",
             Some(_) => c"vertex_stage_main",
         };
         Ok((m, name))

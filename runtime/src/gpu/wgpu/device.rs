@@ -46,6 +46,10 @@ pub enum GpuError {
     Tess(#[from] cpu::TessError),
     #[error("positions: expected {expected}, got {got}")]
     PositionCount { expected: usize, got: usize },
+    /// The upload was refused for another reason (a refinement stencil
+    /// table that does not fit the mesh).
+    #[error(transparent)]
+    Upload(UploadError),
     #[error(transparent)]
     Adaptive(#[from] crate::cpu::adaptive::AdaptiveError),
 }
@@ -57,6 +61,7 @@ impl From<UploadError> for GpuError {
             UploadError::PositionCount { expected, got } => {
                 GpuError::PositionCount { expected, got }
             }
+            e @ UploadError::Refinement { .. } => GpuError::Upload(e),
         }
     }
 }

@@ -82,6 +82,36 @@ impl<'g> GpuMesh<'g> {
         Self::build(gpu, limits, upload)
     }
 
+    /// Upload a refined quad mesh whose positions the GPU computes
+    /// (docs/boundaries.md §8): `topo` is the refined topology, `base` the
+    /// base mesh's positions and `stencils` one row per refined vertex. Every
+    /// [`GpuMesh::construct`] runs `refine_main` before the vertex stage,
+    /// so [`GpuMesh::update_positions`] takes *base* positions: an animated
+    /// mesh refines on the GPU, to the CPU's bits (`StencilTable::apply`
+    /// sums in the same order). `displaced` adds displacement as
+    /// [`GpuMesh::new_displaced`] does, with `mesh` the refined mesh.
+    pub fn new_refined(
+        gpu: &'g Gpu,
+        topo: &Topology,
+        base: &[Vec3],
+        stencils: &crate::mesh::refine::StencilTable,
+        scheme_name: &str,
+        displaced: Option<(&crate::Mesh, &crate::cpu::displace::Displacement)>,
+    ) -> Result<Self, GpuError> {
+        let zeros = vec![Vec3::ZERO; topo.valence.len()];
+        let upload = Upload::quad(topo, &zeros, scheme_name)?.with_refinement(base, stencils)?;
+        let upload = match displaced {
+            None => upload,
+            Some((mesh, d)) => {
+                let (class, cp_base) = upload.face_layout();
+                let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
+                    .map_err(cpu::TessError::from)?;
+                upload.with_displacement(&data)
+            }
+        };
+        Self::build(gpu, gpu.limits, upload)
+    }
+
     /// Upload a quad mesh with displacement ([`crate::cpu::displace`]): the
     /// texture coordinates come from `mesh` (the OBJ's `vt`), owners are
     /// recorded in this upload's class-sorted control-point layout.
@@ -222,6 +252,7 @@ impl<'g> GpuMesh<'g> {
             patch_faces: upload.patch_faces,
             num_vertices: upload.num_vertices,
             num_positions: upload.num_positions,
+            refine: upload.refine,
             buffers,
             table_view,
             displace_view,
@@ -237,14 +268,37 @@ impl<'g> GpuMesh<'g> {
         Ok(mesh)
     }
 
-    /// Run the vertex and patch stages (again), e.g. after moving positions.
+    /// Run the refinement stage (a refined mesh), then the vertex and patch
+    /// stages (again), e.g. after moving positions.
     pub fn construct(&self) -> Result<(), GpuError> {
         let dev = &self.gpu.device;
+        // Built (and cached) outside the error scope below.
+        let refine = match self.refine {
+            Some(r) => Some((r, self.compute_pipeline("refine_main")?)),
+            None => None,
+        };
         self.gpu.scoped(|| {
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("construct"),
             });
-            let mut groups = Vec::new();
+            // (pipeline, bind group, workgroups) in dispatch order.
+            let mut groups: Vec<(&wgpu::ComputePipeline, wgpu::BindGroup, u32)> = Vec::new();
+            if let Some((r, pipeline)) = &refine {
+                let layout = pipeline.get_bind_group_layout(0);
+                let chunk = self.chunk(1) as u32;
+                let mut first = 0;
+                while first < r.rows {
+                    let count = chunk.min(r.rows - first);
+                    let p =
+                        self.params_buffer(&params_bytes(Mat4::IDENTITY, first, count, 0, 0, 1, 0));
+                    groups.push((
+                        pipeline,
+                        self.bind_group("refine_main", &layout, &p, None),
+                        count.div_ceil(abi::WORKGROUP_SIZE),
+                    ));
+                    first += count;
+                }
+            }
             let vchunk = self.chunk(1) as u32;
             let mut first = 0;
             while first < self.num_vertices {
@@ -252,7 +306,7 @@ impl<'g> GpuMesh<'g> {
                 let p = self.params_buffer(&params_bytes(Mat4::IDENTITY, first, count, 0, 0, 1, 0));
                 let layout = self.vertex_pipeline.get_bind_group_layout(0);
                 groups.push((
-                    0,
+                    &self.vertex_pipeline,
                     self.bind_group("vertex_stage_main", &layout, &p, None),
                     count.div_ceil(abi::WORKGROUP_SIZE),
                 ));
@@ -274,7 +328,7 @@ impl<'g> GpuMesh<'g> {
                     ));
                     let layout = self.patch_pipeline.get_bind_group_layout(0);
                     groups.push((
-                        1,
+                        &self.patch_pipeline,
                         self.bind_group("patch_main", &layout, &p, None),
                         count.div_ceil(abi::WORKGROUP_SIZE),
                     ));
@@ -282,16 +336,14 @@ impl<'g> GpuMesh<'g> {
                 }
             }
             {
+                // Dispatches of one pass are ordered: each sees the storage
+                // writes of the ones before it.
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("construct"),
                     timestamp_writes: None,
                 });
-                for (stage, group, wgs) in &groups {
-                    pass.set_pipeline(if *stage == 0 {
-                        &self.vertex_pipeline
-                    } else {
-                        &self.patch_pipeline
-                    });
+                for (pipeline, group, wgs) in &groups {
+                    pass.set_pipeline(pipeline);
                     pass.set_bind_group(0, group, &[]);
                     pass.dispatch_workgroups(*wgs, 1, 1);
                 }
@@ -313,15 +365,21 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Upload moved control-mesh positions and rebuild the patches; the
-    /// topology, rings and table stay on the GPU.
+    /// topology, rings and table stay on the GPU. For a refined mesh
+    /// ([`GpuMesh::new_refined`]) these are the *base* mesh's positions,
+    /// refined on the GPU.
     pub fn update_positions(&self, positions: &[Vec3]) -> Result<(), GpuError> {
-        if positions.len() as u32 != self.num_positions {
+        let (expected, target) = match self.refine {
+            Some(r) => (r.base, binding::REFINE_BASE),
+            None => (self.num_positions, binding::POSITIONS),
+        };
+        if positions.len() as u32 != expected {
             return Err(GpuError::PositionCount {
-                expected: self.num_positions as usize,
+                expected: expected as usize,
                 got: positions.len(),
             });
         }
-        if let Some(buf) = self.buffers.get(&binding::POSITIONS) {
+        if let Some(buf) = self.buffers.get(&target) {
             self.gpu.queue.write_buffer(buf, 0, &vec3_bytes(positions));
         }
         self.construct()

@@ -39,6 +39,9 @@ pub struct GpuMesh<'g> {
     num_vertices: u32,
     /// Control-mesh positions uploaded.
     num_positions: u32,
+    /// The refinement stage, when the GPU refines the positions
+    /// ([`GpuMesh::new_refined`]).
+    refine: Option<crate::gpu::upload::RefineLayout>,
     buffers: HashMap<u32, wgpu::Buffer>,
     table_view: wgpu::TextureView,
     /// The displacement map (binding 20; 1×1 zero while displacement is off).

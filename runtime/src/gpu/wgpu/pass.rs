@@ -155,6 +155,12 @@ impl<'g> GpuMesh<'g> {
                     Some(s) => s.as_entire_binding(),
                     None => continue,
                 },
+                // The refinement stage writes the buffer the vertex stage
+                // reads as `positions` (abi: `refined_positions`).
+                binding::REFINED_POSITIONS => match self.buffers.get(&binding::POSITIONS) {
+                    Some(buf) => buf.as_entire_binding(),
+                    None => continue,
+                },
                 other => match self.buffers.get(&other) {
                     Some(buf) => buf.as_entire_binding(),
                     None => continue,
