@@ -1,7 +1,9 @@
 //! `tessgen refine`: the uniform Catmull-Clark refinement the quad schemes
-//! run on (docs/boundaries.md §8), written out for a host that refines on
-//! its own GPU: the refined mesh as OBJ with its remaining tags, and the
-//! flat stencil table over the base vertices.
+//! run on (docs/boundaries.md §8), written out for a host that keeps the
+//! refined mesh itself or refines on its GPU (the emitted `refine_main`
+//! indexes exactly this table: bindings 34–38 of generated/README.md): the
+//! refined mesh as OBJ with its remaining tags, and the flat stencil table
+//! over the base vertices.
 
 use std::fmt::Write;
 use std::path::PathBuf;
