@@ -137,6 +137,27 @@ pub enum MeshError {
         /// 1-based line of its `v` line, when read from OBJ.
         line: Option<usize>,
     },
+    /// The mesh is too large for f32 evaluation (checked by the front door,
+    /// [`crate::tessellate::Request::validate`]): unit normals are formed
+    /// from squared lengths of cross products of derivatives, which are
+    /// about the fourth power of the mesh's extent, and the stencil sums
+    /// round at the scale of the largest coordinate. Past these bounds a
+    /// normal silently becomes zero or NaN, so the mesh is refused instead.
+    #[error(
+        "vertex {vertex} at ({:e}, {:e}, {:e}) makes the mesh too large to evaluate in f32: {what} \
+         is {value:e}, at most {max:e} is supported (squared derivative lengths would overflow \
+         or round to nothing); scale or translate the mesh",
+        position[0], position[1], position[2]
+    )]
+    TooLarge {
+        /// 0-based vertex index: the one farthest out.
+        vertex: usize,
+        position: [f32; 3],
+        /// Which bound: "the bounding box's largest side" or "its largest |coordinate|".
+        what: &'static str,
+        value: f32,
+        max: f32,
+    },
     /// A `vn` normal has a NaN or infinite component (unused normals included, for the same
     /// reason as positions: it is a sign of a broken file).
     #[error("normal {normal}{} has a non-finite component", at_line(*.line))]
@@ -438,6 +459,70 @@ fn check_sizes(num_vertices: usize, num_face_vertices: usize) -> Result<(), Mesh
         });
     }
     Ok(())
+}
+
+/// Largest side of a mesh's bounding box that f32 evaluation supports
+/// ([`MeshError::TooLarge`]): 2²⁴, about 1000× below where
+/// `catmark_toroidal_tet` scaled up first gave zero normals (extent ≈ 2·10¹¹),
+/// and where f32 has no fractional digits left anyway.
+pub const MAX_EXTENT: f32 = 16_777_216.0;
+/// Largest |coordinate| f32 evaluation supports: 2⁴⁰, where an ulp is 2¹⁷, so
+/// the stencil sums' rounding noise stays far below [`MAX_EXTENT`].
+pub const MAX_COORDINATE: f32 = 1_099_511_627_776.0;
+
+impl Mesh {
+    /// Refuses a mesh whose size would overflow f32 evaluation
+    /// ([`MeshError::TooLarge`], naming the vertex farthest out): a bounding
+    /// box side above [`MAX_EXTENT`] or a coordinate above
+    /// [`MAX_COORDINATE`]. Every vertex counts, as for [`check_finite`].
+    pub fn check_magnitude(&self) -> Result<(), MeshError> {
+        let p = &self.positions;
+        let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
+        for v in p {
+            for c in 0..3 {
+                lo[c] = lo[c].min(v[c]);
+                hi[c] = hi[c].max(v[c]);
+            }
+        }
+        let extent = (0..3).map(|c| hi[c] - lo[c]).fold(0.0f32, f32::max);
+        let largest = p.iter().flatten().map(|c| c.abs()).fold(0.0f32, f32::max);
+        let (what, value, max, far) = if !(extent <= MAX_EXTENT) {
+            // Farthest from the per-axis median (an outlier does not move it).
+            let mid: Vec<f64> = (0..3)
+                .map(|c| {
+                    let mut axis: Vec<f32> = p.iter().map(|v| v[c]).collect();
+                    axis.sort_unstable_by(f32::total_cmp);
+                    f64::from(axis.get(axis.len() / 2).copied().unwrap_or(0.0))
+                })
+                .collect();
+            let dist = |v: &[f32; 3]| {
+                (0..3)
+                    .map(|c| (f64::from(v[c]) - mid[c]).abs())
+                    .fold(0.0f64, f64::max)
+            };
+            let far = (0..p.len())
+                .max_by(|&a, &b| dist(&p[a]).total_cmp(&dist(&p[b])))
+                .unwrap_or(0);
+            ("the bounding box's largest side", extent, MAX_EXTENT, far)
+        } else if !(largest <= MAX_COORDINATE) {
+            let far = (0..p.len())
+                .max_by(|&a, &b| {
+                    let m = |v: &[f32; 3]| v.iter().map(|c| c.abs()).fold(0.0f32, f32::max);
+                    m(&p[a]).total_cmp(&m(&p[b]))
+                })
+                .unwrap_or(0);
+            ("its largest |coordinate|", largest, MAX_COORDINATE, far)
+        } else {
+            return Ok(());
+        };
+        Err(MeshError::TooLarge {
+            vertex: far,
+            position: p.get(far).copied().unwrap_or_default(),
+            what,
+            value,
+            max,
+        })
+    }
 }
 
 /// Rejects NaN/inf anywhere, unused vertices included: a non-finite value is a sign of a broken

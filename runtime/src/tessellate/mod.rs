@@ -93,6 +93,42 @@ impl Output {
         }
     }
 
+    /// The first sample with a NaN or infinite position or normal, as
+    /// `(face, sample within the output)`: the face is the base face of a
+    /// grid (its `face_ids`), the patch of an instanced or captured result.
+    /// [`Session::run`] turns one into [`Error::NonFiniteSample`], so a
+    /// non-finite value is never handed on silently.
+    pub fn first_non_finite(&self) -> Option<(usize, usize)> {
+        let bad = |p: &glam::Vec3, n: &glam::Vec3| !(p.is_finite() && n.is_finite());
+        let in_grid = |t: &Tessellation, base: usize| {
+            let per = t.grid_len().max(1);
+            (0..t.positions.len())
+                .find(|&i| bad(&t.positions[i], &t.normals[i]))
+                .map(|i| (t.face_of(i / per), base + i))
+        };
+        match self {
+            Output::Grid(t) => in_grid(t, 0),
+            Output::Polygons(p) => {
+                in_grid(&p.quads, 0).or_else(|| in_grid(&p.subfaces, p.quads.positions.len()))
+            }
+            Output::Instanced(a) => (0..a.positions.len())
+                .find(|&i| bad(&a.positions[i], &a.normals[i]))
+                .map(|i| (a.offsets.partition_point(|&o| o <= i).saturating_sub(1), i)),
+            Output::Captured(c) => {
+                let mut base = 0;
+                for (k, patch) in c.patches.iter().enumerate() {
+                    if let Some(i) = (0..patch.positions.len())
+                        .find(|&i| bad(&patch.positions[i], &patch.normals[i]))
+                    {
+                        return Some((k, base + i));
+                    }
+                    base += patch.positions.len();
+                }
+                None
+            }
+        }
+    }
+
     /// Exact-bit weld (see [`crate::check::weld`]).
     pub fn weld(&self) -> WeldReport {
         match self {
@@ -256,6 +292,16 @@ impl Session {
     /// also read [`Validated::notes`] and [`Validated::expected_open_edges`]).
     pub fn run(&mut self, v: &Validated<'_>) -> Result<Output, Error> {
         let out = backend::run(v, self)?;
+        // The last line of defence (the magnitude check of `validate` is the
+        // first): a NaN or infinite sample is an error naming its face.
+        if let Some((face, sample)) = out.first_non_finite() {
+            return Err(Error::NonFiniteSample {
+                face,
+                sample,
+                scheme: v.kernels.name,
+                backend: v.request.backend.name(),
+            });
+        }
         // A refined mesh comes back in the base layout (its holes are left
         // out there); otherwise faces without a limit surface (holes;
         // boundary rule 0) are evaluated like any other (their vertices

@@ -192,6 +192,8 @@ impl<'a> Request<'a> {
                 });
             }
         }
+        // Before anything is evaluated: sizes f32 evaluation cannot take.
+        mesh.check_magnitude()?;
         let mut refined: Option<Box<RefinedDomain>> = None;
         let mut notes: Vec<String> = Vec::new();
         let domain = if kernels.sides == 3 {
@@ -481,6 +483,16 @@ pub enum Error {
     Partitioning {
         backend: &'static str,
         partitioning: Partitioning,
+    },
+    #[error(
+        "face {face}: sample {sample} came out NaN or infinite ({scheme} on {backend}); nothing \
+         was written. Please report it with the mesh"
+    )]
+    NonFiniteSample {
+        face: usize,
+        sample: usize,
+        scheme: &'static str,
+        backend: &'static str,
     },
     #[error(transparent)]
     Refine(#[from] super::refined::RefineError),
