@@ -486,7 +486,7 @@ impl Mesh {
         }
         let extent = (0..3).map(|c| hi[c] - lo[c]).fold(0.0f32, f32::max);
         let largest = p.iter().flatten().map(|c| c.abs()).fold(0.0f32, f32::max);
-        let (what, value, max, far) = if !(extent <= MAX_EXTENT) {
+        let (what, value, max, far) = if extent > MAX_EXTENT {
             // Farthest from the per-axis median (an outlier does not move it).
             let mid: Vec<f64> = (0..3)
                 .map(|c| {
@@ -504,7 +504,7 @@ impl Mesh {
                 .max_by(|&a, &b| dist(&p[a]).total_cmp(&dist(&p[b])))
                 .unwrap_or(0);
             ("the bounding box's largest side", extent, MAX_EXTENT, far)
-        } else if !(largest <= MAX_COORDINATE) {
+        } else if largest > MAX_COORDINATE {
             let far = (0..p.len())
                 .max_by(|&a, &b| {
                     let m = |v: &[f32; 3]| v.iter().map(|c| c.abs()).fold(0.0f32, f32::max);
