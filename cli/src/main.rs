@@ -338,6 +338,7 @@ fn parse_scheme(name: &str) -> Result<String, String> {
 mod inspect;
 use inspect::inspect;
 mod refine;
+mod stream;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -641,6 +642,30 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
             mesh.num_faces(),
             level
         ));
+    }
+    if !args.check_watertight {
+        // Nothing needs the whole result: stream it to disk.
+        let w = stream::write_streamed(&validated, &args.mesh, &args.out)?;
+        let summary = match w.other {
+            None => format!(
+                "{} faces × {} samples = {} samples",
+                w.faces,
+                w.samples.checked_div(w.faces).unwrap_or(0),
+                w.samples
+            ),
+            Some((patches, vertices, triangles)) => {
+                format!("{patches} patches, {vertices} vertices, {triangles} triangles")
+            }
+        };
+        eprintln!(
+            "tessgen: {summary} ({} level {}, {} backend) in {:.2} ms → {}",
+            args.scheme,
+            level,
+            args.backend.name(),
+            w.ms,
+            args.out.display()
+        );
+        return Ok(ExitCode::SUCCESS);
     }
     let start = Instant::now();
     let out = tessellate::Session::new()

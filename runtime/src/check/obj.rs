@@ -14,22 +14,87 @@ use crate::cpu::Tessellation;
 use crate::grid::grid_triangles;
 use crate::grid::{tri_grid_len, tri_grid_triangles};
 use glam::Vec3;
-use std::fmt::Write;
+use std::fmt::Write as _;
 
-/// Render a tessellation as OBJ text (triangle patches via [`tri_to_obj`]).
+/// Render a tessellation as OBJ text (triangle patches via [`tri_to_obj`]):
+/// [`ObjStream`] over one chunk, so a streamed file is byte for byte this.
 pub fn to_obj(t: &Tessellation) -> String {
-    if t.sides == 3 {
-        return tri_to_obj(&t.positions, &t.normals, t.level);
+    let mut stream = ObjStream::new(Vec::new());
+    // Writing into a Vec cannot fail.
+    let _ = stream.write(t);
+    String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+}
+
+/// OBJ output written chunk by chunk (`tessellate::Session::run_chunked`):
+/// the header with the first chunk, then each grid as [`to_obj`] writes it,
+/// named after its base face ([`Tessellation::face_of`]), vertex indices
+/// continuing across chunks. Peak memory is one patch's text.
+pub struct ObjStream<W: std::io::Write> {
+    out: W,
+    /// 1-based index of the next `v` line.
+    next: u32,
+    started: bool,
+}
+
+impl<W: std::io::Write> ObjStream<W> {
+    pub fn new(out: W) -> Self {
+        ObjStream {
+            out,
+            next: 1,
+            started: false,
+        }
     }
-    let header = format!("# tessgen {} level {}", env!("CARGO_PKG_VERSION"), t.level);
-    write_patches(
-        &header,
-        &t.positions,
-        &t.normals,
-        t.faces,
-        t.grid_len(),
-        &grid_triangles(t.level),
-    )
+
+    /// Append the grids of `t` (one level and layout for the whole stream).
+    pub fn write(&mut self, t: &Tessellation) -> std::io::Result<()> {
+        let (header, tris) = if t.sides == 3 {
+            (
+                format!(
+                    "# tessgen {} level {} triangle patches",
+                    env!("CARGO_PKG_VERSION"),
+                    t.level
+                ),
+                tri_grid_triangles(t.level),
+            )
+        } else {
+            (
+                format!("# tessgen {} level {}", env!("CARGO_PKG_VERSION"), t.level),
+                grid_triangles(t.level),
+            )
+        };
+        if !self.started {
+            writeln!(self.out, "{header}")?;
+            self.started = true;
+        }
+        let per = t.grid_len();
+        let mut s = String::new();
+        for g in 0..t.faces {
+            s.clear();
+            write_patch(
+                &mut s,
+                &format!("patch_{}", t.face_of(g)),
+                &t.positions[g * per..(g + 1) * per],
+                &t.normals[g * per..(g + 1) * per],
+                &tris,
+                self.next,
+            );
+            self.out.write_all(s.as_bytes())?;
+            self.next += per as u32;
+        }
+        Ok(())
+    }
+
+    /// Bytes written as they are (a whole OBJ text of a non-grid result).
+    pub fn raw(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+        self.started = true;
+        self.out.write_all(bytes)
+    }
+
+    /// The writer, flushed.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        self.out.flush()?;
+        Ok(self.out)
+    }
 }
 
 /// Render a triangle-patch tessellation at `level` as OBJ text: `positions`

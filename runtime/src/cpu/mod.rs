@@ -266,7 +266,7 @@ pub fn construct(
 /// Triangles (`sides` 3): `(level+1)(level+2)/2` samples row by row, sample
 /// `(i, j)` at barycentrics `(level − i − j, i, j)/level` of corners 0, 1, 2
 /// ([`crate::grid::tri_grid_coords`]).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Tessellation {
     pub level: u32,
     pub faces: usize,
@@ -474,6 +474,40 @@ pub fn evaluate_slices_baseline(
     grid_path(patches, level, positions, normals, grid_eval::Isa::Baseline)
 }
 
+/// The grids of faces `faces` (a range of `patches`' faces) into a
+/// [`Tessellation`] holding just them (`face_ids` = the range), its buffers
+/// reused when large enough: what a streaming caller evaluates chunk by
+/// chunk (`tessellate::Session::run_chunked`). Each face's samples are
+/// [`evaluate`]'s bit for bit.
+pub fn evaluate_faces_into(
+    patches: &Patches,
+    level: u32,
+    faces: std::ops::Range<usize>,
+    t: &mut Tessellation,
+) -> Result<(), TessError> {
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    let faces = faces.start.min(patches.face_class.len())..faces.end.min(patches.face_class.len());
+    let per = (patches.scheme.grid_len)(level) as usize;
+    let total = per * faces.len();
+    t.level = level;
+    t.faces = faces.len();
+    t.sides = patches.scheme.sides;
+    t.face_ids.clear();
+    t.face_ids.extend(faces.clone().map(|f| f as u32));
+    t.positions.resize(total, Vec3::ZERO);
+    t.normals.resize(total, Vec3::ZERO);
+    grid_path_from(
+        patches,
+        level,
+        faces.start,
+        &mut t.positions,
+        &mut t.normals,
+        grid_eval::Isa::detect(),
+    )
+}
+
 fn grid_path(
     patches: &Patches,
     level: u32,
@@ -481,15 +515,29 @@ fn grid_path(
     normals: &mut [Vec3],
     isa: grid_eval::Isa,
 ) -> Result<(), TessError> {
+    check_outputs(patches, level, positions, normals)?;
+    grid_path_from(patches, level, 0, positions, normals, isa)
+}
+
+/// The grids of faces `first ..` (as many as `positions` holds whole grids).
+fn grid_path_from(
+    patches: &Patches,
+    level: u32,
+    first: usize,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+    isa: grid_eval::Isa,
+) -> Result<(), TessError> {
     let kernels = patches.scheme;
-    let per = check_outputs(patches, level, positions, normals)?;
+    let per = (kernels.grid_len)(level) as usize;
     let paths = grid_eval::class_paths(kernels);
     positions
         .par_chunks_mut(per)
         .zip(normals.par_chunks_mut(per))
         .enumerate()
         .with_min_len(8)
-        .for_each(|(f, (pos, nrm))| {
+        .for_each(|(k, (pos, nrm))| {
+            let f = first + k;
             let class = patches.face_class[f];
             let cp = &patches.control_points
                 [patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize];

@@ -24,6 +24,8 @@
 mod backend;
 pub mod refined;
 mod request;
+mod stream;
+pub use stream::{ChunkError, CHUNK_SAMPLES};
 
 pub use request::{
     power_of_two_level, AdaptiveRequest, Backend, EdgeMetric, Error, Request, Sampling, Validated,

@@ -1,0 +1,97 @@
+//! Streaming (`Session::run_chunked` + `obj::ObjStream`): the result handed
+//! out chunk by chunk is the whole result, bit for bit and byte for byte of
+//! OBJ, whatever the chunk size: quad and triangle schemes, a mesh with
+//! holes (faces left out mid-chunk), and the requests that do not stream yet
+//! (one chunk: refined, GPU).
+
+mod common;
+
+use tessgen_runtime::obj::{to_obj, ObjStream};
+use tessgen_runtime::tessellate::{Backend, Output, Request, Session};
+use tessgen_runtime::Mesh;
+
+/// The OBJ of `request` on `mesh`, streamed in chunks of `max_samples`,
+/// and the number of chunks.
+fn streamed(mesh: &Mesh, request: &Request<'_>, max_samples: usize) -> (String, usize) {
+    let v = request.validate(mesh).expect("validate");
+    let mut stream = ObjStream::new(Vec::new());
+    let mut chunks = 0;
+    Session::new()
+        .run_chunked(&v, max_samples, |out| {
+            chunks += 1;
+            match out {
+                Output::Grid(t) => stream.write(t),
+                other => stream.raw(other.to_obj().as_bytes()),
+            }
+        })
+        .expect("run_chunked");
+    let bytes = stream.finish().expect("flush");
+    (String::from_utf8(bytes).expect("utf-8"), chunks)
+}
+
+fn whole(mesh: &Mesh, request: &Request<'_>) -> String {
+    let v = request.validate(mesh).expect("validate");
+    Session::new().run(&v).expect("run").to_obj()
+}
+
+#[test]
+fn streamed_obj_is_the_whole_obj() {
+    let cases: &[(&str, &str, u32)] = &[
+        ("catmark_cube", "pccm", 3),
+        ("catmark_righthanded", "gregory", 5),
+        ("catmark_tent", "acc", 4),
+        ("catmark_cube", "pn", 4),
+    ];
+    for &(name, scheme, level) in cases {
+        let mesh = common::mesh(name);
+        // The triangle scheme on the cube's split quads.
+        let request = Request::uniform(scheme, level).split_quads(scheme == "pn");
+        let reference = whole(&mesh, &request);
+        for max_samples in [1, 50, 1000, 0] {
+            let (text, chunks) = streamed(&mesh, &request, max_samples);
+            assert!(text == reference, "{name} {scheme} chunks of {max_samples}");
+            if max_samples == 1 {
+                assert!(chunks > 1, "{name}: {chunks} chunk(s)");
+            }
+        }
+    }
+}
+
+/// Hole faces are left out inside a chunk; the OBJ names every grid after
+/// its base face, streamed or not.
+#[test]
+fn holes_are_left_out_per_chunk() {
+    let mut mesh = common::mesh("catmark_cube");
+    mesh.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![1, 4],
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    let request = Request::uniform("pccm", 3);
+    let reference = whole(&mesh, &request);
+    assert!(!reference.contains("g patch_1\n") && reference.contains("g patch_5\n"));
+    for max_samples in [1, 40, 0] {
+        assert!(streamed(&mesh, &request, max_samples).0 == reference);
+    }
+}
+
+/// What does not stream yet comes as one chunk, the whole result.
+#[test]
+fn other_requests_come_whole() {
+    let nonquads = common::mesh("catmark_nonquads");
+    let request = Request::uniform("pccm", 4);
+    let (text, chunks) = streamed(&nonquads, &request, 1);
+    assert_eq!(chunks, 1);
+    assert!(text == whole(&nonquads, &request));
+    let cube = common::mesh("catmark_cube");
+    let request = Request::uniform("pccm", 3).on(Backend::Wgpu);
+    let (text, chunks) = streamed(&cube, &request, 1);
+    assert_eq!(chunks, 1);
+    assert!(text == whole(&cube, &request));
+    // And the grid writer is `to_obj`'s.
+    let v = request.validate(&cube).expect("validate");
+    let out = Session::new().run(&v).expect("run");
+    assert!(to_obj(out.grid().expect("grid")) == out.to_obj());
+}
