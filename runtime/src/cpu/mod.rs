@@ -53,6 +53,11 @@ pub enum TessError {
     Displace(#[from] crate::cpu::displace::DisplaceError),
     #[error("output buffers hold {got} samples, the grids need {want}")]
     OutputLength { want: usize, got: usize },
+    #[error(
+        "the result does not fit in memory: {samples} samples need {bytes} bytes (stream it in \
+         chunks: tessellate::Session::run_chunked, or `tessellate` without --check-watertight)"
+    )]
+    OutOfMemory { samples: usize, bytes: u128 },
     #[error("these patches were not made by this construction (scheme or layout differs, or too few positions)")]
     Layout,
 }
@@ -437,6 +442,7 @@ pub fn evaluate_into(patches: &Patches, level: u32, t: &mut Tessellation) -> Res
         return Err(TessError::Level(level));
     }
     let total = (patches.scheme.grid_len)(level) as usize * patches.face_class.len();
+    reserve_samples(&mut t.positions, &mut t.normals, total)?;
     t.level = level;
     t.faces = patches.face_class.len();
     t.sides = patches.scheme.sides;
@@ -491,6 +497,7 @@ pub fn evaluate_faces_into(
     let faces = faces.start.min(patches.face_class.len())..faces.end.min(patches.face_class.len());
     let per = (patches.scheme.grid_len)(level) as usize;
     let total = per * faces.len();
+    reserve_samples(&mut t.positions, &mut t.normals, total)?;
     t.level = level;
     t.faces = faces.len();
     t.sides = patches.scheme.sides;
@@ -506,6 +513,25 @@ pub fn evaluate_faces_into(
         &mut t.normals,
         grid_eval::Isa::detect(),
     )
+}
+
+/// Room for `total` samples in both buffers, or [`TessError::OutOfMemory`]
+/// (never an allocation that aborts the process).
+fn reserve_samples(
+    positions: &mut Vec<Vec3>,
+    normals: &mut Vec<Vec3>,
+    total: usize,
+) -> Result<(), TessError> {
+    let oom = |_| TessError::OutOfMemory {
+        samples: total,
+        bytes: 2 * total as u128 * std::mem::size_of::<Vec3>() as u128,
+    };
+    positions
+        .try_reserve_exact(total.saturating_sub(positions.len()))
+        .map_err(oom)?;
+    normals
+        .try_reserve_exact(total.saturating_sub(normals.len()))
+        .map_err(oom)
 }
 
 fn grid_path(
@@ -620,13 +646,22 @@ fn evaluate_grid(
     let kernels = patches.scheme;
     let per = (kernels.grid_len)(level) as usize;
     let faces = patches.face_class.len();
-    let mut samples = vec![
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    reserve_samples(&mut positions, &mut normals, per * faces)?;
+    let mut samples: Vec<Sample> = Vec::new();
+    samples
+        .try_reserve_exact(per * faces)
+        .map_err(|_| TessError::OutOfMemory {
+            samples: per * faces,
+            bytes: 4 * (per * faces) as u128 * std::mem::size_of::<Vec3>() as u128,
+        })?;
+    samples.resize(
+        per * faces,
         Sample {
             position: Vec3::ZERO,
-            normal: Vec3::ZERO
-        };
-        per * faces
-    ];
+            normal: Vec3::ZERO,
+        },
+    );
     samples
         .par_chunks_mut(per)
         .enumerate()
@@ -642,8 +677,14 @@ fn evaluate_grid(
         level,
         faces,
         sides: kernels.sides,
-        positions: samples.iter().map(|s| s.position).collect(),
-        normals: samples.iter().map(|s| s.normal).collect(),
+        positions: {
+            positions.extend(samples.iter().map(|s| s.position));
+            positions
+        },
+        normals: {
+            normals.extend(samples.iter().map(|s| s.normal));
+            normals
+        },
         face_ids: Vec::new(),
     })
 }
