@@ -111,9 +111,12 @@ impl<'t> Construction<'t> {
     /// vertex) into `patches`, which must come from [`Construction::construct`]
     /// of this construction (same scheme and layout; checked).
     pub fn update(&self, positions: &[Vec3], patches: &mut Patches) -> Result<(), TessError> {
+        let total = |o: &[u32]| o.last().copied().unwrap_or(0) as usize;
         let same = std::ptr::eq(patches.scheme, self.scheme)
             && patches.cp_offsets == self.cp_offsets
-            && patches.vertex_out_offsets == self.vertex_out_offsets;
+            && patches.vertex_out_offsets == self.vertex_out_offsets
+            && patches.vertex_out.len() == total(&self.vertex_out_offsets)
+            && patches.control_points.len() == total(&self.cp_offsets);
         if !same || positions.len() < self.topo.valence.len() {
             return Err(TessError::Layout);
         }
@@ -170,16 +173,22 @@ impl<'t> Construction<'t> {
         blocks(control_points, offsets).for_each(|(first, out)| {
             let base = offsets[first];
             let last = (first + BLOCK).min(offsets.len() - 1);
-            for f in first..last {
-                let (a, b) = (offsets[f] as usize, offsets[f + 1] as usize);
+            let mut f = first;
+            while f < last {
                 if flat[f] {
+                    // A run of copied faces: one tight loop over its
+                    // control points.
+                    let g = (f..last).find(|&g| !flat[g]).unwrap_or(last);
+                    let (a, b) = (offsets[f] as usize, offsets[g] as usize);
                     let dst = &mut out[a - base as usize..b - base as usize];
                     for (o, &j) in dst.iter_mut().zip(&source[a..b]) {
                         *o = vertex_out[j as usize];
                     }
+                    f = g;
                 } else {
                     let patch = scheme.classes[classes[f] as usize].patch;
                     patch(&inputs, out, f as u32, offsets[f] - base);
+                    f += 1;
                 }
             }
         });
