@@ -380,7 +380,7 @@ const _: () = assert!(std::mem::size_of::<Vec3>() == 12);
 /// Most rows of a smooth vertex the flat path takes (`3·MAX_VALENCE + 1`
 /// for the built-in schemes, with room; `3·MAX_ROWS` is a multiple of 8).
 const MAX_ROWS: usize = 4 * crate::kernels::common::MAX_VALENCE as usize + 8;
-const _: () = assert!(3 * MAX_ROWS % LANES == 0);
+const _: () = assert!((3 * MAX_ROWS / LANES) * LANES == 3 * MAX_ROWS);
 
 /// Rows 8 consecutive floats of 8 lanes each, transposed: register `l`
 /// holds lane `l`'s 8 floats.
@@ -436,7 +436,7 @@ fn row_baseline(terms: &[Term], p: &Lanes, s: &mut [[f32; LANES]; 3]) {
         let pk = &p[t.slot as usize];
         for (sc, pc) in s.iter_mut().zip(pk) {
             for (x, &y) in sc.iter_mut().zip(pc) {
-                *x = *x + y * t.weight;
+                *x += y * t.weight;
             }
         }
     }
