@@ -64,7 +64,7 @@ impl<'t> Construction<'t> {
             corner_vertex,
             corner_sector,
             flat,
-            gather: GatherPlan::default(),
+            gather: GatherPlan::none(0),
         };
         let zeros = vec![Vec3::ZERO; topo.valence.len()];
         let vertex_outputs = c.vertex_out_offsets.last().copied().unwrap_or(0) as usize;
@@ -78,12 +78,13 @@ impl<'t> Construction<'t> {
         Ok(c)
     }
 
-    /// This construction with the baseline copy of the vertex stage's lane
-    /// loops even where AVX2 is available, so the tests check both copies
-    /// give the same bits.
+    /// This construction with the baseline copies of the vertex stage's
+    /// lane loops and of the patch copy even where AVX2 is available, so
+    /// the tests check both copies give the same bits.
     #[doc(hidden)]
     pub fn with_baseline_lanes(mut self) -> Self {
         self.flat.force_baseline();
+        self.gather.force_baseline();
         self
     }
 
@@ -169,7 +170,7 @@ impl<'t> Construction<'t> {
         let inputs = self.inputs(positions, vertex_out);
         let offsets = &self.cp_offsets;
         let classes = &self.face_class;
-        let (flat, source) = (&self.gather.flat, &self.gather.source);
+        let flat = &self.gather.flat;
         blocks(control_points, offsets).for_each(|(first, out)| {
             let base = offsets[first];
             let last = (first + BLOCK).min(offsets.len() - 1);
@@ -181,9 +182,7 @@ impl<'t> Construction<'t> {
                     let g = (f..last).find(|&g| !flat[g]).unwrap_or(last);
                     let (a, b) = (offsets[f] as usize, offsets[g] as usize);
                     let dst = &mut out[a - base as usize..b - base as usize];
-                    for (o, &j) in dst.iter_mut().zip(&source[a..b]) {
-                        *o = vertex_out[j as usize];
-                    }
+                    self.gather.copy(a, b, vertex_out, dst);
                     f = g;
                 } else {
                     let patch = scheme.classes[classes[f] as usize].patch;
