@@ -119,46 +119,119 @@ fn triangle_schemes_grid_path_matches_per_sample_path() {
     }
 }
 
+/// Meshes for construction per deformation: both classes, crease and
+/// corner vertices (boundaries, the tent, a single crease), valences 3 to
+/// 6 and up.
+const CONSTRUCTION_MESHES: &[&str] = &[
+    "catmark_torus",
+    "catmark_cube",
+    "catmark_toroidal_tet",
+    "catmark_righthanded",
+    "catmark_single_crease",
+    "catmark_tent",
+    "catmark_xord_boundary",
+    "catmark_xord_interior",
+    "catmark_gregory_test1",
+    "catmark_pawn",
+    "catmark_car",
+];
+
+/// `positions` moved, every vertex differently (`phase` picks the
+/// deformation), with a few exact zeros and negative zeros so the sums'
+/// `0.0 + x` start is exercised.
+fn deform(positions: &[Vec3], phase: f32) -> Vec<Vec3> {
+    positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let t = i as f32 + phase;
+            let q = *p + Vec3::new((t * 0.37).sin(), (t * 0.11).cos(), 0.25 + phase) * 0.1;
+            match i % 97 {
+                0 => Vec3::new(-0.0, q.y, -0.0),
+                1 => Vec3::new(0.0, -0.0, q.z),
+                _ => q,
+            }
+        })
+        .collect()
+}
+
+/// `Construction::update` (both copies of the vertex stage's lane loops,
+/// two successive deformations into the same buffers) against a fresh
+/// `cpu::construct`, bit for bit.
+fn check_update(name: &str, what: &str, topo: &tessgen_runtime::Topology, positions: &[Vec3]) {
+    let k = cpu::scheme(name).expect("scheme");
+    let prep = match cpu::Construction::new(topo, k) {
+        Ok(p) => p,
+        Err(cpu::TessError::ExtraordinaryFace { .. }) => return,
+        Err(e) => panic!("{name} on {what}: {e}"),
+    };
+    for (copy, prep) in [
+        ("detected", prep.clone()),
+        ("baseline", prep.with_baseline_lanes()),
+    ] {
+        let mut patches = prep.construct(positions);
+        for phase in [0.0f32, 1.5] {
+            let moved = deform(positions, phase);
+            prep.update(&moved, &mut patches).expect("update");
+            let fresh = cpu::construct(topo, &moved, k).expect("construct");
+            let ctx = format!("{name} on {what} ({copy} lanes, phase {phase})");
+            assert_eq!(patches.face_class, fresh.face_class, "{ctx}");
+            let (a, b) = (bits(&patches.vertex_out), bits(&fresh.vertex_out));
+            if let Some(i) = (0..a.len().max(b.len())).find(|&i| a.get(i) != b.get(i)) {
+                panic!(
+                    "{ctx}: vertex stage output {i}: {:?} vs {:?}",
+                    a.get(i),
+                    b.get(i)
+                );
+            }
+            let (a, b) = (bits(&patches.control_points), bits(&fresh.control_points));
+            if let Some(i) = (0..a.len().max(b.len())).find(|&i| a.get(i) != b.get(i)) {
+                panic!("{ctx}: control point {i}: {:?} vs {:?}", a.get(i), b.get(i));
+            }
+        }
+    }
+}
+
 #[test]
 fn construction_update_matches_fresh_construct() {
     for name in kernels::scheme_names() {
-        let k = cpu::scheme(name).expect("scheme");
-        if k.sides != 4 {
+        if cpu::scheme(name).expect("scheme").sides != 4 {
             continue;
         }
-        for mesh_name in QUAD_MESHES.iter().chain(&["catmark_righthanded"]) {
+        for mesh_name in CONSTRUCTION_MESHES {
             let mesh = common::mesh(mesh_name);
             let (topo, positions) = common::topo_positions(&mesh);
-            let prep = match cpu::Construction::new(&topo, k) {
-                Ok(p) => p,
-                Err(cpu::TessError::ExtraordinaryFace { .. }) => continue,
-                Err(e) => panic!("{name} on {mesh_name}: {e}"),
-            };
-            // A deformation: every vertex moved differently.
-            let moved: Vec<Vec3> = positions
-                .iter()
-                .enumerate()
-                .map(|(i, p)| {
-                    *p + Vec3::new((i as f32 * 0.37).sin(), (i as f32 * 0.11).cos(), 0.25) * 0.1
-                })
-                .collect();
-            let mut patches = prep.construct(&positions);
-            prep.update(&moved, &mut patches).expect("update");
-            let fresh = cpu::construct(&topo, &moved, k).expect("construct");
-            assert_eq!(
-                patches.face_class, fresh.face_class,
-                "{name} on {mesh_name}"
-            );
-            assert_eq!(
-                bits(&patches.vertex_out),
-                bits(&fresh.vertex_out),
-                "{name} on {mesh_name}: vertex stage"
-            );
-            assert_eq!(
-                bits(&patches.control_points),
-                bits(&fresh.control_points),
-                "{name} on {mesh_name}: patch stage"
-            );
+            check_update(name, mesh_name, &topo, &positions);
         }
     }
+}
+
+/// The large mesh: many blocks and chunks, partial chunks at every block's
+/// valence groups.
+#[test]
+fn construction_update_matches_fresh_construct_big() {
+    let mesh = common::mesh(common::BIG_MESH);
+    let (topo, positions) = common::topo_positions(&mesh);
+    for name in ["pccm", "acc", "gregory", "gregory_osd"] {
+        check_update(name, common::BIG_MESH, &topo, &positions);
+    }
+}
+
+/// Patches not made by the construction (another layout, or buffers of
+/// the wrong length) are refused, not written out of place.
+#[test]
+fn construction_update_refuses_foreign_patches() {
+    let k = cpu::scheme("pccm").expect("scheme");
+    let (topo, positions) = common::topo_positions(&common::mesh("catmark_torus"));
+    let prep = cpu::Construction::new(&topo, k).expect("construction");
+    let mut patches = prep.construct(&positions);
+    patches.vertex_out.pop();
+    assert!(prep.update(&positions, &mut patches).is_err());
+    let mut patches = prep.construct(&positions);
+    patches.control_points.pop();
+    assert!(prep.update(&positions, &mut patches).is_err());
+    let mut patches = prep.construct(&positions);
+    assert!(prep
+        .update(&positions[..positions.len() - 1], &mut patches)
+        .is_err());
 }

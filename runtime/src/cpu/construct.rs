@@ -6,12 +6,15 @@
 //! corner arrays, the parallel work split — is computed once in
 //! [`Construction::new`]; [`Construction::update`] then reruns only the
 //! vertex and patch stages, writing into the [`Patches`] buffers in place.
-//! The patch stage and crease/corner vertices run the generated kernels;
-//! smooth vertices run the flat vertex stage
-//! ([`super::vertex_flat`]: the generated sums, per-valence work done once).
-//! Every value is summed in the generated order, so the control points are
-//! bit-identical to [`super::construct`]'s (tests/tests/grid_path.rs).
+//! Smooth vertices run the flat vertex stage ([`super::vertex_flat`]: the
+//! generated sums, per-valence work done once, eight vertices of a valence
+//! at once); faces whose kernel only copies vertex outputs run a
+//! pre-indexed copy ([`super::patch_flat`]); crease/corner vertices and
+//! every other face run the generated kernels. Every value is summed in the
+//! generated order, so the control points are bit-identical to
+//! [`super::construct`]'s (tests/tests/grid_path.rs).
 
+use super::patch_flat::GatherPlan;
 use super::vertex_flat::FlatVertexStage;
 use super::{corner_arrays, face_classes, facet_error, vertex_out_offsets, Patches, TessError};
 use crate::kernels::{self, common::Inputs, common::SchemeKernels};
@@ -33,11 +36,11 @@ pub struct Construction<'t> {
     vertex_out_offsets: Vec<u32>,
     corner_vertex: Vec<u32>,
     corner_sector: Vec<u32>,
-    /// The smooth vertices' stage with per-valence work done once.
+    /// The smooth vertices' stage with per-valence work done once, per
+    /// block of `BLOCK` vertices.
     flat: FlatVertexStage,
-    /// Per vertex: whether [`FlatVertexStage`] computes it (else the
-    /// generated kernel does).
-    flat_vertex: Vec<bool>,
+    /// The faces whose control points are copies of vertex outputs.
+    gather: GatherPlan,
 }
 
 impl<'t> Construction<'t> {
@@ -51,11 +54,8 @@ impl<'t> Construction<'t> {
         let (cp_offsets, _) = super::control_point_offsets(&face_class, scheme);
         let (vertex_out_offsets, _) = vertex_out_offsets(topo, scheme);
         let (corner_vertex, corner_sector) = corner_arrays(topo);
-        let flat = FlatVertexStage::new(topo, scheme, kernels::table());
-        let flat_vertex = (0..topo.valence.len())
-            .map(|v| flat.covers(topo, v))
-            .collect();
-        Ok(Construction {
+        let flat = FlatVertexStage::new(topo, scheme, kernels::table(), &vertex_out_offsets, BLOCK);
+        let mut c = Construction {
             topo,
             scheme,
             face_class,
@@ -64,8 +64,28 @@ impl<'t> Construction<'t> {
             corner_vertex,
             corner_sector,
             flat,
-            flat_vertex,
-        })
+            gather: GatherPlan::none(0),
+        };
+        let zeros = vec![Vec3::ZERO; topo.valence.len()];
+        let vertex_outputs = c.vertex_out_offsets.last().copied().unwrap_or(0) as usize;
+        c.gather = GatherPlan::new(
+            &c.inputs(&zeros, &[]),
+            scheme,
+            &c.face_class,
+            &c.cp_offsets,
+            vertex_outputs,
+        );
+        Ok(c)
+    }
+
+    /// This construction with the baseline copies of the vertex stage's
+    /// lane loops and of the patch copy even where AVX2 is available, so
+    /// the tests check both copies give the same bits.
+    #[doc(hidden)]
+    pub fn with_baseline_lanes(mut self) -> Self {
+        self.flat.force_baseline();
+        self.gather.force_baseline();
+        self
     }
 
     /// Fresh [`Patches`] for `positions` (allocates the buffers once).
@@ -92,9 +112,12 @@ impl<'t> Construction<'t> {
     /// vertex) into `patches`, which must come from [`Construction::construct`]
     /// of this construction (same scheme and layout; checked).
     pub fn update(&self, positions: &[Vec3], patches: &mut Patches) -> Result<(), TessError> {
+        let total = |o: &[u32]| o.last().copied().unwrap_or(0) as usize;
         let same = std::ptr::eq(patches.scheme, self.scheme)
             && patches.cp_offsets == self.cp_offsets
-            && patches.vertex_out_offsets == self.vertex_out_offsets;
+            && patches.vertex_out_offsets == self.vertex_out_offsets
+            && patches.vertex_out.len() == total(&self.vertex_out_offsets)
+            && patches.control_points.len() == total(&self.cp_offsets);
         if !same || positions.len() < self.topo.valence.len() {
             return Err(TessError::Layout);
         }
@@ -136,31 +159,36 @@ impl<'t> Construction<'t> {
             let inputs = self.inputs(positions, &[]);
             let offsets = &self.vertex_out_offsets;
             blocks(vertex_out, offsets).for_each(|(first, out)| {
+                let b = first / BLOCK;
+                self.flat.block(b, positions, out);
                 let base = offsets[first];
-                let last = (first + BLOCK).min(offsets.len() - 1);
-                for v in first..last {
-                    let (a, b) = (offsets[v] - base, offsets[v + 1] - base);
-                    if b == a {
-                        continue;
-                    }
-                    if self.flat_vertex[v] {
-                        self.flat
-                            .vertex(self.topo, positions, v, &mut out[a as usize..b as usize]);
-                    } else {
-                        (scheme.vertex_stage)(&inputs, out, v as u32, a);
-                    }
+                for &v in self.flat.kernel_vertices(b) {
+                    (scheme.vertex_stage)(&inputs, out, v, offsets[v as usize] - base);
                 }
             });
         }
         let inputs = self.inputs(positions, vertex_out);
         let offsets = &self.cp_offsets;
         let classes = &self.face_class;
+        let flat = &self.gather.flat;
         blocks(control_points, offsets).for_each(|(first, out)| {
             let base = offsets[first];
             let last = (first + BLOCK).min(offsets.len() - 1);
-            for f in first..last {
-                let patch = scheme.classes[classes[f] as usize].patch;
-                patch(&inputs, out, f as u32, offsets[f] - base);
+            let mut f = first;
+            while f < last {
+                if flat[f] {
+                    // A run of copied faces: one tight loop over its
+                    // control points.
+                    let g = (f..last).find(|&g| !flat[g]).unwrap_or(last);
+                    let (a, b) = (offsets[f] as usize, offsets[g] as usize);
+                    let dst = &mut out[a - base as usize..b - base as usize];
+                    self.gather.copy(a, b, vertex_out, dst);
+                    f = g;
+                } else {
+                    let patch = scheme.classes[classes[f] as usize].patch;
+                    patch(&inputs, out, f as u32, offsets[f] - base);
+                    f += 1;
+                }
             }
         });
     }

@@ -15,6 +15,7 @@ pub mod adaptive;
 pub mod construct;
 pub mod displace;
 mod grid_eval;
+mod patch_flat;
 mod vertex_flat;
 
 pub use construct::Construction;
