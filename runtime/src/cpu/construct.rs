@@ -15,7 +15,7 @@
 //! [`super::construct`]'s (tests/tests/grid_path.rs).
 
 use super::patch_flat::GatherPlan;
-use super::vertex_flat::FlatVertexStage;
+use super::vertex_flat::{FlatVertexStage, Scratch};
 use super::{corner_arrays, face_classes, facet_error, vertex_out_offsets, Patches, TessError};
 use crate::kernels::{self, common::Inputs, common::SchemeKernels};
 use crate::mesh::topology::Topology;
@@ -158,9 +158,9 @@ impl<'t> Construction<'t> {
         {
             let inputs = self.inputs(positions, &[]);
             let offsets = &self.vertex_out_offsets;
-            blocks(vertex_out, offsets).for_each(|(first, out)| {
+            blocks(vertex_out, offsets).for_each_init(Scratch::new, |scratch, (first, out)| {
                 let b = first / BLOCK;
-                self.flat.block(b, positions, out);
+                self.flat.block(b, positions, out, scratch);
                 let base = offsets[first];
                 for &v in self.flat.kernel_vertices(b) {
                     (scheme.vertex_stage)(&inputs, out, v, offsets[v as usize] - base);
