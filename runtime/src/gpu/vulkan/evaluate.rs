@@ -75,35 +75,24 @@ impl<'v> VkMesh<'v> {
     /// refinement stage of a mesh refined on the GPU (its output is the
     /// vertex stage's `positions`; every submit is ordered after the last).
     fn vertex_stage(&self) -> Result<(), VkError> {
-        let per = abi::WORKGROUP_SIZE * self.vk.limits.max_compute_work_group_count_x.max(1);
         if let Some(r) = self.refine {
-            let mut first = 0;
-            while first < r.rows {
-                let count = per.min(r.rows - first);
-                self.set_params([first, count, 0, 0, 1, 0]);
-                let (pipe, layout, set) = (self.refine_pipeline, self.layout, self.set);
-                self.vk.submit(|d, cb| unsafe {
-                    d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
-                    d.cmd_bind_descriptor_sets(
-                        cb,
-                        vk::PipelineBindPoint::COMPUTE,
-                        layout,
-                        0,
-                        &[set],
-                        &[],
-                    );
-                    d.cmd_dispatch(cb, count.div_ceil(abi::WORKGROUP_SIZE), 1, 1);
-                })?;
-                first += count;
-            }
+            self.dispatch_items(self.refine_pipeline, r.rows)?;
         }
+        self.dispatch_items(self.vertex_pipeline, self.num_vertices)
+    }
+
+    /// `pipeline` over items `0 .. items` (vertices, refined vertices), one
+    /// invocation each, in dispatches of at most the device's workgroup
+    /// count (`params.first`, `params.count` per dispatch).
+    fn dispatch_items(&self, pipeline: vk::Pipeline, items: u32) -> Result<(), VkError> {
+        let per = abi::WORKGROUP_SIZE * self.vk.limits.max_compute_work_group_count_x.max(1);
         let mut first = 0;
-        while first < self.num_vertices {
-            let count = per.min(self.num_vertices - first);
+        while first < items {
+            let count = per.min(items - first);
             self.set_params([first, count, 0, 0, 1, 0]);
-            let (pipe, layout, set) = (self.vertex_pipeline, self.layout, self.set);
+            let (layout, set) = (self.layout, self.set);
             self.vk.submit(|d, cb| unsafe {
-                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipe);
+                d.cmd_bind_pipeline(cb, vk::PipelineBindPoint::COMPUTE, pipeline);
                 d.cmd_bind_descriptor_sets(
                     cb,
                     vk::PipelineBindPoint::COMPUTE,
