@@ -79,7 +79,13 @@ impl<W: std::io::Write> ObjStream<W> {
                 self.next,
             );
             self.out.write_all(s.as_bytes())?;
-            self.next += per as u32;
+            // OBJ indices here are u32: refuse to wrap past 2³² − 1 vertices.
+            self.next = u32::try_from(per)
+                .ok()
+                .and_then(|p| self.next.checked_add(p))
+                .ok_or_else(|| {
+                    std::io::Error::other("more than 2^32 - 1 OBJ vertices in one file")
+                })?;
         }
         Ok(())
     }
