@@ -292,6 +292,32 @@ impl Upload {
         (class, cp_base)
     }
 
+    /// Displacement of a quad mesh ([`crate::cpu::displace::build`]: texture
+    /// coordinates from `mesh`, owners in this upload's class-sorted layout).
+    pub fn displaced_quads(
+        self,
+        mesh: &crate::Mesh,
+        topo: &Topology,
+        d: &crate::cpu::displace::Displacement,
+    ) -> Result<Self, TessError> {
+        let (class, cp_base) = self.face_layout();
+        let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)?;
+        Ok(self.with_displacement(&data))
+    }
+
+    /// Displacement of a triangle mesh ([`crate::cpu::displace::build_tri`],
+    /// `mesh` the mesh `tri` was made from), owners in this upload's layout.
+    pub fn displaced_tris(
+        self,
+        mesh: &crate::Mesh,
+        tri: &crate::mesh::trimesh::TriMesh,
+        d: &crate::cpu::displace::Displacement,
+    ) -> Result<Self, TessError> {
+        let (class, cp_base) = self.face_layout();
+        let data = crate::cpu::displace::build_tri(mesh, tri, &class, &cp_base, d)?;
+        Ok(self.with_displacement(&data))
+    }
+
     /// Replace the displacement data (bindings 21–24). Built for this
     /// upload's [`Upload::face_layout`].
     pub fn with_displacement(mut self, d: &crate::cpu::displace::DisplaceData) -> Self {

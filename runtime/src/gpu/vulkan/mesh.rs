@@ -4,7 +4,6 @@
 //! and its teardown.
 
 use crate::abi::{binding, PARAMS_SIZE};
-use crate::cpu;
 use crate::cpu::adaptive::{self, Adaptive, Metric};
 use crate::gpu::upload::{f32_bytes, params_bytes, u32_bytes, Upload, UploadBuffer};
 use crate::mesh::topology::Topology;
@@ -47,12 +46,11 @@ impl<'v> VkMesh<'v> {
             .with_refinement(base, stencils)?;
         match displaced {
             None => Self::build(vk, upload, options),
-            Some((mesh, d)) => {
-                let (class, cp_base) = upload.face_layout();
-                let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
-                    .map_err(cpu::TessError::from)?;
-                Self::build(vk, upload.with_displacement(&data), &displacing(options))
-            }
+            Some((mesh, d)) => Self::build(
+                vk,
+                upload.displaced_quads(mesh, topo, d)?,
+                &displacing(options),
+            ),
         }
     }
 
@@ -71,11 +69,9 @@ impl<'v> VkMesh<'v> {
         d: &crate::cpu::displace::Displacement,
         options: &Options,
     ) -> Result<Self, VkError> {
-        let upload = Self::quad_upload(vk, topo, positions, scheme, options)?;
-        let (class, cp_base) = upload.face_layout();
-        let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
-            .map_err(cpu::TessError::from)?;
-        Self::build(vk, upload.with_displacement(&data), &displacing(options))
+        let upload = Self::quad_upload(vk, topo, positions, scheme, options)?
+            .displaced_quads(mesh, topo, d)?;
+        Self::build(vk, upload, &displacing(options))
     }
 
     /// A triangle mesh for a triangle scheme with displacement: 12 texture
@@ -95,11 +91,8 @@ impl<'v> VkMesh<'v> {
         d: &crate::cpu::displace::Displacement,
         options: &Options,
     ) -> Result<Self, VkError> {
-        let upload = Self::tri_upload(vk, tri, scheme, options)?;
-        let (class, cp_base) = upload.face_layout();
-        let data = crate::cpu::displace::build_tri(source, tri, &class, &cp_base, d)
-            .map_err(cpu::TessError::from)?;
-        Self::build(vk, upload.with_displacement(&data), &displacing(options))
+        let upload = Self::tri_upload(vk, tri, scheme, options)?.displaced_tris(source, tri, d)?;
+        Self::build(vk, upload, &displacing(options))
     }
 
     /// Whether the shaders are built with [`DISPLACE`].

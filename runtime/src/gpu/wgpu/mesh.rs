@@ -7,7 +7,6 @@
 //! [`GpuMesh::control_points`].
 
 use crate::abi::{self, binding};
-use crate::cpu;
 use crate::gpu::upload::{params_bytes, vec3_bytes, Upload};
 use crate::kernels;
 use crate::mesh::topology::Topology;
@@ -102,12 +101,7 @@ impl<'g> GpuMesh<'g> {
         let upload = Upload::quad(topo, &zeros, scheme_name)?.with_refinement(base, stencils)?;
         let upload = match displaced {
             None => upload,
-            Some((mesh, d)) => {
-                let (class, cp_base) = upload.face_layout();
-                let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
-                    .map_err(cpu::TessError::from)?;
-                upload.with_displacement(&data)
-            }
+            Some((mesh, d)) => upload.displaced_quads(mesh, topo, d)?,
         };
         Self::build(gpu, gpu.limits, upload)
     }
@@ -123,11 +117,8 @@ impl<'g> GpuMesh<'g> {
         scheme_name: &str,
         d: &crate::cpu::displace::Displacement,
     ) -> Result<Self, GpuError> {
-        let upload = Upload::quad(topo, positions, scheme_name)?;
-        let (class, cp_base) = upload.face_layout();
-        let data = crate::cpu::displace::build(mesh, topo, &class, &cp_base, d)
-            .map_err(cpu::TessError::from)?;
-        Self::build(gpu, gpu.limits, upload.with_displacement(&data))
+        let upload = Upload::quad(topo, positions, scheme_name)?.displaced_quads(mesh, topo, d)?;
+        Self::build(gpu, gpu.limits, upload)
     }
 
     /// Upload a triangle mesh for a triangle scheme (`pn`, `stpn`, `phong`):
@@ -152,11 +143,8 @@ impl<'g> GpuMesh<'g> {
         scheme_name: &str,
         d: &crate::cpu::displace::Displacement,
     ) -> Result<Self, GpuError> {
-        let upload = Upload::tri(tri, scheme_name)?;
-        let (class, cp_base) = upload.face_layout();
-        let data = crate::cpu::displace::build_tri(mesh, tri, &class, &cp_base, d)
-            .map_err(cpu::TessError::from)?;
-        Self::build(gpu, gpu.limits, upload.with_displacement(&data))
+        let upload = Upload::tri(tri, scheme_name)?.displaced_tris(mesh, tri, d)?;
+        Self::build(gpu, gpu.limits, upload)
     }
 
     /// Like [`GpuMesh::new_tri`] with explicit (smaller) limits.
