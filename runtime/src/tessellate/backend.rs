@@ -50,12 +50,17 @@ fn gpu_refined<'a>(
     Some((base, &r.refinement.stencils))
 }
 
+/// The CPU patches of a request, in face order (quads or triangles).
+pub(crate) fn cpu_patches(v: &Validated<'_>) -> Result<cpu::Patches, cpu::TessError> {
+    match &v.domain {
+        Domain::Quads { topo, positions } => cpu::construct(topo, positions, v.kernels),
+        Domain::Triangles(tri) => cpu::construct_tri(tri, v.kernels),
+    }
+}
+
 /// The CPU: construct in face order, then the grid walk or the adaptive walk.
 fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
-    let patches = match &v.domain {
-        Domain::Quads { topo, positions } => cpu::construct(topo, positions, v.kernels)?,
-        Domain::Triangles(tri) => cpu::construct_tri(tri, v.kernels)?,
-    };
+    let patches = cpu_patches(v)?;
     let data: Option<DisplaceData> = match v.request.displacement {
         None => None,
         Some(d) => Some(match &v.domain {

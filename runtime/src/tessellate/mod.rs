@@ -294,16 +294,7 @@ impl Session {
     /// also read [`Validated::notes`] and [`Validated::expected_open_edges`]).
     pub fn run(&mut self, v: &Validated<'_>) -> Result<Output, Error> {
         let out = backend::run(v, self)?;
-        // The last line of defence (the magnitude check of `validate` is the
-        // first): a NaN or infinite sample is an error naming its face.
-        if let Some((face, sample)) = out.first_non_finite() {
-            return Err(Error::NonFiniteSample {
-                face,
-                sample,
-                scheme: v.kernels.name,
-                backend: v.request.backend.name(),
-            });
-        }
+        finite(v, &out, 0)?;
         // A refined mesh comes back in the base layout (its holes are left
         // out there); otherwise faces without a limit surface (holes;
         // boundary rule 0) are evaluated like any other (their vertices
@@ -324,6 +315,22 @@ impl Session {
             }
             (out, _, _) => out,
         })
+    }
+}
+
+/// The last line of defence (the magnitude check of [`Request::validate`]
+/// is the first): a NaN or infinite sample of `out` is
+/// [`Error::NonFiniteSample`] naming its face; `first_sample` is where
+/// `out` starts in the whole result (a streamed chunk's offset).
+fn finite(v: &Validated<'_>, out: &Output, first_sample: usize) -> Result<(), Error> {
+    match out.first_non_finite() {
+        None => Ok(()),
+        Some((face, sample)) => Err(Error::NonFiniteSample {
+            face,
+            sample: first_sample + sample,
+            scheme: v.kernels.name,
+            backend: v.request.backend.name(),
+        }),
     }
 }
 

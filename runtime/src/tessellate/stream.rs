@@ -13,7 +13,7 @@
 //! result is still held once. Each chunk passes the same non-finite check as
 //! [`Session::run`]; the samples are [`Session::run`]'s bit for bit.
 
-use super::request::{Domain, Validated};
+use super::request::Validated;
 use super::{Backend, Error, Output, Sampling, Session};
 use crate::cpu::{self, Tessellation};
 
@@ -47,11 +47,7 @@ impl Session {
             let out = self.run(v).map_err(ChunkError::Tess)?;
             return sink(&out).map_err(ChunkError::Sink);
         };
-        let patches = match &v.domain {
-            Domain::Quads { topo, positions } => cpu::construct(topo, positions, v.kernels),
-            Domain::Triangles(tri) => cpu::construct_tri(tri, v.kernels),
-        }
-        .map_err(|e| ChunkError::Tess(e.into()))?;
+        let patches = super::backend::cpu_patches(v).map_err(|e| ChunkError::Tess(e.into()))?;
         let per = (v.kernels.grid_len)(level) as usize;
         let limit = if max_samples == 0 {
             CHUNK_SAMPLES
@@ -59,7 +55,7 @@ impl Session {
             max_samples
         };
         let step = (limit / per.max(1)).max(1);
-        let no_limit = v.no_limit();
+        let keep: Option<Vec<bool>> = v.no_limit().map(|n| n.iter().map(|&x| !x).collect());
         let faces = patches.face_class.len();
         let mut t = Tessellation::default();
         let mut first = 0;
@@ -67,19 +63,11 @@ impl Session {
             let end = (first + step).min(faces);
             cpu::evaluate_faces_into(&patches, level, first..end, &mut t)
                 .map_err(|e| ChunkError::Tess(e.into()))?;
-            if let Some(no_limit) = no_limit {
-                let keep: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
-                t.retain_faces(&keep);
+            if let Some(keep) = &keep {
+                t.retain_faces(keep);
             }
             let out = Output::Grid(std::mem::take(&mut t));
-            if let Some((face, sample)) = out.first_non_finite() {
-                return Err(ChunkError::Tess(Error::NonFiniteSample {
-                    face,
-                    sample: first * per + sample,
-                    scheme: v.kernels.name,
-                    backend: v.request.backend.name(),
-                }));
-            }
+            super::finite(v, &out, first * per).map_err(ChunkError::Tess)?;
             sink(&out).map_err(ChunkError::Sink)?;
             // The next chunk reuses the buffers.
             if let Output::Grid(back) = out {
