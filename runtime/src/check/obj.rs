@@ -47,21 +47,7 @@ impl<W: std::io::Write> ObjStream<W> {
 
     /// Append the grids of `t` (one level and layout for the whole stream).
     pub fn write(&mut self, t: &Tessellation) -> std::io::Result<()> {
-        let (header, tris) = if t.sides == 3 {
-            (
-                format!(
-                    "# tessgen {} level {} triangle patches",
-                    env!("CARGO_PKG_VERSION"),
-                    t.level
-                ),
-                tri_grid_triangles(t.level),
-            )
-        } else {
-            (
-                format!("# tessgen {} level {}", env!("CARGO_PKG_VERSION"), t.level),
-                grid_triangles(t.level),
-            )
-        };
+        let (header, tris) = layout(t.sides, t.level);
         if !self.started {
             writeln!(self.out, "{header}")?;
             self.started = true;
@@ -103,6 +89,24 @@ impl<W: std::io::Write> ObjStream<W> {
     }
 }
 
+/// The header line and the per-patch triangles of a grid of `sides`
+/// corners at `level` (quads: [`grid_triangles`]; triangles:
+/// [`tri_grid_triangles`]).
+fn layout(sides: u32, level: u32) -> (String, Vec<[u32; 3]>) {
+    let version = env!("CARGO_PKG_VERSION");
+    if sides == 3 {
+        (
+            format!("# tessgen {version} level {level} triangle patches"),
+            tri_grid_triangles(level),
+        )
+    } else {
+        (
+            format!("# tessgen {version} level {level}"),
+            grid_triangles(level),
+        )
+    }
+}
+
 /// Render a triangle-patch tessellation at `level` as OBJ text: `positions`
 /// and `normals` hold [`tri_grid_len`]`(level)` samples per patch, patch after
 /// patch (`g patch_<k>` names the `k`-th patch, i.e. the `k`-th triangle of
@@ -120,18 +124,14 @@ pub fn tri_to_obj(positions: &[Vec3], normals: &[Vec3], level: u32) -> String {
         positions.len(),
         normals.len()
     );
-    let header = format!(
-        "# tessgen {} level {} triangle patches",
-        env!("CARGO_PKG_VERSION"),
-        level
-    );
+    let (header, tris) = layout(3, level);
     write_patches(
         &header,
         positions,
         normals,
         positions.len() / per,
         per,
-        &tri_grid_triangles(level),
+        &tris,
     )
 }
 
