@@ -503,6 +503,23 @@ pub fn rust_module(plan: &Plan) -> String {
     }
     let _ = writeln!(w, "    /// Not an ABI binding: the Vulkan harness's own geometry-shader triangle capture.\n    pub const TRIANGLES: u32 = {HARNESS_TRIANGLES};");
     let _ = writeln!(w, "}}\n");
+    let _ = writeln!(
+        w,
+        "/// The compute entry points every GPU target provides, by name.\npub mod entry {{"
+    );
+    for (name, value, doc) in [
+        (
+            "REFINE",
+            entry::REFINE,
+            "Refinement stage (refined meshes), before the vertex stage.",
+        ),
+        ("VERTEX_STAGE", entry::VERTEX_STAGE, "Vertex stage."),
+        ("PATCH_STAGE", entry::PATCH_STAGE, "Patch stage."),
+        ("EVAL", entry::EVAL, "Uniform evaluation into `samples`."),
+    ] {
+        let _ = writeln!(w, "    /// {doc}\n    pub const {name}: &str = {value:?};");
+    }
+    let _ = writeln!(w, "}}\n");
     let _ = writeln!(w, "/// Size of the Params uniform block in bytes.\npub const PARAMS_SIZE: u64 = {PARAMS_SIZE};");
     let _ = writeln!(
         w,

@@ -227,9 +227,9 @@ impl<'g> GpuMesh<'g> {
                     cache: None,
                 })
             };
-            let v = pipe("vertex_stage_main");
-            let p = pipe("patch_main");
-            let e = pipe("eval_main");
+            let v = pipe(abi::entry::VERTEX_STAGE);
+            let p = pipe(abi::entry::PATCH_STAGE);
+            let e = pipe(abi::entry::EVAL);
             (module, v, p, e)
         })?;
         let mesh = GpuMesh {
@@ -262,7 +262,7 @@ impl<'g> GpuMesh<'g> {
         let dev = &self.gpu.device;
         // Built (and cached) outside the error scope below.
         let refine = match self.refine {
-            Some(r) => Some((r, self.compute_pipeline("refine_main")?)),
+            Some(r) => Some((r, self.compute_pipeline(abi::entry::REFINE)?)),
             None => None,
         };
         self.gpu.scoped(|| {
@@ -281,7 +281,7 @@ impl<'g> GpuMesh<'g> {
                         self.params_buffer(&params_bytes(Mat4::IDENTITY, first, count, 0, 0, 1, 0));
                     groups.push((
                         pipeline,
-                        self.bind_group("refine_main", &layout, &p, None),
+                        self.bind_group(abi::entry::REFINE, &layout, &p, None),
                         count.div_ceil(abi::WORKGROUP_SIZE),
                     ));
                     first += count;
@@ -295,7 +295,7 @@ impl<'g> GpuMesh<'g> {
                 let layout = self.vertex_pipeline.get_bind_group_layout(0);
                 groups.push((
                     &self.vertex_pipeline,
-                    self.bind_group("vertex_stage_main", &layout, &p, None),
+                    self.bind_group(abi::entry::VERTEX_STAGE, &layout, &p, None),
                     count.div_ceil(abi::WORKGROUP_SIZE),
                 ));
                 first += count;
@@ -317,7 +317,7 @@ impl<'g> GpuMesh<'g> {
                     let layout = self.patch_pipeline.get_bind_group_layout(0);
                     groups.push((
                         &self.patch_pipeline,
-                        self.bind_group("patch_main", &layout, &p, None),
+                        self.bind_group(abi::entry::PATCH_STAGE, &layout, &p, None),
                         count.div_ceil(abi::WORKGROUP_SIZE),
                     ));
                     k += count;
