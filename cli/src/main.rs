@@ -58,7 +58,7 @@ struct CompareArgs {
     /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid; the geometric normal jump is always estimated at level 128).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     level: u32,
-    /// At most K Catmull-Clark steps for semi-sharp creases (as `tessellate --crease-refinement`).
+    /// At most K Catmull-Clark steps for semi-sharp creases (as `tessellate --crease-refinement`; default: as many as the crease needs).
     #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
           value_parser = clap::value_parser!(u32).range(0..=6))]
     crease_refinement: u32,
@@ -231,7 +231,7 @@ struct TessellateArgs {
     /// Triangle schemes (pn, stpn, phong): split each quad along its v0–v2 diagonal first.
     #[arg(long)]
     split_quads: bool,
-    /// Quad schemes: at most K Catmull-Clark steps to apply semi-sharp creases exactly (each step: 4× the patches; a uniform level must be divisible by 2^steps, or fewer are taken). 0 applies them as infinitely sharp.
+    /// Quad schemes: at most K Catmull-Clark steps to apply semi-sharp creases exactly. Only the faces around the crease are refined (feature-adaptive); a leaf of step k runs at level N/2^k, so a level that is not a power of two allows as many steps as its power of two. The regular scheme refines uniformly, at most 2 steps (16x the patches). 0 applies creases as infinitely sharp. Default: as many as the sharpest crease needs (up to 6).
     #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
           value_parser = clap::value_parser!(u32).range(0..=6))]
     crease_refinement: u32,

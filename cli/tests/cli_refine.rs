@@ -51,7 +51,18 @@ fn tessellate_polygons_and_semi_sharp_creases() {
     let o = tessgen(args("catmark_single_crease.obj", "4", &[]));
     assert_ok(&o);
     assert!(
-        stderr(&o).contains("need 6 Catmull-Clark steps; 2 applied"),
+        stderr(&o).contains("applied exactly by 6 Catmull-Clark steps (feature-adaptive"),
+        "{}",
+        all(&o)
+    );
+    let o = tessgen(args(
+        "catmark_single_crease.obj",
+        "4",
+        &["--crease-refinement", "2"],
+    ));
+    assert_ok(&o);
+    assert!(
+        stderr(&o).contains("need 6 Catmull-Clark steps; 2 applied (the crease refinement cap"),
         "{}",
         all(&o)
     );

@@ -32,8 +32,10 @@ use tessgen_runtime::{cpu, Mesh, Tessellation, Topology};
 const LEVEL: u32 = 4;
 
 /// The refined topology, base positions and stencils of `name` at
-/// [`LEVEL`] (one Catmull-Clark step for `catmark_nonquads`, two crease
-/// steps for `catmark_single_crease`), and the leaf level.
+/// [`LEVEL`], and the leaf level: one Catmull-Clark step for
+/// `catmark_nonquads`; for `catmark_single_crease` the deepest depth of its
+/// feature-adaptive refinement (6 steps around the sharpest crease, leaves
+/// at level 1).
 struct Refined {
     topo: Topology,
     base: Vec<Vec3>,
@@ -44,9 +46,10 @@ struct Refined {
 fn refined(mesh: &Mesh) -> Refined {
     let request = Request::uniform("pccm", LEVEL);
     let v = request.validate(mesh).expect("validate");
-    let r = v.refined().expect("the mesh needs refinement");
+    let deepest = v.parts().last().expect("parts");
+    let r = deepest.refined().expect("the mesh needs refinement");
     Refined {
-        topo: v.topology().expect("quads").clone(),
+        topo: deepest.topology().expect("quads").clone(),
         base: mesh
             .positions
             .iter()

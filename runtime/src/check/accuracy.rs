@@ -414,32 +414,40 @@ pub fn compare_with(
     // Faces whose limit is one bicubic patch: regular corners, no
     // semi-sharp edge at any corner (docs/boundaries.md §2) — on a refined
     // mesh, every refined face of the base face.
-    let mut semi = vec![false; topo.num_vertices()];
-    for (&(a, b), &s) in &topo.features.edge_sharpness {
-        if s > 0.0 && s < crate::mesh::features::SHARPNESS_INFINITE {
-            for v in [a, b] {
-                if let Some(x) = semi.get_mut(v as usize) {
-                    *x = true;
+    // A feature-adaptive refinement: the leaves of every depth.
+    let mut regular = vec![true; mesh.num_faces()];
+    for part in v.parts() {
+        let Some(topo) = part.topology() else {
+            continue;
+        };
+        let mut semi = vec![false; topo.num_vertices()];
+        for (&(a, b), &s) in &topo.features.edge_sharpness {
+            if s > 0.0 && s < crate::mesh::features::SHARPNESS_INFINITE {
+                for v in [a, b] {
+                    if let Some(x) = semi.get_mut(v as usize) {
+                        *x = true;
+                    }
                 }
             }
         }
-    }
-    let run_mesh = v.run_mesh();
-    let leaf_regular = |f: usize| {
-        topo.classes[f] == crate::mesh::topology::FaceClass::Ordinary
-            && run_mesh.face(f).iter().all(|&v| !semi[v as usize])
-    };
-    let mut regular = vec![true; mesh.num_faces()];
-    match v.refined() {
-        Some(r) => {
-            for (f, leaf) in r.refinement.leaves.iter().enumerate() {
-                let base = r.refinement.blocks[leaf.block as usize].face as usize;
-                regular[base] &= leaf_regular(f);
+        let run_mesh = part.run_mesh();
+        let leaf_regular = |f: usize| {
+            topo.classes[f] == crate::mesh::topology::FaceClass::Ordinary
+                && run_mesh.face(f).iter().all(|&v| !semi[v as usize])
+        };
+        match part.refined() {
+            Some(r) => {
+                for (f, leaf) in r.refinement.leaves.iter().enumerate() {
+                    if r.emits(f) {
+                        let base = r.refinement.blocks[leaf.block as usize].face as usize;
+                        regular[base] &= leaf_regular(f);
+                    }
+                }
             }
-        }
-        None => {
-            for (f, x) in regular.iter_mut().enumerate() {
-                *x = leaf_regular(f);
+            None => {
+                for (f, x) in regular.iter_mut().enumerate() {
+                    *x = leaf_regular(f);
+                }
             }
         }
     }

@@ -217,10 +217,11 @@ impl FeatureStats {
                 .filter(|&s| crate::mesh::features::is_semi_sharp(s))
                 .fold(0.0f32, f32::max);
             say(&format!(
-                "semi-sharp creases/corners (sharpness up to {}): applied exactly by {} uniform \
-                 Catmull-Clark steps; tessellate takes at most --crease-refinement (default {}) \
-                 and as many as the power of two in the level allows, and applies what is left as \
-                 infinitely sharp (each step: 4x the patches)",
+                "semi-sharp creases/corners (sharpness up to {}): applied exactly by {} \
+                 Catmull-Clark steps of the faces around them (feature-adaptive); tessellate \
+                 takes at most --crease-refinement (default {}) and as many as the level allows \
+                 (any power of two; otherwise the power of two in it), and applies what is left \
+                 as infinitely sharp",
                 max,
                 max.ceil(),
                 crate::mesh::refine::DEFAULT_CREASE_REFINEMENT
@@ -351,7 +352,8 @@ mod tests {
         assert!(sc
             .tessellation
             .iter()
-            .any(|l| l.contains("semi-sharp") && l.contains("6 uniform Catmull-Clark steps")));
+            .any(|l| l.contains("semi-sharp")
+                && l.contains("applied exactly by 6 Catmull-Clark steps")));
         let tent = get("catmark_tent.obj");
         assert_eq!(tent.boundary_rule, 2);
         assert!(tent.tessellation[0].contains("rule 2"));

@@ -301,8 +301,28 @@ impl Session {
         // shape the neighbours) but emit no grid (docs/boundaries.md §5).
         Ok(match (out, v.refined(), v.no_limit()) {
             (Output::Grid(t), Some(r), _) => {
-                let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
-                let mut out = r.assemble(&t, no_limit);
+                // The deeper depths of a feature-adaptive refinement run
+                // like the first; the base grids take each sample from the
+                // leaf that covers it.
+                let mut runs = vec![t];
+                for d in &v.deeper {
+                    let out = backend::run(d, self)?;
+                    finite(d, &out, 0)?;
+                    match out {
+                        Output::Grid(t) => runs.push(t),
+                        _ => return Err(refined::RefineError::NotAGrid.into()),
+                    }
+                }
+                let parts: Vec<refined::Part<'_>> = v
+                    .parts()
+                    .zip(&runs)
+                    .map(|(p, t)| refined::Part {
+                        domain: p.refined().unwrap_or(r),
+                        t,
+                        no_limit: p.topology().map_or(&[][..], |t| &t.no_limit[..]),
+                    })
+                    .collect();
+                let mut out = refined::assemble(&parts)?;
                 if let Output::Polygons(p) = &mut out {
                     p.boundary_open_edges = v.refined_open_edges();
                 }

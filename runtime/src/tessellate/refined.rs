@@ -25,16 +25,28 @@ use glam::Vec3;
 pub use crate::mesh::refine::DEFAULT_CREASE_REFINEMENT;
 
 /// A refined mesh as a backend runs it, and how to map the result back.
+/// A feature-adaptive refinement is several of these, one per depth with
+/// leaves ([`RefinedDomain::for_mesh`]); the first carries the notes.
 #[derive(Debug)]
 pub struct RefinedDomain {
     pub refinement: Refinement,
     /// What the base mesh needed.
     pub need: Need,
-    /// The uniform level of the refined faces (`N / 2ᵏ`; 0 when adaptive).
+    /// The uniform level this depth's faces run at (`max(1, N / 2ᵈ)`; 0
+    /// when adaptive).
     pub leaf_level: u32,
+    /// The requested uniform level `N` of the base grids (0 when adaptive).
+    pub level: u32,
     /// What the refinement does and approximates, then the tag warnings
     /// that still hold.
     pub notes: Vec<String>,
+    /// Base half-edges that stay open (the true boundary; holes'), each
+    /// `N` open sample edges in a watertight result.
+    pub open_base_halfedges: usize,
+    /// The base faces (blocks name them; transitions between depths are
+    /// found through their vertices).
+    base_face_offsets: Vec<u32>,
+    base_face_vertices: Vec<u32>,
 }
 
 /// Why a request cannot be refined as asked.
@@ -52,15 +64,31 @@ pub enum RefineError {
         face: usize,
         arity: usize,
     },
+    /// An internal inconsistency, never a property of the input: a sample
+    /// of a base grid that no refined face covers.
+    #[error(
+        "internal error: sample ({i}, {j}) of base face {face} is covered by no refined face \
+         (please report it with the mesh)"
+    )]
+    Uncovered { face: u32, i: usize, j: usize },
+    /// An internal inconsistency: a deeper depth's run did not come back
+    /// as one grid per refined face.
+    #[error("internal error: a refined depth did not come back as grids (please report it)")]
+    NotAGrid,
 }
 
 /// `(steps, crease steps)` to apply for `need` at uniform `level`
-/// (`None`: adaptive).
+/// (`None`: adaptive) with uniform refinement: at most
+/// [`crate::mesh::refine::UNIFORM_CREASE_REFINEMENT`] crease steps.
 pub fn choose_levels(need: &Need, level: Option<u32>, crease_cap: u32) -> (u32, u32) {
     let polygons = u32::from(need.non_quads > 0);
     // Adaptive runs keep their per-base-patch output: creases as sharp.
     let creases = match level {
-        Some(n) => need.crease_levels().min(crease_cap).min(n.trailing_zeros()),
+        Some(n) => need
+            .crease_levels()
+            .min(crease_cap)
+            .min(crate::mesh::refine::UNIFORM_CREASE_REFINEMENT)
+            .min(n.trailing_zeros()),
         None => 0,
     };
     let steps = creases
@@ -69,8 +97,26 @@ pub fn choose_levels(need: &Need, level: Option<u32>, crease_cap: u32) -> (u32, 
     (steps, creases)
 }
 
+/// The deepest feature-adaptive step a uniform level `N` can read its
+/// samples off: a leaf of depth `d` runs at level `N / 2ᵈ`, or — past
+/// `log₂ N` when `N` is a power of two — at level 1 with every sample on a
+/// leaf corner.
+pub fn depth_cap(level: u32) -> u32 {
+    if level.is_power_of_two() {
+        crate::mesh::refine::MAX_REFINE_LEVELS
+    } else {
+        level.trailing_zeros()
+    }
+}
+
 impl RefinedDomain {
-    /// Builds the refinement for `mesh` if it needs one (`Ok(None)` if not).
+    /// Builds the refinement for `mesh` if it needs one (empty if not):
+    /// one domain per depth, shallowest first. Uniform requests refine
+    /// feature-adaptively (only around semi-sharp features, as deep as
+    /// `⌈s⌉`, `crease_cap` and [`depth_cap`] allow); adaptive requests, and
+    /// schemes without an extraordinary class (`regular`, which cannot
+    /// take the irregular rim of a partial mesh), refine uniformly.
+    #[allow(clippy::too_many_arguments)]
     pub fn for_mesh(
         mesh: &crate::mesh::Mesh,
         features: &Features,
@@ -78,10 +124,11 @@ impl RefinedDomain {
         level: Option<u32>,
         crease_cap: u32,
         max_valence: u32,
-    ) -> Result<Option<RefinedDomain>, super::Error> {
+        feature_adaptive: bool,
+    ) -> Result<Vec<RefinedDomain>, super::Error> {
         let need = refine::need(mesh, features);
         if need.levels() == 0 {
-            return Ok(None);
+            return Ok(Vec::new());
         }
         if let (Some(n), true) = (level, need.non_quads > 0) {
             if n % 2 == 1 {
@@ -97,12 +144,28 @@ impl RefinedDomain {
                 .into());
             }
         }
-        let (steps, creases) = choose_levels(&need, level, crease_cap);
-        if steps == 0 {
-            return Ok(None);
+        let polygons = u32::from(need.non_quads > 0);
+        let (parts, steps, creases, adaptive_steps) = match (level, feature_adaptive) {
+            (Some(n), true) => {
+                let creases = need.crease_levels().min(crease_cap).min(depth_cap(n));
+                let depth = creases.max(polygons);
+                let parts = refine::refine_adaptive(mesh, features, depth, n, max_valence)
+                    .map_err(crate::cpu::TessError::from)?;
+                (parts, depth, creases, true)
+            }
+            _ => {
+                let (steps, creases) = choose_levels(&need, level, crease_cap);
+                if steps == 0 {
+                    return Ok(Vec::new());
+                }
+                let r = refine::refine(mesh, features, steps, max_valence)
+                    .map_err(crate::cpu::TessError::from)?;
+                (vec![r], steps, creases, false)
+            }
+        };
+        if parts.is_empty() {
+            return Ok(Vec::new());
         }
-        let refinement = refine::refine(mesh, features, steps, max_valence)
-            .map_err(crate::cpu::TessError::from)?;
         let resolved = creases >= need.crease_levels();
         // What the refinement does first, then the tag warnings that still hold.
         let mut notes: Vec<String> = Vec::new();
@@ -129,21 +192,44 @@ impl RefinedDomain {
                 ))
             ));
         }
-        let by_level =
-            level.is_some_and(|n| n.trailing_zeros() < need.crease_levels().min(crease_cap));
+        let by_level = level.is_some_and(|n| {
+            let (by_level, by_path) = if adaptive_steps {
+                (depth_cap(n), crease_cap)
+            } else {
+                (
+                    n.trailing_zeros(),
+                    crease_cap.min(crate::mesh::refine::UNIFORM_CREASE_REFINEMENT),
+                )
+            };
+            by_level < need.crease_levels().min(by_path)
+        });
+        let faces: usize = parts.iter().map(|r| r.mesh.num_faces()).sum();
+        let leaves: usize = parts
+            .iter()
+            .map(|r| r.mesh.num_faces() - r.features.holes.len())
+            .sum();
+        let cost = if adaptive_steps {
+            format!(
+                "feature-adaptive: {leaves} leaf faces in {} depths, {faces} refined faces \
+                 evaluated, {:.1}× the {} base faces",
+                parts.len(),
+                faces as f64 / mesh.num_faces().max(1) as f64,
+                mesh.num_faces()
+            )
+        } else {
+            format!("{}× the patches", 1u64 << (2 * steps))
+        };
         if need.max_semi_sharpness > 0.0 {
             notes.push(if resolved {
                 format!(
                     "semi-sharp creases (sharpness up to {}) applied exactly by {} Catmull-Clark steps \
-                     ({}× the patches)",
-                    need.max_semi_sharpness,
-                    steps,
-                    1u64 << (2 * steps)
+                     ({cost})",
+                    need.max_semi_sharpness, creases,
                 )
             } else {
                 format!(
                     "semi-sharp creases (sharpness up to {}) need {} Catmull-Clark steps; {} applied \
-                     ({}), the remaining sharpness is applied as infinitely sharp",
+                     ({}; {cost}), the remaining sharpness is applied as infinitely sharp",
                     need.max_semi_sharpness,
                     need.crease_levels(),
                     creases,
@@ -151,6 +237,11 @@ impl RefinedDomain {
                         "adaptive tessellation takes no crease steps"
                     } else if by_level {
                         "a level divisible by a higher power of two allows more"
+                    } else if !adaptive_steps
+                        && crease_cap > crate::mesh::refine::UNIFORM_CREASE_REFINEMENT
+                    {
+                        "uniform refinement takes at most 2 crease steps; this scheme cannot \
+                         refine feature-adaptively"
                     } else {
                         "the crease refinement cap"
                     }
@@ -158,12 +249,28 @@ impl RefinedDomain {
             });
         }
         notes.extend(tag_notes);
-        Ok(Some(RefinedDomain {
-            leaf_level: level.map_or(0, |n| n >> steps),
-            refinement,
-            need,
-            notes,
-        }))
+        let opts = crate::mesh::topology::TopologyOptions {
+            max_valence,
+            require_quads: false,
+        };
+        let base = crate::mesh::topology::Topology::build_with(mesh, &opts, features)
+            .map_err(crate::cpu::TessError::from)?;
+        let open_base_halfedges = crate::check::weld::open_base_halfedges(&base).len();
+        let n = level.unwrap_or(0);
+        Ok(parts
+            .into_iter()
+            .enumerate()
+            .map(|(k, refinement)| RefinedDomain {
+                leaf_level: level.map_or(0, |n| (n >> refinement.levels).max(1)),
+                level: n,
+                refinement,
+                need,
+                notes: if k == 0 { notes.clone() } else { Vec::new() },
+                open_base_halfedges,
+                base_face_offsets: mesh.face_offsets.clone(),
+                base_face_vertices: mesh.face_vertices.clone(),
+            })
+            .collect())
     }
 
     /// The base face a refined face comes from.
@@ -175,73 +282,216 @@ impl RefinedDomain {
             .map_or(refined_face, |b| b.face as usize)
     }
 
-    /// The refined result of a uniform run (`t`: one grid per refined face
-    /// at [`RefinedDomain::leaf_level`]) in the base layout: base quads as
-    /// one `(N+1)²` grid each, n-gons as their sub-faces at `N/2`; blocks
-    /// whose faces have no limit (holes) are left out.
-    pub fn assemble(&self, t: &Tessellation, no_limit: &[bool]) -> super::Output {
-        let r = &self.refinement;
-        let m = self.leaf_level as usize;
-        // Leaf faces of every block, row-major.
-        let mut leaf_faces: Vec<Vec<u32>> = r
-            .blocks
-            .iter()
-            .map(|b| vec![u32::MAX; 1 << (2 * b.depth)])
-            .collect();
-        for (f, l) in r.leaves.iter().enumerate() {
-            let side = 1usize << r.blocks[l.block as usize].depth;
-            leaf_faces[l.block as usize][l.y as usize * side + l.x as usize] = f as u32;
-        }
-        let mut quads = GridBuilder::default();
-        let mut subfaces = GridBuilder::default();
-        let mut corners = Vec::new();
-        let per_leaf = (m + 1) * (m + 1);
-        for (b, block) in r.blocks.iter().enumerate() {
-            let faces = &leaf_faces[b];
-            if faces
-                .iter()
-                .all(|&f| no_limit.get(f as usize).copied().unwrap_or(true))
-            {
-                continue;
-            }
-            let side = 1usize << block.depth;
-            let level = m * side;
-            let out = if block.corner.is_some() {
-                corners.push(block.corner.unwrap_or(0));
-                &mut subfaces
-            } else {
-                &mut quads
-            };
-            out.level = level as u32;
-            out.ids.push(block.face);
-            for j in 0..=level {
-                let (y, lj) = leaf_coord(j, m, side);
-                for i in 0..=level {
-                    let (x, li) = leaf_coord(i, m, side);
-                    let leaf = faces[y * side + x] as usize;
-                    let s = leaf * per_leaf + lj * (m + 1) + li;
-                    out.positions.push(t.positions[s]);
-                    out.normals.push(t.normals[s]);
-                }
-            }
-        }
-        let quads = quads.finish();
-        if corners.is_empty() {
-            return super::Output::Grid(quads);
-        }
-        super::Output::Polygons(PolygonGrids {
-            quads,
-            subfaces: subfaces.finish(),
-            corners,
-            boundary_open_edges: 0,
-        })
+    /// Whether refined face `f` emits (a leaf: not refined further, not
+    /// only a ring, not a hole).
+    pub fn emits(&self, f: usize) -> bool {
+        !self.refinement.features.holes.contains(&(f as u32))
     }
 }
 
-/// Leaf and local index of grid line `i` of a block `side` leaves wide.
-fn leaf_coord(i: usize, m: usize, side: usize) -> (usize, usize) {
-    let x = (i / m.max(1)).min(side - 1);
-    (x, i - x * m)
+/// One depth of a refined uniform run: its domain and what its backend
+/// returned (one grid per refined face at the depth's leaf level), with the
+/// faces that have no limit.
+pub struct Part<'a> {
+    pub domain: &'a RefinedDomain,
+    pub t: &'a Tessellation,
+    pub no_limit: &'a [bool],
+}
+
+/// Where a sample on a block's border lies on the base mesh, the same from
+/// every block that has it: a base vertex, sample `k` of `N` along a base
+/// edge from its lower vertex, sample `k` of `N/2` along an n-gon's inner
+/// line from the midpoint of its edge `e` to its centre, or the centre.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Border {
+    Vertex(u32),
+    Edge(u32, u32, usize),
+    Inner(u32, u32, usize),
+    Centre(u32),
+}
+
+fn edge_sample(a: u32, b: u32, k: usize, n: usize) -> Border {
+    match k {
+        0 => Border::Vertex(a),
+        k if k == n => Border::Vertex(b),
+        k if a < b => Border::Edge(a, b, k),
+        k => Border::Edge(b, a, n - k),
+    }
+}
+
+/// The refined result of a uniform run in the base layout: base quads as
+/// one `(N+1)²` grid each, n-gons as their sub-faces at `N/2`; blocks that
+/// emit nothing (holes) are left out. Each sample comes from the leaf that
+/// covers it (the shallowest depth whose face at the sample's quadtree cell
+/// is a leaf). Where blocks of different depths meet, their shared border
+/// samples are evaluated by different meshes and are equal only up to
+/// rounding (exactly, where both sides' patches are the limit): the deepest
+/// side's sample is taken on both, so the result stays watertight bit for
+/// bit. Borders between leaves of one depth are left as evaluated — the
+/// backends' shared-edge contract makes them equal, and the weld checks it.
+pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
+    let Some(first) = parts.first() else {
+        return Ok(super::Output::Grid(Tessellation::default()));
+    };
+    let blocks = &first.domain.refinement.blocks;
+    let n = first.domain.level as usize;
+    // Per part and block: the emitting leaf face of every cell, row-major.
+    let cells: Vec<Vec<Option<Vec<u32>>>> = parts
+        .iter()
+        .map(|p| {
+            let r = &p.domain.refinement;
+            let mut c: Vec<Option<Vec<u32>>> = vec![None; blocks.len()];
+            for (f, l) in r.leaves.iter().enumerate() {
+                if !p.domain.emits(f) || p.no_limit.get(f).copied().unwrap_or(true) {
+                    continue;
+                }
+                let b = &blocks[l.block as usize];
+                let side = 1usize << r.levels.saturating_sub(u32::from(b.corner.is_some()));
+                let cell = c[l.block as usize].get_or_insert_with(|| vec![u32::MAX; side * side]);
+                cell[l.y as usize * side + l.x as usize] = f as u32;
+            }
+            c
+        })
+        .collect();
+    let mut quads = GridBuilder::default();
+    let mut subfaces = GridBuilder::default();
+    let mut corners = Vec::new();
+    // Border samples: where in the output, and the depth that gave them.
+    let mut borders: std::collections::HashMap<Border, Vec<(bool, usize, u32)>> =
+        std::collections::HashMap::new();
+    let base = |f: u32| {
+        let d = first.domain;
+        &d.base_face_vertices
+            [d.base_face_offsets[f as usize] as usize..d.base_face_offsets[f as usize + 1] as usize]
+    };
+    for (b, block) in blocks.iter().enumerate() {
+        if cells.iter().all(|c| c[b].is_none()) {
+            continue;
+        }
+        let sub = block.corner.is_some();
+        let l = if sub { n / 2 } else { n };
+        let out = if sub {
+            corners.push(block.corner.unwrap_or(0));
+            &mut subfaces
+        } else {
+            &mut quads
+        };
+        out.level = l as u32;
+        out.ids.push(block.face);
+        let w = base(block.face);
+        for j in 0..=l {
+            for i in 0..=l {
+                let mut found = None;
+                for (p, c) in parts.iter().zip(&cells) {
+                    let Some(cell) = &c[b] else { continue };
+                    let r = p.domain.refinement.levels - u32::from(sub);
+                    let side = 1usize << r;
+                    let m = p.domain.leaf_level as usize;
+                    let (x, li) = leaf_coord(i, l, m, side);
+                    let (y, lj) = leaf_coord(j, l, m, side);
+                    let f = cell[y * side + x];
+                    if f != u32::MAX {
+                        found = Some((p, f as usize * (m + 1) * (m + 1) + lj * (m + 1) + li));
+                        break;
+                    }
+                }
+                let Some((p, s)) = found else {
+                    return Err(RefineError::Uncovered {
+                        face: block.face,
+                        i,
+                        j,
+                    });
+                };
+                let at = out.positions.len();
+                out.positions.push(p.t.positions[s]);
+                out.normals.push(p.t.normals[s]);
+                if i == 0 || j == 0 || i == l || j == l {
+                    let depth = p.domain.refinement.levels;
+                    let mut keys: Vec<Border> = Vec::with_capacity(2);
+                    match block.corner {
+                        None => {
+                            if j == 0 {
+                                keys.push(edge_sample(w[0], w[1], i, n));
+                            }
+                            if i == n {
+                                keys.push(edge_sample(w[1], w[2], j, n));
+                            }
+                            if j == n {
+                                keys.push(edge_sample(w[3], w[2], i, n));
+                            }
+                            if i == 0 {
+                                keys.push(edge_sample(w[0], w[3], j, n));
+                            }
+                        }
+                        Some(c) => {
+                            let k = w.len() as u32;
+                            let (c0, c1, cm) = (c, (c + 1) % k, (c + k - 1) % k);
+                            let (wc, wn, wp) = (w[c0 as usize], w[c1 as usize], w[cm as usize]);
+                            let inner = |e: u32, t: usize| match t {
+                                0 => edge_sample(w[e as usize], w[((e + 1) % k) as usize], l, n),
+                                t if t == l => Border::Centre(block.face),
+                                t => Border::Inner(block.face, e, t),
+                            };
+                            if j == 0 {
+                                keys.push(edge_sample(wc, wn, i, n));
+                            }
+                            if i == 0 {
+                                keys.push(edge_sample(wc, wp, j, n));
+                            }
+                            if i == l {
+                                keys.push(inner(c0, j));
+                            }
+                            if j == l {
+                                keys.push(inner(cm, i));
+                            }
+                        }
+                    }
+                    keys.dedup();
+                    for key in keys {
+                        borders.entry(key).or_default().push((sub, at, depth));
+                    }
+                }
+            }
+        }
+    }
+    // Transitions: the deepest side's sample on every side.
+    for uses in borders.values() {
+        let deepest = uses.iter().map(|u| u.2).max().unwrap_or(0);
+        if uses.iter().all(|u| u.2 == deepest) {
+            continue;
+        }
+        let Some(&(sub, at, _)) = uses.iter().find(|u| u.2 == deepest) else {
+            continue;
+        };
+        let (p, nn) = {
+            let src = if sub { &subfaces } else { &quads };
+            (src.positions[at], src.normals[at])
+        };
+        for &(s, a, _) in uses {
+            let dst = if s { &mut subfaces } else { &mut quads };
+            dst.positions[a] = p;
+            dst.normals[a] = nn;
+        }
+    }
+    let quads = quads.finish();
+    if corners.is_empty() {
+        return Ok(super::Output::Grid(quads));
+    }
+    Ok(super::Output::Polygons(PolygonGrids {
+        quads,
+        subfaces: subfaces.finish(),
+        corners,
+        boundary_open_edges: 0,
+    }))
+}
+
+/// Cell and local index of grid line `i` of a block grid at level `l`
+/// whose depth cuts it into `side` cells, each run at level `m`
+/// ([`depth_cap`]: `m·side = l`, or `m = 1` and `l` divides `side`).
+fn leaf_coord(i: usize, l: usize, m: usize, side: usize) -> (usize, usize) {
+    let t = i * side;
+    let x = (t / l.max(1)).min(side - 1);
+    (x, (t - x * l) * m / l.max(1))
 }
 
 #[derive(Default)]

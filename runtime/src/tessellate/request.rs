@@ -195,6 +195,7 @@ impl<'a> Request<'a> {
         // Before anything is evaluated: sizes f32 evaluation cannot take.
         mesh.check_magnitude()?;
         let mut refined: Option<Box<RefinedDomain>> = None;
+        let mut deeper: Vec<Validated<'r>> = Vec::new();
         let mut notes: Vec<String> = Vec::new();
         let domain = if kernels.sides == 3 {
             if let Ok((_, warnings)) = Features::from_mesh(mesh) {
@@ -210,41 +211,55 @@ impl<'a> Request<'a> {
                 Sampling::Adaptive(_) => None,
             };
             let opts = cpu::topology_options();
-            refined = RefinedDomain::for_mesh(
+            let feature_adaptive = kernels.classes.iter().any(|c| c.class == "extraordinary");
+            let mut parts = RefinedDomain::for_mesh(
                 mesh,
                 &features,
                 &warnings,
                 level,
                 self.crease_refinement,
                 opts.max_valence,
+                feature_adaptive,
             )?
-            .map(Box::new);
-            let (topo, run_mesh) = match &refined {
-                Some(r) => {
-                    let m = &r.refinement.mesh;
-                    let topo = Topology::build_with(m, &opts, &r.refinement.features)
-                        .map_err(TessError::from)?;
-                    (topo, m)
-                }
+            .into_iter();
+            refined = parts.next().map(Box::new);
+            let topo = match &refined {
+                Some(r) => refined_topology(r, kernels)?,
                 None => {
                     let mut topo =
                         Topology::build_with(mesh, &opts, &features).map_err(TessError::from)?;
                     notes = warnings.iter().map(|w| w.to_string()).collect();
                     topo.warnings = warnings;
-                    (topo, mesh)
+                    cpu::face_classes(&topo, kernels)?;
+                    topo
                 }
             };
-            // `regular` on an extraordinary face fails here, not on a device
-            // (naming the base face a refined face comes from).
-            cpu::face_classes(&topo, kernels).map_err(|e| match (e, &refined) {
-                (TessError::ExtraordinaryFace { scheme, face }, Some(r)) => {
-                    TessError::ExtraordinaryFace {
-                        scheme,
-                        face: r.base_face(face),
-                    }
-                }
-                (e, _) => e,
-            })?;
+            let run_mesh = refined.as_ref().map_or(mesh, |r| &r.refinement.mesh);
+            // Deeper depths of a feature-adaptive refinement: each its own
+            // run of the same request (uniform, so nothing else to resolve).
+            for part in parts {
+                let topo = refined_topology(&part, kernels)?;
+                let positions = part
+                    .refinement
+                    .mesh
+                    .positions
+                    .iter()
+                    .map(|p| Vec3::from_array(*p))
+                    .collect();
+                deeper.push(Validated {
+                    request: self,
+                    mesh,
+                    kernels,
+                    domain: Domain::Quads {
+                        topo: Box::new(topo),
+                        positions,
+                    },
+                    adaptive: None,
+                    refined: Some(Box::new(part)),
+                    notes: Vec::new(),
+                    deeper: Vec::new(),
+                });
+            }
             if let (Sampling::Adaptive(_), Some(face)) =
                 (&self.sampling, topo.no_limit.iter().position(|&n| n))
             {
@@ -279,6 +294,7 @@ impl<'a> Request<'a> {
             adaptive,
             refined,
             notes,
+            deeper,
         })
     }
 
@@ -382,6 +398,9 @@ pub struct Validated<'r> {
     /// The refinement the quad schemes run on, if the mesh needed one.
     pub(crate) refined: Option<Box<RefinedDomain>>,
     pub(crate) notes: Vec<String>,
+    /// The deeper depths of a feature-adaptive refinement, each run like
+    /// this one and assembled with it.
+    pub(crate) deeper: Vec<Validated<'r>>,
 }
 
 impl Validated<'_> {
@@ -434,15 +453,17 @@ impl Validated<'_> {
         }
     }
 
-    /// Uniform refined runs: refined boundary half-edges × the leaf level
-    /// (= base boundary edges × `N`).
+    /// Uniform refined runs: base boundary (and hole) half-edges × `N`.
     pub(crate) fn refined_open_edges(&self) -> usize {
-        match (self.topology(), &self.refined) {
-            (Some(topo), Some(r)) => {
-                crate::check::weld::open_base_halfedges(topo).len() * r.leaf_level as usize
-            }
-            _ => 0,
-        }
+        self.refined
+            .as_ref()
+            .map_or(0, |r| r.open_base_halfedges * r.level as usize)
+    }
+
+    /// Every depth this request runs: itself, then the deeper depths of a
+    /// feature-adaptive refinement.
+    pub fn parts(&self) -> impl Iterator<Item = &Validated<'_>> {
+        std::iter::once(self).chain(self.deeper.iter())
     }
 
     /// The scheme's generated kernels.
@@ -514,6 +535,22 @@ impl From<DisplaceError> for Error {
     fn from(e: DisplaceError) -> Self {
         Error::Tess(TessError::Displace(e))
     }
+}
+
+/// The topology of one refined depth, with the scheme's classes checked
+/// on the faces that emit (a `regular` face error names the base face).
+fn refined_topology(r: &RefinedDomain, kernels: &'static SchemeKernels) -> Result<Topology, Error> {
+    let opts = cpu::topology_options();
+    let topo = Topology::build_with(&r.refinement.mesh, &opts, &r.refinement.features)
+        .map_err(TessError::from)?;
+    cpu::face_classes(&topo, kernels).map_err(|e| match e {
+        TessError::ExtraordinaryFace { scheme, face } => TessError::ExtraordinaryFace {
+            scheme,
+            face: r.base_face(face),
+        },
+        e => e,
+    })?;
+    Ok(topo)
 }
 
 #[cfg(test)]

@@ -17,9 +17,11 @@
 //!   tile which output grid — one block per base quad (its `(u, v)` square,
 //!   cut into `2ᵏ × 2ᵏ` leaves) and one per sub-face of an n-gon.
 
+mod adaptive;
 mod stencil;
 mod step;
 
+pub use adaptive::refine_adaptive;
 pub use stencil::StencilTable;
 pub use step::QUAD_CHILD_OFFSET;
 
@@ -33,9 +35,17 @@ use crate::mesh::{Mesh, NO_NORMAL};
 /// coordinates and keep tables far from `u32` limits.
 pub const MAX_REFINE_LEVELS: u32 = 6;
 
-/// Refinement steps the front door spends on semi-sharp creases when the
-/// request does not say (16× the patches; docs/boundaries.md §8).
-pub const DEFAULT_CREASE_REFINEMENT: u32 = 2;
+/// Refinement steps the front door may spend on semi-sharp creases when
+/// the request does not say: as many as a crease needs (`⌈s⌉`), up to the
+/// deepest step. Feature-adaptive refinement only refines the faces around
+/// the crease, so this costs a band of faces, not `4ᵏ×` the mesh
+/// (docs/boundaries.md §8).
+pub const DEFAULT_CREASE_REFINEMENT: u32 = MAX_REFINE_LEVELS;
+
+/// The most crease steps *uniform* refinement takes (16× the patches), for
+/// the paths that cannot refine feature-adaptively (the `regular` scheme,
+/// whose patches cannot take the irregular rim of a partial mesh).
+pub const UNIFORM_CREASE_REFINEMENT: u32 = 2;
 
 /// What a mesh needs refined before a quad scheme can take it exactly.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -143,82 +153,138 @@ pub fn refine(
     levels: u32,
     max_valence: u32,
 ) -> Result<Refinement, TopologyError> {
-    let opts = TopologyOptions {
-        max_valence,
-        require_quads: false,
-    };
-    let base = Topology::build_with(mesh, &opts, features)?;
     let levels = levels.min(MAX_REFINE_LEVELS);
-
-    let mut level = step::Level {
-        num_vertices: mesh.num_vertices(),
-        face_offsets: mesh.face_offsets.clone(),
-        face_vertices: mesh.face_vertices.clone(),
-        edge_sharpness: features
-            .edge_sharpness
-            .iter()
-            .map(|(&k, &s)| (k, s))
-            .collect(),
-        vertex_sharpness: features
-            .vertex_sharpness
-            .iter()
-            .map(|(&k, &s)| (k, s))
-            .collect(),
-        boundary_corners: features.boundary == crate::mesh::features::BoundaryRule::EdgeAndCorner,
-    };
-    // Blocks and the leaf of every base face.
     let mut blocks = Vec::new();
-    let mut leaves = Vec::new();
-    for f in 0..mesh.num_faces() {
-        if mesh.face(f).len() == 4 {
-            leaves.push(Leaf {
-                block: blocks.len() as u32,
-                x: 0,
-                y: 0,
-            });
-            blocks.push(Block {
-                face: f as u32,
-                corner: None,
-                depth: levels,
-            });
-        } else {
-            // Placeholder: an n-gon is no leaf; its children start blocks.
-            leaves.push(Leaf {
-                block: u32::MAX,
-                x: 0,
-                y: 0,
-            });
-        }
-    }
-    let mut empty: Vec<bool> = (0..mesh.num_faces())
-        .map(|f| base.no_limit[f] || features.holes.contains(&(f as u32)))
-        .collect();
-    let has_uv = !mesh.face_texcoords.is_empty() && !mesh.texcoords.is_empty();
-    let mut uv: Vec<[f32; 2]> = if has_uv {
-        (0..mesh.face_vertices.len())
-            .map(|c| mesh.corner_texcoord(c).unwrap_or([0.0; 2]))
-            .collect()
-    } else {
-        Vec::new()
-    };
-    let mut rows: Vec<Vec<(u32, f64)>> = (0..mesh.num_vertices() as u32)
-        .map(|v| vec![(v, 1.0)])
-        .collect();
-
+    let mut state = State::start(mesh, features, max_valence, &mut blocks)?;
     for _ in 0..levels {
-        let s = step::step(&level);
-        rows = stencil::compose(&s.rows, &rows, mesh.num_vertices());
-        let mut child_leaves = Vec::with_capacity(s.child.num_faces());
-        let mut child_empty = Vec::with_capacity(s.child.num_faces());
-        let mut child_uv = Vec::with_capacity(if has_uv { 4 * uv.len() } else { 0 });
-        for f in 0..level.num_faces() {
-            let n = level.face(f).len();
-            let first = level.face_offsets[f] as usize;
-            let parent = leaves[f];
-            #[allow(clippy::needless_range_loop)] // `i` is the corner, used four ways
+        let s = step::step(&state.level);
+        let all = vec![true; state.level.num_faces()];
+        let mut next = state.children(&all, &mut blocks, levels);
+        next.rows = stencil::compose(&s.rows, &state.rows, mesh.num_vertices());
+        next.level = s.child;
+        state = next;
+    }
+    let order = sort_blocks(&mut blocks);
+    for b in &mut blocks {
+        b.depth = if b.corner.is_some() {
+            levels - 1
+        } else {
+            levels
+        };
+    }
+    for l in &mut state.leaves {
+        l.block = order[l.block as usize];
+    }
+    Ok(state.into_refinement(mesh, features, levels, blocks))
+}
+
+/// One level of a refinement in progress: the mesh, its vertices as rows
+/// over the base, and per face where it lies and whether it emits nothing;
+/// texture coordinates per face corner.
+#[derive(Debug, Clone)]
+pub(super) struct State {
+    level: step::Level,
+    rows: Vec<Vec<(u32, f64)>>,
+    leaves: Vec<Leaf>,
+    empty: Vec<bool>,
+    /// Per face corner (empty without texture coordinates).
+    uv: Vec<[f32; 2]>,
+}
+
+impl State {
+    /// The base mesh, checked as [`refine`] says; its quads start blocks.
+    fn start(
+        mesh: &Mesh,
+        features: &Features,
+        max_valence: u32,
+        blocks: &mut Vec<Block>,
+    ) -> Result<State, TopologyError> {
+        let opts = TopologyOptions {
+            max_valence,
+            require_quads: false,
+        };
+        let base = Topology::build_with(mesh, &opts, features)?;
+        let level = step::Level {
+            num_vertices: mesh.num_vertices(),
+            face_offsets: mesh.face_offsets.clone(),
+            face_vertices: mesh.face_vertices.clone(),
+            edge_sharpness: features
+                .edge_sharpness
+                .iter()
+                .map(|(&k, &s)| (k, s))
+                .collect(),
+            vertex_sharpness: features
+                .vertex_sharpness
+                .iter()
+                .map(|(&k, &s)| (k, s))
+                .collect(),
+            boundary_corners: features.boundary
+                == crate::mesh::features::BoundaryRule::EdgeAndCorner,
+        };
+        let mut leaves = Vec::with_capacity(mesh.num_faces());
+        for f in 0..mesh.num_faces() {
+            if mesh.face(f).len() == 4 {
+                leaves.push(Leaf {
+                    block: blocks.len() as u32,
+                    x: 0,
+                    y: 0,
+                });
+                blocks.push(Block {
+                    face: f as u32,
+                    corner: None,
+                    depth: 0,
+                });
+            } else {
+                // Placeholder: an n-gon is no leaf; its children start blocks.
+                leaves.push(Leaf {
+                    block: u32::MAX,
+                    x: 0,
+                    y: 0,
+                });
+            }
+        }
+        let empty = (0..mesh.num_faces())
+            .map(|f| base.no_limit[f] || features.holes.contains(&(f as u32)))
+            .collect();
+        let uv = if !mesh.face_texcoords.is_empty() && !mesh.texcoords.is_empty() {
+            (0..mesh.face_vertices.len())
+                .map(|c| mesh.corner_texcoord(c).unwrap_or([0.0; 2]))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let rows = (0..mesh.num_vertices() as u32)
+            .map(|v| vec![(v, 1.0)])
+            .collect();
+        Ok(State {
+            level,
+            rows,
+            leaves,
+            empty,
+            uv,
+        })
+    }
+
+    /// Leaves, emptiness and texture coordinates of the children of the
+    /// faces in `keep`, in child face order (the caller sets the child
+    /// level and rows). Children of an n-gon start blocks of `depth`.
+    fn children(&self, keep: &[bool], blocks: &mut Vec<Block>, depth: u32) -> State {
+        let has_uv = !self.uv.is_empty();
+        let mut next = State {
+            level: step::Level::default(),
+            rows: Vec::new(),
+            leaves: Vec::new(),
+            empty: Vec::new(),
+            uv: Vec::new(),
+        };
+        for f in (0..self.level.num_faces()).filter(|&f| keep[f]) {
+            let n = self.level.face(f).len();
+            let first = self.level.face_offsets[f] as usize;
+            let parent = self.leaves[f];
+            #[allow(clippy::needless_range_loop)] // `i` is also the sub-face corner
             for i in 0..n {
-                child_empty.push(empty[f]);
-                child_leaves.push(if n == 4 {
+                next.empty.push(self.empty[f]);
+                next.leaves.push(if n == 4 {
                     let (ox, oy) = QUAD_CHILD_OFFSET[i];
                     Leaf {
                         block: parent.block,
@@ -229,7 +295,7 @@ pub fn refine(
                     blocks.push(Block {
                         face: f as u32,
                         corner: Some(i as u32),
-                        depth: levels - 1,
+                        depth: depth.saturating_sub(1),
                     });
                     Leaf {
                         block: (blocks.len() - 1) as u32,
@@ -238,74 +304,91 @@ pub fn refine(
                     }
                 });
                 if has_uv {
-                    let corner = |k: usize| uv[first + k % n];
+                    let corner = |k: usize| self.uv[first + k % n];
                     let mid = |a: [f32; 2], b: [f32; 2]| [(a[0] + b[0]) * 0.5, (a[1] + b[1]) * 0.5];
                     let mut c = [0.0f32; 2];
                     for k in 0..n {
                         c = [c[0] + corner(k)[0], c[1] + corner(k)[1]];
                     }
                     let c = [c[0] / n as f32, c[1] / n as f32];
-                    let next = mid(corner(i), corner(i + 1));
+                    let next_mid = mid(corner(i), corner(i + 1));
                     let prev = mid(corner(i + n - 1), corner(i));
-                    child_uv.extend_from_slice(&step::child_face(n, i, corner(i), next, c, prev));
+                    next.uv.extend_from_slice(&step::child_face(
+                        n,
+                        i,
+                        corner(i),
+                        next_mid,
+                        c,
+                        prev,
+                    ));
                 }
             }
         }
-        leaves = child_leaves;
-        empty = child_empty;
-        uv = child_uv;
-        level = s.child;
+        next
     }
-    // Blocks in base face order: n-gon sub-face blocks were appended at the
-    // first step; sort by (face, corner) and renumber the leaves.
+
+    /// The finished level as a [`Refinement`] of `levels` steps.
+    fn into_refinement(
+        self,
+        mesh: &Mesh,
+        features: &Features,
+        levels: u32,
+        blocks: Vec<Block>,
+    ) -> Refinement {
+        let stencils = StencilTable::from_rows(&self.rows);
+        let positions = stencils.apply(&mesh.positions);
+        let level = self.level;
+        let nc = level.face_vertices.len();
+        let has_uv = !self.uv.is_empty();
+        let refined = Mesh {
+            positions,
+            face_offsets: level.face_offsets,
+            face_vertices: level.face_vertices,
+            tags: Vec::new(),
+            normals: Vec::new(),
+            face_normals: vec![NO_NORMAL; nc],
+            texcoords: self.uv,
+            face_texcoords: if has_uv {
+                (0..nc as u32).collect()
+            } else {
+                Vec::new()
+            },
+        };
+        let holes: BTreeSet<u32> = self
+            .empty
+            .iter()
+            .enumerate()
+            .filter(|(_, &e)| e)
+            .map(|(f, _)| f as u32)
+            .collect();
+        let features = Features {
+            boundary: features.boundary,
+            edge_sharpness: level.edge_sharpness.into_iter().collect(),
+            vertex_sharpness: level.vertex_sharpness.into_iter().collect(),
+            holes,
+        };
+        Refinement {
+            levels,
+            stencils,
+            mesh: refined,
+            features,
+            blocks,
+            leaves: self.leaves,
+        }
+    }
+}
+
+/// Sorts `blocks` into base face order (n-gon sub-face blocks are appended
+/// at the first step) and returns each old block's new index.
+fn sort_blocks(blocks: &mut Vec<Block>) -> Vec<u32> {
     let mut order: Vec<u32> = (0..blocks.len() as u32).collect();
     order.sort_by_key(|&b| (blocks[b as usize].face, blocks[b as usize].corner));
     let mut new_index = vec![0u32; blocks.len()];
     for (k, &b) in order.iter().enumerate() {
         new_index[b as usize] = k as u32;
     }
-    let blocks: Vec<Block> = order.iter().map(|&b| blocks[b as usize]).collect();
-    for l in &mut leaves {
-        l.block = new_index[l.block as usize];
-    }
-
-    let stencils = StencilTable::from_rows(&rows);
-    let positions = stencils.apply(&mesh.positions);
-    let nc = level.face_vertices.len();
-    let refined = Mesh {
-        positions,
-        face_offsets: level.face_offsets.clone(),
-        face_vertices: level.face_vertices.clone(),
-        tags: Vec::new(),
-        normals: Vec::new(),
-        face_normals: vec![NO_NORMAL; nc],
-        texcoords: uv.clone(),
-        face_texcoords: if has_uv {
-            (0..nc as u32).collect()
-        } else {
-            Vec::new()
-        },
-    };
-    let holes: BTreeSet<u32> = empty
-        .iter()
-        .enumerate()
-        .filter(|(_, &e)| e)
-        .map(|(f, _)| f as u32)
-        .collect();
-    let features = Features {
-        boundary: features.boundary,
-        edge_sharpness: level.edge_sharpness.into_iter().collect(),
-        vertex_sharpness: level.vertex_sharpness.into_iter().collect(),
-        holes,
-    };
-    Ok(Refinement {
-        levels,
-        stencils,
-        mesh: refined,
-        features,
-        blocks,
-        leaves,
-    })
+    *blocks = order.iter().map(|&b| blocks[b as usize]).collect();
+    new_index
 }
 
 #[cfg(test)]

@@ -188,3 +188,97 @@ fn bad_base_meshes_are_refused_before_refining() {
         Err(TopologyError::NonManifoldEdge { .. })
     ));
 }
+
+/// single_crease with its tags: sharpness up to 5.7 needs 6 steps.
+fn single_crease() -> (Mesh, Features) {
+    let m = data("catmark_single_crease.obj");
+    let (f, _) = Features::from_mesh(&m).expect("tags");
+    (m, f)
+}
+
+#[test]
+fn adaptive_depths_cover_every_block_once() {
+    let (m, f) = single_crease();
+    let parts = refine_adaptive(&m, &f, 6, 8, 32).expect("refine");
+    let depths: Vec<u32> = parts.iter().map(|p| p.levels).collect();
+    assert_eq!(depths, vec![0, 1, 2, 3, 4, 5, 6], "one part per depth");
+    let blocks = &parts[0].blocks;
+    assert_eq!(blocks.len(), m.num_faces());
+    assert!(parts.iter().all(|p| &p.blocks == blocks), "shared blocks");
+    // Every block's area, at the finest depth's resolution, is covered by
+    // exactly one emitting leaf (a face that is not a hole) over all depths.
+    let fine = 1u32 << 6;
+    let mut cover = vec![0u8; blocks.len() * (fine * fine) as usize];
+    let mut deepest = vec![0u32; blocks.len()];
+    for p in &parts {
+        for (face, l) in p.leaves.iter().enumerate() {
+            if p.features.holes.contains(&(face as u32)) {
+                continue;
+            }
+            let b = l.block as usize;
+            deepest[b] = deepest[b].max(p.levels);
+            let side = fine >> p.levels;
+            for y in l.y * side..(l.y + 1) * side {
+                for x in l.x * side..(l.x + 1) * side {
+                    cover[b * (fine * fine) as usize + (y * fine + x) as usize] += 1;
+                }
+            }
+        }
+    }
+    assert!(cover.iter().all(|&c| c == 1), "every cell once");
+    for (b, block) in blocks.iter().enumerate() {
+        assert_eq!(block.depth, deepest[b], "block {b}");
+    }
+    // Faces far from a semi-sharp edge stay whole; the refined band is a
+    // small part of what uniform refinement would evaluate.
+    assert!(blocks.iter().any(|b| b.depth == 0));
+    let evaluated: usize = parts.iter().map(|p| p.mesh.num_faces()).sum();
+    assert!(
+        evaluated < m.num_faces() * 4usize.pow(6) / 20,
+        "{evaluated}"
+    );
+}
+
+#[test]
+fn adaptive_vertices_are_the_uniform_refinement_vertices() {
+    let (m, f) = single_crease();
+    let parts = refine_adaptive(&m, &f, 3, 8, 32).expect("refine");
+    for p in &parts {
+        for r in 0..p.mesh.num_vertices() {
+            assert!((row_sum(&p.stencils, r) - 1.0).abs() < 1e-6, "row {r}");
+        }
+        let uniform = refine(&m, &f, p.levels, 32).expect("uniform");
+        // The same points, each from a stencil composed in the same order.
+        let mut at: std::collections::HashMap<[u32; 3], usize> = Default::default();
+        for (v, q) in uniform.mesh.positions.iter().enumerate() {
+            at.insert(q.map(f32::to_bits), v);
+        }
+        for (v, q) in p.mesh.positions.iter().enumerate() {
+            let u = at.get(&q.map(f32::to_bits));
+            assert!(u.is_some(), "depth {}: vertex {v} {q:?}", p.levels);
+        }
+        // Sharpness left on the kept edges is the uniform one.
+        let mut left: Vec<f32> = p.features.edge_sharpness.values().copied().collect();
+        left.sort_by(f32::total_cmp);
+        left.dedup();
+        let mut want: Vec<f32> = uniform.features.edge_sharpness.values().copied().collect();
+        want.sort_by(f32::total_cmp);
+        want.dedup();
+        assert!(left.iter().all(|s| want.contains(s)), "depth {}", p.levels);
+    }
+}
+
+#[test]
+fn adaptive_without_features_is_one_part() {
+    let m = cube();
+    let parts = refine_adaptive(&m, &Features::new(), 6, 8, 32).expect("refine");
+    assert_eq!(parts.len(), 1);
+    assert_eq!(parts[0].levels, 0);
+    assert_eq!(parts[0].mesh.num_faces(), 6);
+    // A semi-sharp edge: the faces on both sides are refined, not the rest.
+    let f = Features::new().with_crease(0, 1, 1.5);
+    let parts = refine_adaptive(&m, &f, 6, 8, 32).expect("refine");
+    assert_eq!(parts.iter().map(|p| p.levels).max(), Some(2));
+    let whole = parts[0].blocks.iter().filter(|b| b.depth == 0).count();
+    assert!(whole > 0 && whole < 6, "{whole} whole faces");
+}
