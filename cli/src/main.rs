@@ -62,6 +62,9 @@ struct CompareArgs {
     #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
           value_parser = clap::value_parser!(u32).range(0..=6))]
     crease_refinement: u32,
+    /// Catmull-Clark steps around extraordinary vertices before the scheme takes over (as `tessellate --isolate`).
+    #[arg(long, value_name = "K", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=6))]
+    isolate: u32,
     /// Limit samples: a CCLIM001 .bin file, or a directory holding <mesh name>.bin.
     #[arg(long, value_name = "DIR|FILE")]
     reference: Option<PathBuf>,
@@ -235,6 +238,9 @@ struct TessellateArgs {
     #[arg(long, value_name = "K", default_value_t = tessgen_runtime::tessellate::refined::DEFAULT_CREASE_REFINEMENT,
           value_parser = clap::value_parser!(u32).range(0..=6))]
     crease_refinement: u32,
+    /// Quad schemes with an extraordinary class, uniform level: K Catmull-Clark steps around extraordinary vertices first (OpenSubdiv's isolation level), so the scheme approximates only the faces next to them, 2^-K of the size (feature-adaptive: the rest of the mesh is not refined). 0: the scheme approximates every extraordinary face.
+    #[arg(long, value_name = "K", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=6))]
+    isolate: u32,
     /// stpn: crease tags (`tag V [tension T] [sharpness S] [bias B] [delta X Y Z]`, `side F V ±1`; 1-based indices). Without it stpn is plain PN.
     #[arg(long, value_name = "FILE")]
     tags: Option<PathBuf>,
@@ -619,7 +625,8 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     }
     .on(runtime_backend(args.backend)?)
     .split_quads(args.split_quads)
-    .crease_refinement(args.crease_refinement);
+    .crease_refinement(args.crease_refinement)
+    .isolate(args.isolate);
     if let Some(t) = &tags {
         request = request.tagged(t);
     }
@@ -829,8 +836,9 @@ fn compare(args: &CompareArgs) -> CmdResult {
     let mut rows = Vec::new();
     let mut failed = false;
     for scheme in &args.schemes {
-        let request =
-            Request::uniform(scheme, args.level).crease_refinement(args.crease_refinement);
+        let request = Request::uniform(scheme, args.level)
+            .crease_refinement(args.crease_refinement)
+            .isolate(args.isolate);
         match accuracy::compare_with(&mesh, &request, limit.as_ref()) {
             Ok(r) => rows.push(r),
             Err(e) => {

@@ -109,25 +109,53 @@ pub fn depth_cap(level: u32) -> u32 {
     }
 }
 
+/// What a request asks of the refinement ([`RefinedDomain::for_mesh`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RefineOptions {
+    /// The uniform level (`None`: adaptive sampling).
+    pub level: Option<u32>,
+    /// [`super::Request::crease_refinement`].
+    pub crease_cap: u32,
+    /// [`super::Request::isolate`]: steps around extraordinary vertices.
+    pub isolate: u32,
+    pub max_valence: u32,
+    /// Whether the scheme can run a partial mesh (it has an extraordinary
+    /// class); `regular` cannot.
+    pub feature_adaptive: bool,
+}
+
+impl RefineOptions {
+    /// Whether [`RefineOptions::isolate`] can be applied: uniform sampling
+    /// and a scheme that refines feature-adaptively.
+    pub fn isolates(&self) -> bool {
+        self.isolate > 0 && self.level.is_some() && self.feature_adaptive
+    }
+}
+
 impl RefinedDomain {
     /// Builds the refinement for `mesh` if it needs one (empty if not):
     /// one domain per depth, shallowest first. Uniform requests refine
     /// feature-adaptively (only around semi-sharp features, as deep as
-    /// `⌈s⌉`, `crease_cap` and [`depth_cap`] allow); adaptive requests, and
-    /// schemes without an extraordinary class (`regular`, which cannot
-    /// take the irregular rim of a partial mesh), refine uniformly.
-    #[allow(clippy::too_many_arguments)]
+    /// `⌈s⌉`, `crease_cap` and [`depth_cap`] allow, and around
+    /// extraordinary vertices as deep as `isolate` asks); adaptive
+    /// requests, and schemes without an extraordinary class (`regular`,
+    /// which cannot take the irregular rim of a partial mesh), refine
+    /// uniformly.
     pub fn for_mesh(
         mesh: &crate::mesh::Mesh,
         features: &Features,
         warnings: &[FeatureWarning],
-        level: Option<u32>,
-        crease_cap: u32,
-        max_valence: u32,
-        feature_adaptive: bool,
+        o: &RefineOptions,
     ) -> Result<Vec<RefinedDomain>, super::Error> {
+        let RefineOptions {
+            level,
+            crease_cap,
+            max_valence,
+            feature_adaptive,
+            ..
+        } = *o;
         let need = refine::need(mesh, features);
-        if need.levels() == 0 {
+        if need.levels() == 0 && !o.isolates() {
             return Ok(Vec::new());
         }
         if let (Some(n), true) = (level, need.non_quads > 0) {
@@ -145,13 +173,22 @@ impl RefinedDomain {
             }
         }
         let polygons = u32::from(need.non_quads > 0);
+        let mut isolated = 0;
         let (parts, steps, creases, adaptive_steps) = match (level, feature_adaptive) {
             (Some(n), true) => {
                 let creases = need.crease_levels().min(crease_cap).min(depth_cap(n));
-                let depth = creases.max(polygons);
-                let parts = refine::refine_adaptive(mesh, features, depth, n, max_valence)
+                let depths = refine::Depths {
+                    features: creases.max(polygons),
+                    isolate: o.isolate.min(depth_cap(n)),
+                };
+                let parts = refine::refine_adaptive(mesh, features, depths, n, max_valence)
                     .map_err(crate::cpu::TessError::from)?;
-                (parts, depth, creases, true)
+                // Isolation asked of a mesh without extraordinary faces.
+                if parts.len() == 1 && parts[0].levels == 0 && need.levels() == 0 {
+                    return Ok(Vec::new());
+                }
+                isolated = depths.isolate;
+                (parts, depths.max(), creases, true)
             }
             _ => {
                 let (steps, creases) = choose_levels(&need, level, crease_cap);
@@ -219,6 +256,17 @@ impl RefinedDomain {
         } else {
             format!("{}× the patches", 1u64 << (2 * steps))
         };
+        if isolated > 0 {
+            notes.push(format!(
+                "extraordinary vertices isolated by {isolated} Catmull-Clark steps (the scheme \
+                 approximates only the faces next to them){}",
+                if need.max_semi_sharpness > 0.0 {
+                    String::new()
+                } else {
+                    format!(" ({cost})")
+                }
+            ));
+        }
         if need.max_semi_sharpness > 0.0 {
             notes.push(if resolved {
                 format!(

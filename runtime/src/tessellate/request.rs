@@ -110,6 +110,11 @@ pub struct Request<'a> {
     /// ([`super::refined`]; default [`super::refined::DEFAULT_CREASE_REFINEMENT`],
     /// 0 applies them as infinitely sharp).
     pub crease_refinement: u32,
+    /// Catmull-Clark steps around extraordinary vertices before the scheme
+    /// takes over (OpenSubdiv's isolation level; default 0: the scheme
+    /// approximates every extraordinary face). Uniform sampling, schemes
+    /// with an extraordinary class.
+    pub isolate: u32,
 }
 
 impl<'a> Request<'a> {
@@ -132,6 +137,7 @@ impl<'a> Request<'a> {
             tags: None,
             split_quads: false,
             crease_refinement: super::refined::DEFAULT_CREASE_REFINEMENT,
+            isolate: 0,
         }
     }
 
@@ -139,6 +145,25 @@ impl<'a> Request<'a> {
     pub fn crease_refinement(mut self, steps: u32) -> Self {
         self.crease_refinement = steps;
         self
+    }
+
+    /// `steps` Catmull-Clark steps around extraordinary vertices (at most
+    /// [`crate::mesh::refine::MAX_REFINE_LEVELS`], and what the level
+    /// allows: [`super::refined::depth_cap`]).
+    pub fn isolate(mut self, steps: u32) -> Self {
+        self.isolate = steps;
+        self
+    }
+
+    /// Whether `kernels` can run the partial meshes of a feature-adaptive
+    /// refinement (its irregular rim): schemes with an extraordinary class.
+    fn has_extraordinary_class(kernels: &SchemeKernels) -> bool {
+        kernels.classes.iter().any(|c| c.class == "extraordinary")
+    }
+
+    /// Uniform sampling with a scheme that refines feature-adaptively.
+    fn refines_adaptively(&self, kernels: &SchemeKernels) -> bool {
+        matches!(self.sampling, Sampling::Uniform(_)) && Self::has_extraordinary_class(kernels)
     }
 
     pub fn on(mut self, backend: Backend) -> Self {
@@ -211,17 +236,16 @@ impl<'a> Request<'a> {
                 Sampling::Adaptive(_) => None,
             };
             let opts = cpu::topology_options();
-            let feature_adaptive = kernels.classes.iter().any(|c| c.class == "extraordinary");
-            let mut parts = RefinedDomain::for_mesh(
-                mesh,
-                &features,
-                &warnings,
+            let feature_adaptive = Self::has_extraordinary_class(kernels);
+            let refine = super::refined::RefineOptions {
                 level,
-                self.crease_refinement,
-                opts.max_valence,
+                crease_cap: self.crease_refinement,
+                isolate: self.isolate,
+                max_valence: opts.max_valence,
                 feature_adaptive,
-            )?
-            .into_iter();
+            };
+            let mut parts =
+                RefinedDomain::for_mesh(mesh, &features, &warnings, &refine)?.into_iter();
             refined = parts.next().map(Box::new);
             let topo = match &refined {
                 Some(r) => refined_topology(r, kernels)?,
@@ -285,6 +309,19 @@ impl<'a> Request<'a> {
         };
         if let Some(r) = &refined {
             notes.clone_from(&r.notes);
+        }
+        if self.isolate > 0 && !(kernels.sides == 4 && self.refines_adaptively(kernels)) {
+            notes.push(format!(
+                "isolation ({} steps) not applied: it takes a uniform level and a quad scheme \
+                 with an extraordinary class (not {}{})",
+                self.isolate,
+                self.scheme,
+                if matches!(self.sampling, Sampling::Adaptive(_)) {
+                    ", adaptive"
+                } else {
+                    ""
+                }
+            ));
         }
         Ok(Validated {
             request: self,

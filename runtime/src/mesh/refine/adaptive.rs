@@ -16,6 +16,13 @@
 //! edge — the faces whose limit the sharp rules still change — and every
 //! face at `d = 0` when the mesh has non-quads (one step makes them quads).
 //!
+//! With [`Depths::isolate`] `k > 0`, the leaves-to-be of depth `d < k` that
+//! are not one bicubic patch (a corner of valence ≠ 4, an irregular sector:
+//! [`FaceClass::Extraordinary`] of the depth's topology) are refined too, as
+//! OpenSubdiv's isolation level does: after `k` steps an extraordinary
+//! vertex's patches are `2⁻ᵏ` of the face around it, and the faces between
+//! are regular, so exact. The schemes' approximation is left only there.
+//!
 //! Why the kept vertices are exact: `M_{d+1}` is the children of `S_d`, the
 //! faces of `M_d` that share a vertex with `R_d` (plus whatever keeps the
 //! mesh manifold). A child vertex is exact when the faces around its
@@ -29,8 +36,71 @@ use super::stencil;
 use super::step::{self, Level};
 use super::{Block, Refinement, State};
 use crate::mesh::features::{is_semi_sharp, Features};
-use crate::mesh::topology::TopologyError;
-use crate::mesh::Mesh;
+use crate::mesh::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
+use crate::mesh::{Mesh, NO_NORMAL};
+
+/// How deep [`refine_adaptive`] refines, per reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Depths {
+    /// Steps around semi-sharp creases and corners (`⌈s⌉` resolves a
+    /// crease of sharpness `s`); at least 1 when the mesh has non-quads.
+    pub features: u32,
+    /// Steps around faces that are not one bicubic patch (extraordinary
+    /// vertices, irregular sectors): OpenSubdiv's isolation level. 0: none.
+    pub isolate: u32,
+}
+
+impl Depths {
+    /// The deepest step either reason takes, capped at
+    /// [`super::MAX_REFINE_LEVELS`].
+    pub fn max(self) -> u32 {
+        self.features
+            .max(self.isolate)
+            .min(super::MAX_REFINE_LEVELS)
+    }
+}
+
+/// Per face of `level`: whether it is not one bicubic patch, by the
+/// topology a scheme would build on that depth's mesh. Only asked of
+/// faces whose corners have their whole ring in `level` (children of
+/// refined faces), so the rim of a partial mesh does not count.
+fn irregular(
+    level: &Level,
+    features: &Features,
+    max_valence: u32,
+) -> Result<Vec<bool>, TopologyError> {
+    let nc = level.face_vertices.len();
+    let mesh = Mesh {
+        positions: vec![[0.0; 3]; level.num_vertices],
+        face_offsets: level.face_offsets.clone(),
+        face_vertices: level.face_vertices.clone(),
+        tags: Vec::new(),
+        normals: Vec::new(),
+        face_normals: vec![NO_NORMAL; nc],
+        texcoords: Vec::new(),
+        face_texcoords: Vec::new(),
+    };
+    let features = Features {
+        boundary: features.boundary,
+        edge_sharpness: level.edge_sharpness.iter().map(|(&e, &s)| (e, s)).collect(),
+        vertex_sharpness: level
+            .vertex_sharpness
+            .iter()
+            .map(|(&v, &s)| (v, s))
+            .collect(),
+        holes: Default::default(),
+    };
+    let opts = TopologyOptions {
+        max_valence,
+        require_quads: false,
+    };
+    let topo = Topology::build_with(&mesh, &opts, &features)?;
+    Ok(topo
+        .classes
+        .iter()
+        .map(|&c| c == FaceClass::Extraordinary)
+        .collect())
+}
 
 /// Per face of `level`: whether a corner vertex has a semi-sharp vertex
 /// sharpness or a semi-sharp interior incident edge.
@@ -194,18 +264,19 @@ fn restrict(child: &Level, parent_offsets: &[u32], keep: &[bool]) -> (Level, Vec
     (out, old)
 }
 
-/// Refines `mesh` adaptively around its semi-sharp features, at most
-/// `max_depth` steps (module docs): one [`Refinement`] per depth with
-/// leaves, shallowest first, all with the same [`Refinement::blocks`].
-/// The base mesh is checked as [`super::refine`] checks it.
+/// Refines `mesh` adaptively around its semi-sharp features (and, with
+/// [`Depths::isolate`], its extraordinary vertices), as deep as `depths`
+/// says (module docs): one [`Refinement`] per depth with leaves, shallowest
+/// first, all with the same [`Refinement::blocks`]. The base mesh is
+/// checked as [`super::refine`] checks it.
 pub fn refine_adaptive(
     mesh: &Mesh,
     features: &Features,
-    max_depth: u32,
+    depths: Depths,
     level: u32,
     max_valence: u32,
 ) -> Result<Vec<Refinement>, TopologyError> {
-    let max_depth = max_depth.min(super::MAX_REFINE_LEVELS);
+    let max_depth = depths.max();
     let mut blocks: Vec<Block> = Vec::new();
     let mut state = State::start(mesh, features, max_valence, &mut blocks)?;
     let non_quads = (0..mesh.num_faces()).any(|f| mesh.face(f).len() != 4);
@@ -218,13 +289,24 @@ pub fn refine_adaptive(
         } else if d == 0 && non_quads {
             vec![true; state.level.num_faces()]
         } else {
-            touches_semi_sharp(&state.level)
-                .iter()
-                .zip(&active)
-                .zip(&state.empty)
-                .zip(&state.leaves)
-                .map(|(((&t, &a), &e), l)| {
-                    t && a && !e && has_sample(&blocks[l.block as usize], l, d, level)
+            let n = state.level.num_faces();
+            let semi = if d < depths.features {
+                touches_semi_sharp(&state.level)
+            } else {
+                vec![false; n]
+            };
+            let odd = if d < depths.isolate {
+                irregular(&state.level, features, max_valence)?
+            } else {
+                vec![false; n]
+            };
+            (0..n)
+                .map(|f| {
+                    let l = &state.leaves[f];
+                    (semi[f] || odd[f])
+                        && active[f]
+                        && !state.empty[f]
+                        && has_sample(&blocks[l.block as usize], l, d, level)
                 })
                 .collect()
         };

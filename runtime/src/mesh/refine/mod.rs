@@ -21,7 +21,7 @@ mod adaptive;
 mod stencil;
 mod step;
 
-pub use adaptive::refine_adaptive;
+pub use adaptive::{refine_adaptive, Depths};
 pub use stencil::StencilTable;
 pub use step::QUAD_CHILD_OFFSET;
 

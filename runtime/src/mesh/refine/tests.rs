@@ -199,7 +199,17 @@ fn single_crease() -> (Mesh, Features) {
 #[test]
 fn adaptive_depths_cover_every_block_once() {
     let (m, f) = single_crease();
-    let parts = refine_adaptive(&m, &f, 6, 8, 32).expect("refine");
+    let parts = refine_adaptive(
+        &m,
+        &f,
+        Depths {
+            features: 6,
+            isolate: 0,
+        },
+        8,
+        32,
+    )
+    .expect("refine");
     let depths: Vec<u32> = parts.iter().map(|p| p.levels).collect();
     assert_eq!(depths, vec![0, 1, 2, 3, 4, 5, 6], "one part per depth");
     let blocks = &parts[0].blocks;
@@ -242,7 +252,17 @@ fn adaptive_depths_cover_every_block_once() {
 #[test]
 fn adaptive_vertices_are_the_uniform_refinement_vertices() {
     let (m, f) = single_crease();
-    let parts = refine_adaptive(&m, &f, 3, 8, 32).expect("refine");
+    let parts = refine_adaptive(
+        &m,
+        &f,
+        Depths {
+            features: 3,
+            isolate: 0,
+        },
+        8,
+        32,
+    )
+    .expect("refine");
     for p in &parts {
         for r in 0..p.mesh.num_vertices() {
             assert!((row_sum(&p.stencils, r) - 1.0).abs() < 1e-6, "row {r}");
@@ -271,14 +291,71 @@ fn adaptive_vertices_are_the_uniform_refinement_vertices() {
 #[test]
 fn adaptive_without_features_is_one_part() {
     let m = cube();
-    let parts = refine_adaptive(&m, &Features::new(), 6, 8, 32).expect("refine");
+    let parts = refine_adaptive(
+        &m,
+        &Features::new(),
+        Depths {
+            features: 6,
+            isolate: 0,
+        },
+        8,
+        32,
+    )
+    .expect("refine");
     assert_eq!(parts.len(), 1);
     assert_eq!(parts[0].levels, 0);
     assert_eq!(parts[0].mesh.num_faces(), 6);
     // A semi-sharp edge: the faces on both sides are refined, not the rest.
     let f = Features::new().with_crease(0, 1, 1.5);
-    let parts = refine_adaptive(&m, &f, 6, 8, 32).expect("refine");
+    let parts = refine_adaptive(
+        &m,
+        &f,
+        Depths {
+            features: 6,
+            isolate: 0,
+        },
+        8,
+        32,
+    )
+    .expect("refine");
     assert_eq!(parts.iter().map(|p| p.levels).max(), Some(2));
     let whole = parts[0].blocks.iter().filter(|b| b.depth == 0).count();
     assert!(whole > 0 && whole < 6, "{whole} whole faces");
+}
+
+#[test]
+fn isolation_refines_around_extraordinary_vertices_only() {
+    // Every child of a cube face has a valence-3 corner, so depth 1 has no
+    // leaves; from depth 2 on, 3 of the 4 children of a refined face are
+    // regular leaves and the corner child is refined again.
+    let m = cube();
+    let d = Depths {
+        features: 0,
+        isolate: 3,
+    };
+    let parts = refine_adaptive(&m, &Features::new(), d, 8, 32).expect("refine");
+    assert_eq!(parts.iter().map(|p| p.levels).collect::<Vec<_>>(), [2, 3]);
+    assert!(parts[0].blocks.iter().all(|b| b.depth == 3));
+    let leaves = |p: &Refinement| p.mesh.num_faces() - p.features.holes.len();
+    assert_eq!(
+        (leaves(&parts[0]), leaves(&parts[1])),
+        (6 * 4 * 3, 6 * 4 * 4)
+    );
+    let d = Depths {
+        features: 0,
+        isolate: 2,
+    };
+    // righthanded: faces far from its extraordinary vertices stay whole.
+    let (x, f) = {
+        let m = data("catmark_righthanded.obj");
+        let (f, _) = Features::from_mesh(&m).expect("tags");
+        (m, f)
+    };
+    let parts = refine_adaptive(&x, &f, d, 8, 32).expect("refine");
+    let whole = parts[0].blocks.iter().filter(|b| b.depth == 0).count();
+    assert!(
+        whole > 0 && whole < x.num_faces(),
+        "{whole} of {}",
+        x.num_faces()
+    );
 }
