@@ -133,15 +133,6 @@ vec3 load_control_points(uint i) {
 
 #endif
 
-// Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
-vec3 tessgen_normalize(vec3 x) {
-    float len2 = dot(x, x);
-    if (len2 > 0.0) {
-        return (x / sqrt(len2));
-    }
-    return x;
-}
-
 // Cubic Bézier point and derivative by symmetric de Casteljau: every lerp is `x·l + y·r`.
 Curve tessgen_cubic(vec3 b0, vec3 b1, vec3 b2, vec3 b3, float l, float r) {
     vec3 c0 = ((b0 * l) + (b1 * r));
@@ -174,7 +165,18 @@ precise vec3 tessgen_edge(vec3 b0, vec3 b1, vec3 b2, vec3 b3, uint i, uint level
     return ((d0 * l) + (d1 * r));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+vec3 tessgen_patch_normal(vec3 a, vec3 b) {
+    vec3 c = cross(a, b);
+    float c2 = dot(c, c);
+    float ab = (dot(a, a) * dot(b, b));
+    if (c2 <= (1e-8 * ab)) {
+        return vec3(0.0, 0.0, 0.0);
+    }
+    return (c / sqrt(c2));
+}
+
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
 Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -186,10 +188,10 @@ Sample ordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     Curve row3 = tessgen_cubic(load_patch_cp((cp_base + 3u)), load_patch_cp((cp_base + 7u)), load_patch_cp((cp_base + 11u)), load_patch_cp((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+    return Sample(along_v.point, tessgen_patch_normal(along_u.point, along_v.tangent));
 }
 
-// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v).
 Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -280,16 +282,25 @@ Sample extraordinary_surface(uint cp_base, uint iu, uint iv, uint level) {
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     vec3 du = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
     vec3 dv = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-    return Sample(along_v.point, tessgen_normalize(cross(du, dv)));
+    return Sample(along_v.point, tessgen_patch_normal(du, dv));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     if (class_ == 0u) {
         sample_ = ordinary_surface(cp_base, iu, iv, level);
     } else {
         sample_ = extraordinary_surface(cp_base, iu, iv, level);
+    }
+    if (dot(sample_.normal, sample_.normal) == 0.0) {
+        Sample inner = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+        if (class_ == 0u) {
+            inner = ordinary_surface(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        } else {
+            inner = extraordinary_surface(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        }
+        sample_.normal = inner.normal;
     }
 #ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
@@ -401,7 +412,7 @@ precise vec3 tessgen_displace(vec3 p, vec3 n, float d) {
     return (p + (n * d));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -413,10 +424,10 @@ Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     Curve row3 = tessgen_cubic(load_control_points((cp_base + 3u)), load_control_points((cp_base + 7u)), load_control_points((cp_base + 11u)), load_control_points((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+    return Sample(along_v.point, tessgen_patch_normal(along_u.point, along_v.tangent));
 }
 
-// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -507,16 +518,25 @@ Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) 
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     vec3 du = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
     vec3 dv = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-    return Sample(along_v.point, tessgen_normalize(cross(du, dv)));
+    return Sample(along_v.point, tessgen_patch_normal(du, dv));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     if (class_ == 0u) {
         sample_ = ordinary_surface_global(cp_base, iu, iv, level);
     } else {
         sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
+    }
+    if (dot(sample_.normal, sample_.normal) == 0.0) {
+        Sample inner = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
+        if (class_ == 0u) {
+            inner = ordinary_surface_global(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        } else {
+            inner = extraordinary_surface_global(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        }
+        sample_.normal = inner.normal;
     }
 #ifndef TESSGEN_NO_BOUNDARY_PATH
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {

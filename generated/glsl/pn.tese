@@ -187,7 +187,7 @@ Sample triangle_surface(uint cp_base, uint iu, uint iv, uint level) {
     return triangle_surface_at(cp_base, w0, w1, w2);
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 Sample eval(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     sample_ = triangle_surface(cp_base, iu, iv, level);
@@ -333,7 +333,7 @@ Sample triangle_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     return triangle_surface_at_global(cp_base, w0, w1, w2);
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = Sample(vec3(0.0, 0.0, 0.0), vec3(0.0, 0.0, 0.0));
     sample_ = triangle_surface_global(cp_base, iu, iv, level);

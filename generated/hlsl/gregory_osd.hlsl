@@ -233,15 +233,6 @@ Curve make_Curve(float3 point_, float3 tangent) {
     return s;
 }
 
-// Unit vector along `x`; a zero vector stays zero instead of becoming NaN.
-float3 tessgen_normalize(float3 x) {
-    float len2 = dot(x, x);
-    if ((len2 > 0.0f)) {
-        return (x / sqrt(len2));
-    }
-    return x;
-}
-
 // Cubic Bézier point and derivative by symmetric de Casteljau: every lerp is `x·l + y·r`.
 Curve tessgen_cubic(float3 b0, float3 b1, float3 b2, float3 b3, float l, float r) {
     float3 c0 = ((b0 * l) + (b1 * r));
@@ -326,6 +317,17 @@ precise void tessgen_refine_vertex(uint v) {
         acc = (acc + (fetch_refine_base(refine_indices[j]) * refine_weights[j]));
     }
     store_refined_positions(v, acc);
+}
+
+// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+float3 tessgen_patch_normal(float3 a, float3 b) {
+    float3 c = cross(a, b);
+    float c2 = dot(c, c);
+    float ab = (dot(a, a) * dot(b, b));
+    if ((c2 <= (1e-8f * ab))) {
+        return float3(0.0f, 0.0f, 0.0f);
+    }
+    return (c / sqrt(c2));
 }
 
 // ---- module `gregory_osd` ----
@@ -552,7 +554,7 @@ void extraordinary_patch(inout float3 cp_out[KMAX], uint face, uint cp_base) {
     cp_out[(cp_base + 19u)] = (((((c_2 * v_3) + (((3.0f - (2.0f * c_3)) - c_2) * e_3_1)) + ((2.0f * c_3) * e_2_0)) - r_3_1) / 3.0f);
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
 Sample ordinary_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -564,10 +566,10 @@ Sample ordinary_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint
     Curve row3 = tessgen_cubic(cp[(cp_base + 3u)], cp[(cp_base + 7u)], cp[(cp_base + 11u)], cp[(cp_base + 15u)], lu, ru);
     Curve along_v = tessgen_cubic(row0.point_, row1.point_, row2.point_, row3.point_, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return make_Sample(along_v.point_, tessgen_normalize(cross(along_u.point_, along_v.tangent)));
+    return make_Sample(along_v.point_, tessgen_patch_normal(along_u.point_, along_v.tangent));
 }
 
-// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v).
 Sample extraordinary_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -658,16 +660,25 @@ Sample extraordinary_surface(in float3 cp[KMAX], uint cp_base, uint iu, uint iv,
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     float3 du = (along_u.point_ + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
     float3 dv = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-    return make_Sample(along_v.point_, tessgen_normalize(cross(du, dv)));
+    return make_Sample(along_v.point_, tessgen_patch_normal(du, dv));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 Sample eval(in float3 cp[KMAX], uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
     if ((class_ == 0u)) {
         sample_ = ordinary_surface(cp, cp_base, iu, iv, level);
     } else {
         sample_ = extraordinary_surface(cp, cp_base, iu, iv, level);
+    }
+    if ((dot(sample_.normal, sample_.normal) == 0.0f)) {
+        Sample inner = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+        if ((class_ == 0u)) {
+            inner = ordinary_surface(cp, cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        } else {
+            inner = extraordinary_surface(cp, cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        }
+        sample_.normal = inner.normal;
     }
 #ifndef TESSGEN_NO_BOUNDARY_PATH
     if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {
@@ -788,7 +799,7 @@ precise float3 tessgen_displace(float3 p, float3 n, float d) {
     return (p + (n * d));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -800,10 +811,10 @@ Sample ordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     Curve row3 = tessgen_cubic(fetch_control_points((cp_base + 3u)), fetch_control_points((cp_base + 7u)), fetch_control_points((cp_base + 11u)), fetch_control_points((cp_base + 15u)), lu, ru);
     Curve along_v = tessgen_cubic(row0.point_, row1.point_, row2.point_, row3.point_, lv, rv);
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return make_Sample(along_v.point_, tessgen_normalize(cross(along_u.point_, along_v.tangent)));
+    return make_Sample(along_v.point_, tessgen_patch_normal(along_u.point_, along_v.tangent));
 }
 
-// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v). (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) {
     float lu = (float((level - iu)) / float(level));
     float ru = (float(iu) / float(level));
@@ -894,16 +905,25 @@ Sample extraordinary_surface_global(uint cp_base, uint iu, uint iv, uint level) 
     Curve along_u = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
     float3 du = (along_u.point_ + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
     float3 dv = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-    return make_Sample(along_v.point_, tessgen_normalize(cross(du, dv)));
+    return make_Sample(along_v.point_, tessgen_patch_normal(du, dv));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it. (Copy reading the global control-point buffer: how the displacing tessellation stages evaluate the owner patch, and how the GLSL/HLSL compute evaluation reads every patch.)
 Sample eval_global(uint class_, uint cp_base, uint iu, uint iv, uint level) {
     Sample sample_ = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
     if ((class_ == 0u)) {
         sample_ = ordinary_surface_global(cp_base, iu, iv, level);
     } else {
         sample_ = extraordinary_surface_global(cp_base, iu, iv, level);
+    }
+    if ((dot(sample_.normal, sample_.normal) == 0.0f)) {
+        Sample inner = make_Sample(float3(0.0f, 0.0f, 0.0f), float3(0.0f, 0.0f, 0.0f));
+        if ((class_ == 0u)) {
+            inner = ordinary_surface_global(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        } else {
+            inner = extraordinary_surface_global(cp_base, (((iu * 16u) + 1u) - (2u * uint((iu == level)))), (((iv * 16u) + 1u) - (2u * uint((iv == level)))), (level * 16u));
+        }
+        sample_.normal = inner.normal;
     }
 #ifndef TESSGEN_NO_BOUNDARY_PATH
     if ((((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level)))) {

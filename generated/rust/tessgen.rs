@@ -296,6 +296,17 @@ pub mod common {
         }
         out[(v) as usize] = acc;
     }
+    
+    /// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+    pub fn tessgen_patch_normal(a: Vec3, b: Vec3) -> Vec3 {
+        let c: Vec3 = a.cross(b);
+        let c2: f32 = c.dot(c);
+        let ab: f32 = (a.dot(a) * b.dot(b));
+        if (c2 <= (1e-8f32 * ab)) {
+            return Vec3::new(0.0f32, 0.0f32, 0.0f32);
+        }
+        return (c / c2.sqrt());
+    }
 }
 
 /// Regular bicubic patches: the uniform bicubic B-spline of an all-valence-4
@@ -444,7 +455,7 @@ pub mod regular {
         out[((cp_base + 6u32)) as usize] = f_3_0;
     }
     
-    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
     pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -456,13 +467,18 @@ pub mod regular {
         let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
         let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(along_u.point, along_v.tangent) };
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         sample = ordinary_surface(cp, cp_base, iu, iv, level);
+        if (sample.normal.dot(sample.normal) == 0.0f32) {
+            let mut inner: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+            inner = ordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            sample.normal = inner.normal;
+        }
         if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
             let mut edge: u32 = 3u32;
             let mut t: u32 = (level - iv);
@@ -1068,7 +1084,7 @@ pub mod pccm {
         out[((cp_base + 23u32)) as usize] = ((gstar + (0.1875f32 * (((b211_3 + b121_3) - b211_2) - b121_0))) + (0.0625f32 * (((b211_0 + b121_2) - b211_1) - b121_1)));
     }
     
-    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
     pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -1080,7 +1096,7 @@ pub mod pccm {
         let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
         let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(along_u.point, along_v.tangent) };
     }
     
     /// C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points.
@@ -1166,16 +1182,25 @@ pub mod pccm {
         let s1_100: Vec3 = (((s2_200 * la) + (s2_110 * lb)) + (s2_101 * lc));
         let s1_010: Vec3 = (((s2_110 * la) + (s2_020 * lb)) + (s2_011 * lc));
         let s1_001: Vec3 = (((s2_101 * la) + (s2_011 * lb)) + (s2_002 * lc));
-        return Sample { position: (((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), normal: tessgen_normalize((s1_010 - s1_100).cross((s1_001 - s1_100))) };
+        return Sample { position: (((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), normal: tessgen_patch_normal((s1_010 - s1_100), (s1_001 - s1_100)) };
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         if (class == 0u32) {
             sample = ordinary_surface(cp, cp_base, iu, iv, level);
         } else {
             sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (sample.normal.dot(sample.normal) == 0.0f32) {
+            let mut inner: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+            if (class == 0u32) {
+                inner = ordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            } else {
+                inner = extraordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            }
+            sample.normal = inner.normal;
         }
         if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
             let mut edge: u32 = 3u32;
@@ -1780,7 +1805,7 @@ pub mod acc {
         out[((cp_base + 35u32)) as usize] = ((3.0f32 * (f_3_0 - e_3_1)) - ((((2.0f32 * c_3) * mid_2) + (c_2 * t_3_1)) / 3.0f32));
     }
     
-    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
     pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -1792,10 +1817,10 @@ pub mod acc {
         let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
         let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(along_u.point, along_v.tangent) };
     }
     
-    /// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here.
+    /// ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch (points 0..16); normal = tessgen_patch_normal(U, V) from the tangent patches U (quadratic in u, cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per corner in the corner's own frame (points 16..40) and mapped back with its signs here.
     pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -1833,16 +1858,25 @@ pub mod acc {
         let vcol3_1: Vec3 = ((cp[((cp_base + 24u32)) as usize] * lv) + ((-cp[((cp_base + 32u32)) as usize]) * rv));
         let vcol3: Vec3 = ((vcol3_0 * lv) + (vcol3_1 * rv));
         let tangent_v: Curve = tessgen_cubic(vcol0, vcol1, vcol2, vcol3, lu, ru);
-        return Sample { position: position, normal: tessgen_normalize(tangent_u.point.cross(tangent_v.point)) };
+        return Sample { position: position, normal: tessgen_patch_normal(tangent_u.point, tangent_v.point) };
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         if (class == 0u32) {
             sample = ordinary_surface(cp, cp_base, iu, iv, level);
         } else {
             sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (sample.normal.dot(sample.normal) == 0.0f32) {
+            let mut inner: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+            if (class == 0u32) {
+                inner = ordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            } else {
+                inner = extraordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            }
+            sample.normal = inner.normal;
         }
         if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
             let mut edge: u32 = 3u32;
@@ -2419,7 +2453,7 @@ pub mod gregory {
         out[((cp_base + 19u32)) as usize] = (((((c_2 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_2) * e_3_1)) + ((2.0f32 * c_3) * e_2_0)) - r_3_1) / 3.0f32);
     }
     
-    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
     pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -2431,10 +2465,10 @@ pub mod gregory {
         let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
         let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(along_u.point, along_v.tangent) };
     }
     
-    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v).
     pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -2525,16 +2559,25 @@ pub mod gregory {
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
         let du: Vec3 = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
         let dv: Vec3 = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-        return Sample { position: along_v.point, normal: tessgen_normalize(du.cross(dv)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(du, dv) };
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         if (class == 0u32) {
             sample = ordinary_surface(cp, cp_base, iu, iv, level);
         } else {
             sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (sample.normal.dot(sample.normal) == 0.0f32) {
+            let mut inner: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+            if (class == 0u32) {
+                inner = ordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            } else {
+                inner = extraordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            }
+            sample.normal = inner.normal;
         }
         if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
             let mut edge: u32 = 3u32;
@@ -3111,7 +3154,7 @@ pub mod gregory_osd {
         out[((cp_base + 19u32)) as usize] = (((((c_2 * v_3) + (((3.0f32 - (2.0f32 * c_3)) - c_2) * e_3_1)) + ((2.0f32 * c_3) * e_2_0)) - r_3_1) / 3.0f32);
     }
     
-    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+    /// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
     pub fn ordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -3123,10 +3166,10 @@ pub mod gregory_osd {
         let row3: Curve = tessgen_cubic(cp[((cp_base + 3u32)) as usize], cp[((cp_base + 7u32)) as usize], cp[((cp_base + 11u32)) as usize], cp[((cp_base + 15u32)) as usize], lu, ru);
         let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-        return Sample { position: along_v.point, normal: tessgen_normalize(along_u.point.cross(along_v.tangent)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(along_u.point, along_v.tangent) };
     }
     
-    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).
+    /// Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v).
     pub fn extraordinary_surface(cp: &[Vec3], cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let lu: f32 = (((level - iu) as f32) / (level as f32));
         let ru: f32 = ((iu as f32) / (level as f32));
@@ -3217,16 +3260,25 @@ pub mod gregory_osd {
         let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
         let du: Vec3 = (along_u.point + ((((dfm0 * ((wmf0 * inv_s2_0) * bw0)) + (dfm1 * ((wpf1 * inv_s2_1) * bw1))) + (dfm2 * (((-wmf2) * inv_s2_2) * bw2))) + (dfm3 * (((-wpf3) * inv_s2_3) * bw3))));
         let dv: Vec3 = (along_v.tangent + ((((dfm0 * (((-wpf0) * inv_s2_0) * bw0)) + (dfm1 * ((wmf1 * inv_s2_1) * bw1))) + (dfm2 * ((wpf2 * inv_s2_2) * bw2))) + (dfm3 * (((-wmf3) * inv_s2_3) * bw3))));
-        return Sample { position: along_v.point, normal: tessgen_normalize(du.cross(dv)) };
+        return Sample { position: along_v.point, normal: tessgen_patch_normal(du, dv) };
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         if (class == 0u32) {
             sample = ordinary_surface(cp, cp_base, iu, iv, level);
         } else {
             sample = extraordinary_surface(cp, cp_base, iu, iv, level);
+        }
+        if (sample.normal.dot(sample.normal) == 0.0f32) {
+            let mut inner: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
+            if (class == 0u32) {
+                inner = ordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            } else {
+                inner = extraordinary_surface(cp, cp_base, (((iu * 16u32) + 1u32) - (2u32 * ((iu == level) as u32))), (((iv * 16u32) + 1u32) - (2u32 * ((iv == level) as u32))), (level * 16u32));
+            }
+            sample.normal = inner.normal;
         }
         if (((iu == 0u32) || (iu == level)) || ((iv == 0u32) || (iv == level))) {
             let mut edge: u32 = 3u32;
@@ -3715,7 +3767,7 @@ pub mod pn {
         return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         sample = triangle_surface(cp, cp_base, iu, iv, level);
@@ -4267,7 +4319,7 @@ pub mod stpn {
         return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         sample = triangle_surface(cp, cp_base, iu, iv, level);
@@ -4770,7 +4822,7 @@ pub mod phong {
         return triangle_surface_at(cp, cp_base, w0, w1, w2);
     }
     
-    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+    /// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
     pub fn eval(cp: &[Vec3], class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = Sample { position: Vec3::new(0.0f32, 0.0f32, 0.0f32), normal: Vec3::new(0.0f32, 0.0f32, 0.0f32) };
         sample = triangle_surface(cp, cp_base, iu, iv, level);

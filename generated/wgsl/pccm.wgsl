@@ -365,6 +365,17 @@ fn tessgen_refine_vertex(v: u32) {
     store_refined_positions(v, acc);
 }
 
+// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+fn tessgen_patch_normal(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let c: vec3<f32> = cross(a, b);
+    let c2: f32 = dot(c, c);
+    let ab: f32 = (dot(a, a) * dot(b, b));
+    if (c2 <= (1e-8f * ab)) {
+        return vec3<f32>(0.0f, 0.0f, 0.0f);
+    }
+    return (c / sqrt(c2));
+}
+
 // ---- Scheme `pccm` ----
 
 // PCCM c-patches (Ni, Yeo, Myles, Goel, Peters 2008): bicubic patches on
@@ -621,7 +632,7 @@ fn extraordinary_patch(face: u32, cp_base: u32) {
     store_control_points((cp_base + 23u), ((gstar + (0.1875f * (((b211_3 + b121_3) - b211_2) - b121_0))) + (0.0625f * (((b211_0 + b121_2) - b211_1) - b121_1))));
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
 fn ordinary_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let lu: f32 = (f32((level - iu)) / f32(level));
     let ru: f32 = (f32(iu) / f32(level));
@@ -633,7 +644,7 @@ fn ordinary_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let row3: Curve = tessgen_cubic(load_control_points_ro((cp_base + 3u)), load_control_points_ro((cp_base + 7u)), load_control_points_ro((cp_base + 11u)), load_control_points_ro((cp_base + 15u)), lu, ru);
     let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+    return Sample(along_v.point, tessgen_patch_normal(along_u.point, along_v.tangent));
 }
 
 // C-patch at (iu, iv)/level (pccm.md §5.2): pick the quartic piece from integer comparisons, form its barycentric weights from integers, build its 15-point net from the 24 coefficients (§4.4), three de Casteljau steps, normal from the last three points.
@@ -719,16 +730,25 @@ fn extraordinary_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let s1_100: vec3<f32> = (((s2_200 * la) + (s2_110 * lb)) + (s2_101 * lc));
     let s1_010: vec3<f32> = (((s2_110 * la) + (s2_020 * lb)) + (s2_011 * lc));
     let s1_001: vec3<f32> = (((s2_101 * la) + (s2_011 * lb)) + (s2_002 * lc));
-    return Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_normalize(cross((s1_010 - s1_100), (s1_001 - s1_100))));
+    return Sample((((s1_100 * la) + (s1_010 * lb)) + (s1_001 * lc)), tessgen_patch_normal((s1_010 - s1_100), (s1_001 - s1_100)));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 fn eval(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     var sample: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
     if (class_ == 0u) {
         sample = ordinary_surface(cp_base, iu, iv, level);
     } else {
         sample = extraordinary_surface(cp_base, iu, iv, level);
+    }
+    if (dot(sample.normal, sample.normal) == 0.0f) {
+        var inner: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
+        if (class_ == 0u) {
+            inner = ordinary_surface(cp_base, (((iu * 16u) + 1u) - (2u * u32((iu == level)))), (((iv * 16u) + 1u) - (2u * u32((iv == level)))), (level * 16u));
+        } else {
+            inner = extraordinary_surface(cp_base, (((iu * 16u) + 1u) - (2u * u32((iu == level)))), (((iv * 16u) + 1u) - (2u * u32((iv == level)))), (level * 16u));
+        }
+        sample.normal = inner.normal;
     }
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         var edge: u32 = 3u;

@@ -365,6 +365,17 @@ fn tessgen_refine_vertex(v: u32) {
     store_refined_positions(v, acc);
 }
 
+// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+fn tessgen_patch_normal(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let c: vec3<f32> = cross(a, b);
+    let c2: f32 = dot(c, c);
+    let ab: f32 = (dot(a, a) * dot(b, b));
+    if (c2 <= (1e-8f * ab)) {
+        return vec3<f32>(0.0f, 0.0f, 0.0f);
+    }
+    return (c / sqrt(c2));
+}
+
 // ---- Scheme `pn` ----
 
 // Curved PN triangles (Vlachos, Peters, Boyd, Mitchell 2001): a cubic
@@ -502,7 +513,7 @@ fn triangle_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     return triangle_surface_at(cp_base, w0, w1, w2);
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 fn eval(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     var sample: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
     sample = triangle_surface(cp_base, iu, iv, level);

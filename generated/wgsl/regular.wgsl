@@ -365,6 +365,17 @@ fn tessgen_refine_vertex(v: u32) {
     store_refined_positions(v, acc);
 }
 
+// Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.
+fn tessgen_patch_normal(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    let c: vec3<f32> = cross(a, b);
+    let c2: f32 = dot(c, c);
+    let ab: f32 = (dot(a, a) * dot(b, b));
+    if (c2 <= (1e-8f * ab)) {
+        return vec3<f32>(0.0f, 0.0f, 0.0f);
+    }
+    return (c / sqrt(c2));
+}
+
 // ---- Scheme `regular` ----
 
 // Regular bicubic patches: the uniform bicubic B-spline of an all-valence-4
@@ -509,7 +520,7 @@ fn ordinary_patch(face: u32, cp_base: u32) {
     store_control_points((cp_base + 6u), f_3_0);
 }
 
-// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = normalize(∂u × ∂v).
+// Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the four rows, then along v on the row points (position, ∂/∂v) and on the row derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).
 fn ordinary_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let lu: f32 = (f32((level - iu)) / f32(level));
     let ru: f32 = (f32(iu) / f32(level));
@@ -521,13 +532,18 @@ fn ordinary_surface(cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     let row3: Curve = tessgen_cubic(load_control_points_ro((cp_base + 3u)), load_control_points_ro((cp_base + 7u)), load_control_points_ro((cp_base + 11u)), load_control_points_ro((cp_base + 15u)), lu, ru);
     let along_v: Curve = tessgen_cubic(row0.point, row1.point, row2.point, row3.point, lv, rv);
     let along_u: Curve = tessgen_cubic(row0.tangent, row1.tangent, row2.tangent, row3.tangent, lv, rv);
-    return Sample(along_v.point, tessgen_normalize(cross(along_u.point, along_v.tangent)));
+    return Sample(along_v.point, tessgen_patch_normal(along_u.point, along_v.tangent));
 }
 
-// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch.
+// Position and normal at (iu, iv)/level of a patch of facet class `class` (index into the scheme's patch classes). Samples on the patch boundary take their position from the one shared edge evaluator, whose curve and parameter both patches of an edge form identically; the normal comes from the patch, and where the patch's tangents are parallel (tessgen_patch_normal's zero) from one nudge inside it.
 fn eval(class_: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
     var sample: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
     sample = ordinary_surface(cp_base, iu, iv, level);
+    if (dot(sample.normal, sample.normal) == 0.0f) {
+        var inner: Sample = Sample(vec3<f32>(0.0f, 0.0f, 0.0f), vec3<f32>(0.0f, 0.0f, 0.0f));
+        inner = ordinary_surface(cp_base, (((iu * 16u) + 1u) - (2u * u32((iu == level)))), (((iv * 16u) + 1u) - (2u * u32((iv == level)))), (level * 16u));
+        sample.normal = inner.normal;
+    }
     if (((iu == 0u) || (iu == level)) || ((iv == 0u) || (iv == level))) {
         var edge: u32 = 3u;
         var t: u32 = (level - iv);

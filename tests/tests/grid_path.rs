@@ -77,6 +77,39 @@ fn quad_schemes_grid_path_matches_per_sample_path() {
     }
 }
 
+/// Patches whose tangents are parallel (`tessgen_patch_normal`'s zero:
+/// `eval` takes the normal one nudge inside): the fast path hands such a
+/// patch to the generated `eval`, so both paths still agree bit for bit.
+/// The torus squeezed onto a line is degenerate everywhere (its normals
+/// stay zero, never NaN); squeezed onto a plane it is not (unit normals).
+#[test]
+fn degenerate_patches_grid_path_matches_per_sample_path() {
+    let mesh = common::mesh("catmark_torus");
+    let (topo, positions) = common::topo_positions(&mesh);
+    for (what, squeeze) in [
+        ("a line", Vec3::new(1.0, 0.0, 0.0)),
+        ("a plane", Vec3::new(1.0, 1.0, 0.0)),
+    ] {
+        let squeezed: Vec<Vec3> = positions.iter().map(|p| *p * squeeze).collect();
+        for name in ["regular", "pccm", "gregory"] {
+            let k = cpu::scheme(name).expect("scheme");
+            let patches = cpu::construct(&topo, &squeezed, k).expect("construct");
+            same_bits(
+                &format!("{name} on the torus squeezed onto {what}"),
+                &patches,
+            );
+            let t = cpu::evaluate(&patches, 8).expect("evaluate");
+            for n in &t.normals {
+                let len = n.length();
+                assert!(
+                    len == 0.0 || (len - 1.0).abs() < 1e-5,
+                    "{name} onto {what}: {n}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn every_quad_class_is_covered() {
     for name in ["pccm", "acc", "gregory", "gregory_osd"] {

@@ -138,7 +138,52 @@ pub fn common_module(table: &StencilTable) -> Module {
     m.functions.push(crate::lower::adaptive::edge_level_fn());
     m.functions.push(crate::lower::adaptive::bucket_level_fn());
     m.functions.push(crate::lower::refine::refine_vertex_fn());
+    m.functions.push(patch_normal_fn());
     m
+}
+
+/// `tessgen_patch_normal(a, b)`: the unit normal `a × b / |a × b|` of a quad
+/// patch from its two tangents, or the zero vector where they are parallel
+/// (`|a × b|² ≤ PARALLEL_SIN2 · |a|²·|b|²`, a zero tangent included). Where
+/// a patch degenerates — the one-face corner of an edge-only boundary,
+/// whose two boundary curves leave it collinear — the cross product is
+/// rounding noise pointing anywhere (up to 180° off); the zero tells
+/// `eval` to take the normal one nudge inside the patch instead, which is
+/// the one-sided limit the surface has there. Elsewhere the bits are
+/// `tessgen_normalize(a × b)`'s.
+fn patch_normal_fn() -> Function {
+    let mut f = Function::new(
+        "tessgen_patch_normal",
+        "Unit normal from a quad patch's tangents a, b; the zero vector where they are parallel \
+         (|a × b|² ≤ PARALLEL_SIN2·|a|²·|b|²), so eval takes it just inside the patch.",
+    );
+    let a = f.param("a", Ty::Vec3);
+    let b = f.param("b", Ty::Vec3);
+    let c = f.local("c", Ty::Vec3);
+    let c2 = f.local("c2", Ty::F32);
+    let ab = f.local("ab", Ty::F32);
+    f.ret = Some(Ty::Vec3);
+    f.body = vec![
+        Stmt::Let(c, Expr::Call(Builtin::Cross, vec![l(a), l(b)])),
+        Stmt::Let(c2, Expr::Call(Builtin::Dot, vec![l(c), l(c)])),
+        Stmt::Let(
+            ab,
+            mul(
+                Expr::Call(Builtin::Dot, vec![l(a), l(a)]),
+                Expr::Call(Builtin::Dot, vec![l(b), l(b)]),
+            ),
+        ),
+        Stmt::If(
+            bin(BinOp::Le, l(c2), mul(f32c(plan::PARALLEL_SIN2), l(ab))),
+            vec![Stmt::Return(Expr::Call(
+                Builtin::Vec3,
+                vec![f32c(0.0), f32c(0.0), f32c(0.0)],
+            ))],
+            vec![],
+        ),
+        Stmt::Return(div(l(c), Expr::Call(Builtin::Sqrt, vec![l(c2)]))),
+    ];
+    f
 }
 
 /// The adaptive tessellation factor of one patch edge, from data that

@@ -14,7 +14,8 @@ pub(crate) fn eval_fn(
         "Position and normal at (iu, iv)/level of a patch of facet class `class` (index into \
          the scheme's patch classes). Samples on the patch boundary take their position from \
          the one shared edge evaluator, whose curve and parameter both patches of an edge \
-         form identically; the normal comes from the patch.",
+         form identically; the normal comes from the patch, and where the patch's tangents are \
+         parallel (tessgen_patch_normal's zero) from one nudge inside it.",
     );
     let class = f.param("class", Ty::U32);
     let cp = f.param("cp_base", Ty::U32);
@@ -23,33 +24,68 @@ pub(crate) fn eval_fn(
     let level = f.param("level", Ty::U32);
     f.ret = Some(Ty::Struct(plan::common::SAMPLE));
     let sample = f.local("sample", Ty::Struct(plan::common::SAMPLE));
-    let args = vec![l(cp), l(iu), l(iv), l(level)];
     // class dispatch: if class == 0 { … } else if … (last one unconditional)
-    let mut chain: Vec<Stmt> = vec![Stmt::Assign(
-        sample,
-        call(FnRef::Local(*surfaces.last().unwrap_or(&0)), args.clone()),
-    )];
-    for k in (0..patches.len().saturating_sub(1)).rev() {
-        chain = vec![Stmt::If(
-            bin(BinOp::Eq, l(class), u(k as u32)),
-            vec![Stmt::Assign(
-                sample,
-                call(FnRef::Local(surfaces[k]), args.clone()),
-            )],
-            chain,
+    let dispatch = |target: LocalId, args: Vec<Expr>| -> Vec<Stmt> {
+        let mut chain: Vec<Stmt> = vec![Stmt::Assign(
+            target,
+            call(FnRef::Local(*surfaces.last().unwrap_or(&0)), args.clone()),
         )];
-    }
-    f.body.push(Stmt::Var(
-        sample,
+        for k in (0..patches.len().saturating_sub(1)).rev() {
+            chain = vec![Stmt::If(
+                bin(BinOp::Eq, l(class), u(k as u32)),
+                vec![Stmt::Assign(
+                    target,
+                    call(FnRef::Local(surfaces[k]), args.clone()),
+                )],
+                chain,
+            )];
+        }
+        chain
+    };
+    let zero_sample = || {
         Expr::Make(
             plan::common::SAMPLE,
             vec![
                 Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
                 Expr::Call(Builtin::Vec3, vec![f32c(0.0), f32c(0.0), f32c(0.0)]),
             ],
-        ),
-    ));
-    f.body.extend(chain);
+        )
+    };
+    f.body.push(Stmt::Var(sample, zero_sample()));
+    f.body
+        .extend(dispatch(sample, vec![l(cp), l(iu), l(iv), l(level)]));
+    if sides == 4 {
+        // A degenerate sample (tessgen_patch_normal's zero: parallel
+        // tangents) takes the normal one nudge inside the patch, at
+        // (NUDGE·iu ± 1, NUDGE·iv ± 1) / (NUDGE·level): + at 0 and inside,
+        // − at level.
+        let inner = f.local("inner", Ty::Struct(plan::common::SAMPLE));
+        let nudged = |i: LocalId| {
+            sub(
+                add(mul(l(i), u(plan::NUDGE)), u(1)),
+                mul(
+                    u(2),
+                    Expr::Call(Builtin::U32FromBool, vec![bin(BinOp::Eq, l(i), l(level))]),
+                ),
+            )
+        };
+        let mut fix = vec![Stmt::Var(inner, zero_sample())];
+        fix.extend(dispatch(
+            inner,
+            vec![l(cp), nudged(iu), nudged(iv), mul(l(level), u(plan::NUDGE))],
+        ));
+        fix.push(Stmt::AssignField(sample, 1, field(inner, 1)));
+        let normal = field(sample, 1);
+        f.body.push(Stmt::If(
+            bin(
+                BinOp::Eq,
+                Expr::Call(Builtin::Dot, vec![normal.clone(), normal]),
+                f32c(0.0),
+            ),
+            fix,
+            vec![],
+        ));
+    }
     let edge = f.local("edge", Ty::U32);
     let t = f.local("t", Ty::U32);
     let (on_boundary, select) = if sides == 4 {

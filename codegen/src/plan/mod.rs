@@ -757,7 +757,22 @@ pub mod common_fn {
     pub const BUCKET_LEVEL: usize = 6;
     /// `tessgen_refine_vertex`: one refined vertex's stencil row.
     pub const REFINE_VERTEX: usize = 7;
+    /// `tessgen_patch_normal`: a quad patch's unit normal, zero where its
+    /// tangents are parallel (`eval` then takes it from just inside).
+    pub const PATCH_NORMAL: usize = 8;
 }
+
+/// Below this `|a × b|² / (|a|²·|b|²)` (`sin²` of the tangents' angle,
+/// `sin` ≈ 1e-4) a quad patch's tangents count as parallel: the cross
+/// product is rounding noise in any direction. Far above the noise of f32
+/// tangents (`sin` ≈ 1e-6 even on meshes far from the origin) and far below
+/// a genuine sample one nudge away (`sin` ≳ 2e-4 at level 256).
+pub const PARALLEL_SIN2: f64 = 1e-8;
+
+/// The nudge of a degenerate sample: `eval` takes its normal at
+/// `(16·iu ± 1, 16·iv ± 1) / (16·level)`, one sixteenth of a sample step
+/// into the patch (exact integers: `16·level` ≤ 2²⁰ < 2²⁴).
+pub const NUDGE: u32 = 16;
 
 /// Name of the adaptive per-edge tessellation factor.
 pub const EDGE_FACTOR_FN: &str = "tessgen_edge_factor";

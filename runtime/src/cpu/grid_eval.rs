@@ -41,6 +41,10 @@ use glam::Vec3;
 const LANES: usize = 8;
 /// The narrower strip for a grid's last few columns (one SSE register).
 const HALF: usize = 4;
+/// `tessgen_patch_normal`'s threshold (the codegen's `plan::PARALLEL_SIN2`,
+/// as f32; tests/tests/grid_path.rs checks this path against the generated
+/// `eval` on a patch with parallel tangents).
+const PARALLEL_SIN2: f32 = 1e-8;
 
 /// How one patch's grid is evaluated, chosen once per patch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,12 +113,18 @@ pub(crate) fn patch_grid(
             g.copy_from_slice(&cp[..16]);
             let mut curve = [0u32; 16];
             curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
-            match isa {
+            let degenerate = match isa {
                 Isa::Baseline => bicubic_patch(&g, &curve, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `Isa::Avx2` is only produced after
                 // `is_x86_feature_detected!("avx2")`.
                 Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, level, pos, nrm) },
+            };
+            // A sample with parallel tangents takes its normal from one
+            // nudge inside the patch (the generated `eval`): rare enough to
+            // redo the whole patch per sample.
+            if degenerate {
+                per_sample(kernels, cp, class, level, pos, nrm);
             }
         }
         Path::TriCubic => {
@@ -159,7 +169,8 @@ fn per_sample(
 }
 
 /// A bicubic patch's grid: the surface everywhere, then the border
-/// positions from the edge evaluator.
+/// positions from the edge evaluator. Whether a sample's tangents were
+/// parallel (`tessgen_patch_normal`'s zero normal).
 #[inline(always)]
 fn bicubic_patch(
     g: &[Vec3; 16],
@@ -167,9 +178,10 @@ fn bicubic_patch(
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
-) {
-    bicubic_interior(g, level, pos, nrm);
+) -> bool {
+    let degenerate = bicubic_interior(g, level, pos, nrm);
     quad_border(g, curve, level, pos);
+    degenerate
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -180,7 +192,7 @@ unsafe fn bicubic_patch_avx2(
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
-) {
+) -> bool {
     bicubic_patch(g, curve, level, pos, nrm)
 }
 
@@ -193,20 +205,22 @@ unsafe fn bicubic_patch_avx2(
 /// writes (`LANES` samples of each row) stay in cache: one grid is at most
 /// a few tens of KiB at the usual levels.
 #[inline(always)]
-fn bicubic_interior(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+fn bicubic_interior(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) -> bool {
     let width = level as usize + 1;
     let mut c0 = 0usize;
+    let mut degenerate = false;
     while c0 < width {
         // Strips of 8 columns; a last one of at most 4 takes 4 lanes, so
         // little work goes to padding (N = 9: 8 + 4 lanes for 10 columns).
         if width - c0 <= HALF {
-            bicubic_strip::<HALF>(g, level, c0, pos, nrm);
+            degenerate |= bicubic_strip::<HALF>(g, level, c0, pos, nrm);
             c0 += HALF;
         } else {
-            bicubic_strip::<LANES>(g, level, c0, pos, nrm);
+            degenerate |= bicubic_strip::<LANES>(g, level, c0, pos, nrm);
             c0 += LANES;
         }
     }
+    degenerate
 }
 
 /// Columns `c0 .. c0 + L` (clamped to the grid) of a bicubic patch's grid.
@@ -217,7 +231,7 @@ fn bicubic_strip<const L: usize>(
     c0: usize,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
-) {
+) -> bool {
     let n = level as usize;
     let nf = level as f32;
     let width = n + 1;
@@ -245,15 +259,17 @@ fn bicubic_strip<const L: usize>(
         }
     }
     let m = (width - c0).min(L);
+    let mut degenerate = false;
     for iv in 0..=level {
         let lv = ((level - iv) as f32) / nf;
         let rv = (iv as f32) / nf;
         let mut out = [[0.0f32; L]; 6];
-        sample_lanes(&pt, &tg, lv, rv, &mut out);
+        degenerate |= sample_lanes(&pt, &tg, lv, rv, &mut out);
         let base = iv as usize * width + c0;
         store_lanes(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
         store_lanes(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
     }
+    degenerate
 }
 
 /// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component, per lane:
@@ -281,9 +297,10 @@ fn row_curve_lanes<const L: usize>(
 /// One grid row's samples for `LANES` columns: `along_v = cubic(row
 /// points, lv, rv)` (point and tangent), `along_u = cubic(row tangents,
 /// lv, rv)` (point), glam's cross `along_u.point × along_v.tangent` and
-/// `tessgen_normalize`. Inputs are the four rows' components
+/// `tessgen_patch_normal`. Inputs are the four rows' components
 /// (`px[r]` = x of row r's point, `tx[r]` = x of its tangent); `out` is
-/// position x, y, z, normal x, y, z.
+/// position x, y, z, normal x, y, z. Whether a lane's tangents were
+/// parallel (its normal is then zero, as the generated surface's).
 #[inline(always)]
 fn sample_lanes<const L: usize>(
     pt: &[[[f32; L]; 3]; 4],
@@ -291,7 +308,8 @@ fn sample_lanes<const L: usize>(
     l: f32,
     r: f32,
     out: &mut [[f32; L]; 6],
-) {
+) -> bool {
+    let mut degenerate = false;
     #[inline(always)]
     fn cubic(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> (f32, f32) {
         let c0 = (b0 * l) + (b1 * r);
@@ -315,17 +333,22 @@ fn sample_lanes<const L: usize>(
         let cx = (uy * tvz) - (tvy * uz);
         let cy = (uz * tvx) - (tvz * ux);
         let cz = (ux * tvy) - (tvx * uy);
-        // tessgen_normalize: x / √(x·x) when x·x > 0, else x itself.
+        // tessgen_patch_normal: c / √(c·c), or zero when
+        // c·c ≤ PARALLEL_SIN2·(a·a)·(b·b).
         let len2 = ((cx * cx) + (cy * cy)) + (cz * cz);
+        let aa = ((ux * ux) + (uy * uy)) + (uz * uz);
+        let bb = ((tvx * tvx) + (tvy * tvy)) + (tvz * tvz);
+        let parallel = len2 <= PARALLEL_SIN2 * (aa * bb);
+        degenerate |= parallel;
         let len = len2.sqrt();
-        let ok = len2 > 0.0f32;
         out[0][k] = x;
         out[1][k] = y;
         out[2][k] = z;
-        out[3][k] = if ok { cx / len } else { cx };
-        out[4][k] = if ok { cy / len } else { cy };
-        out[5][k] = if ok { cz / len } else { cz };
+        out[3][k] = if parallel { 0.0 } else { cx / len };
+        out[4][k] = if parallel { 0.0 } else { cy / len };
+        out[5][k] = if parallel { 0.0 } else { cz / len };
     }
+    degenerate
 }
 
 /// The first `dst.len()` (≤ LANES) lanes of (x, y, z) into `dst`: full

@@ -3,12 +3,12 @@
 use super::*;
 
 /// ACC (acc.md §5): position from the bicubic geometry patch, normal from
-/// the tangent patches, `normalize(U × V)`.
+/// the tangent patches, `tessgen_patch_normal(U, V)`.
 pub(crate) fn acc_surface(class: Class) -> Function {
     let mut f = Function::new(
         format!("{}_surface", class.name()),
         "ACC patch at (iu, iv)/level (acc.md §5): position from the bicubic geometry patch \
-         (points 0..16); normal = normalize(U × V) from the tangent patches U (quadratic in u, \
+         (points 0..16); normal = tessgen_patch_normal(U, V) from the tangent patches U (quadratic in u, \
          cubic in v) and V (cubic in u, quadratic in v), whose 24 coefficients are stored per \
          corner in the corner's own frame (points 16..40) and mapped back with its signs here.",
     );
@@ -100,7 +100,7 @@ pub(crate) fn acc_surface(class: Class) -> Function {
             ],
         ),
     ));
-    let normal = unit_cross(field(tu, 0), field(tv, 0));
+    let normal = patch_normal(field(tu, 0), field(tv, 0));
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
         vec![l(pos), normal],

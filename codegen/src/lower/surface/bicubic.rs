@@ -7,7 +7,7 @@ pub(crate) fn bicubic_surface(class: Class) -> Function {
         format!("{}_surface", class.name()),
         "Bicubic Bézier patch at (iu, iv)/level: symmetric de Casteljau along u on each of the \
          four rows, then along v on the row points (position, ∂/∂v) and on the row \
-         derivatives (∂/∂u); normal = normalize(∂u × ∂v).",
+         derivatives (∂/∂u); normal = tessgen_patch_normal(∂u, ∂v).",
     );
     let (cp, iu, iv, level) = surface_params(&mut f);
     let (lu, ru, st) = weights(&mut f, "u", iu, level);
@@ -15,7 +15,7 @@ pub(crate) fn bicubic_surface(class: Class) -> Function {
     let (lv, rv, st) = weights(&mut f, "v", iv, level);
     f.body.extend(st);
     let (pos, du, dv) = tensor_cubic(&mut f, "", &bicubic_grid(cp), (lu, ru), (lv, rv), true);
-    let normal = unit_cross(du, dv);
+    let normal = patch_normal(du, dv);
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
         vec![pos, normal],

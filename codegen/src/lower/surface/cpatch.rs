@@ -172,13 +172,7 @@ pub(crate) fn cpatch_surface(class: Class) -> Function {
     }
     let (qa, qb, qc) = (cur[&(1, 0, 0)], cur[&(0, 1, 0)], cur[&(0, 0, 1)]);
     let pos = add(add(mul(l(qa), l(la)), mul(l(qb), l(lb))), mul(l(qc), l(lc)));
-    let normal = call(
-        FnRef::Common(common_fn::NORMALIZE),
-        vec![Expr::Call(
-            Builtin::Cross,
-            vec![sub(l(qb), l(qa)), sub(l(qc), l(qa))],
-        )],
-    );
+    let normal = patch_normal(sub(l(qb), l(qa)), sub(l(qc), l(qa)));
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
         vec![pos, normal],

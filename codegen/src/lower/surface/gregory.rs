@@ -12,7 +12,7 @@ pub(crate) fn gregory_surface(class: Class) -> Function {
         format!("{}_surface", class.name()),
         "Gregory patch at (iu, iv)/level (gregory.md §4): blend the four interior pairs with \
          integer-formed weights (guarded at the corners), evaluate the 16-point Bézier grid by \
-         symmetric de Casteljau, add the blend's own derivative terms, normal = normalize(∂u × ∂v).",
+         symmetric de Casteljau, add the blend's own derivative terms, normal = tessgen_patch_normal(∂u, ∂v).",
     );
     let (cp, iu, iv, level) = surface_params(&mut f);
     let (lu, ru, st) = weights(&mut f, "u", iu, level);
@@ -134,7 +134,7 @@ pub(crate) fn gregory_surface(class: Class) -> Function {
     };
     let du = let_vec(&mut f, "du", add(du, sum4(corr_u)));
     let dv = let_vec(&mut f, "dv", add(dv, sum4(corr_v)));
-    let normal = unit_cross(l(du), l(dv));
+    let normal = patch_normal(l(du), l(dv));
     f.body.push(Stmt::Return(Expr::Make(
         plan::common::SAMPLE,
         vec![pos, normal],

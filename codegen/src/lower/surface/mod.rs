@@ -130,12 +130,10 @@ pub(crate) fn quadratic(
     lerp(l(q0), l(q1), wl, wr)
 }
 
-/// Normalised cross product through the guarded common normalize.
-pub(crate) fn unit_cross(a: Expr, b: Expr) -> Expr {
-    call(
-        FnRef::Common(common_fn::NORMALIZE),
-        vec![Expr::Call(Builtin::Cross, vec![a, b])],
-    )
+/// A quad patch's unit normal from its tangents (`tessgen_patch_normal`:
+/// zero where they are parallel, and `eval` looks just inside).
+pub(crate) fn patch_normal(a: Expr, b: Expr) -> Expr {
+    call(FnRef::Common(common_fn::PATCH_NORMAL), vec![a, b])
 }
 
 /// Stored control point `k` of the patch at `cp`.
