@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the tables of docs/accuracy.md: every shared mesh with cc_limit
 # ground truth, every quad scheme, level 8 (`tessgen compare`). Prints Markdown.
+# Extra arguments go to every `compare` (the isolation table: `--isolate 2`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --quiet --release -p tessgen
@@ -16,7 +17,7 @@ for group in closed open; do
     schemes=pccm,acc,gregory,gregory-osd
     # `regular` only where every face is regular.
     case $m in catmark_torus|catmark_single_crease) schemes=$schemes,regular ;; esac
-    out=$("$bin" compare "tests/data/meshes/$m.obj" --schemes "$schemes" --reference "$ref" 2>/dev/null)
+    out=$("$bin" compare "tests/data/meshes/$m.obj" --schemes "$schemes" --reference "$ref" "$@" 2>/dev/null)
     if [ $first = 1 ]; then echo "$out" | head -2; first=0; fi
     echo "$out" | tail -n +3
   done
