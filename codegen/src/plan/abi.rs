@@ -571,6 +571,11 @@ pub fn rust_module(plan: &Plan) -> String {
     );
     let _ = writeln!(
         w,
+        "/// `tessgen_patch_normal`'s threshold: tangents a, b count as parallel where\n/// |a × b|² ≤ PARALLEL_SIN2·|a|²·|b|² (the CPU fast path applies the same test).\npub const PARALLEL_SIN2: f32 = {:?};",
+        crate::plan::PARALLEL_SIN2 as f32
+    );
+    let _ = writeln!(
+        w,
         "/// Fixed-point denominator of adaptive hardware tessellation: the evaluation stage reads the\n/// tessellator's coordinate on the 2^-16 grid (`level` = this).\npub const ADAPTIVE_LEVEL: u32 = {};",
         crate::plan::ADAPTIVE_LEVEL
     );

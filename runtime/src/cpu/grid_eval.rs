@@ -41,10 +41,10 @@ use glam::Vec3;
 const LANES: usize = 8;
 /// The narrower strip for a grid's last few columns (one SSE register).
 const HALF: usize = 4;
-/// `tessgen_patch_normal`'s threshold (the codegen's `plan::PARALLEL_SIN2`,
-/// as f32; tests/tests/grid_path.rs checks this path against the generated
-/// `eval` on a patch with parallel tangents).
-const PARALLEL_SIN2: f32 = 1e-8;
+/// `tessgen_patch_normal`'s threshold, from the ABI codegen declares
+/// (tests/tests/grid_path.rs checks this path against the generated `eval`
+/// on patches with parallel tangents).
+use crate::abi::PARALLEL_SIN2;
 
 /// How one patch's grid is evaluated, chosen once per patch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

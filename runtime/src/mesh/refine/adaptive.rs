@@ -37,7 +37,7 @@ use super::step::{self, Level};
 use super::{Block, Refinement, State};
 use crate::mesh::features::{is_semi_sharp, Features};
 use crate::mesh::topology::{FaceClass, Topology, TopologyError, TopologyOptions};
-use crate::mesh::{Mesh, NO_NORMAL};
+use crate::mesh::Mesh;
 
 /// How deep [`refine_adaptive`] refines, per reason.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -69,27 +69,10 @@ fn irregular(
     features: &Features,
     max_valence: u32,
 ) -> Result<Vec<bool>, TopologyError> {
-    let nc = level.face_vertices.len();
-    let mesh = Mesh {
-        positions: vec![[0.0; 3]; level.num_vertices],
-        face_offsets: level.face_offsets.clone(),
-        face_vertices: level.face_vertices.clone(),
-        tags: Vec::new(),
-        normals: Vec::new(),
-        face_normals: vec![NO_NORMAL; nc],
-        texcoords: Vec::new(),
-        face_texcoords: Vec::new(),
-    };
-    let features = Features {
-        boundary: features.boundary,
-        edge_sharpness: level.edge_sharpness.iter().map(|(&e, &s)| (e, s)).collect(),
-        vertex_sharpness: level
-            .vertex_sharpness
-            .iter()
-            .map(|(&v, &s)| (v, s))
-            .collect(),
-        holes: Default::default(),
-    };
+    let mesh = level
+        .clone()
+        .into_mesh(vec![[0.0; 3]; level.num_vertices], Vec::new());
+    let features = level.features(features.boundary, Default::default());
     let opts = TopologyOptions {
         max_valence,
         require_quads: false,
@@ -102,18 +85,26 @@ fn irregular(
         .collect())
 }
 
-/// Per face of `level`: whether a corner vertex has a semi-sharp vertex
-/// sharpness or a semi-sharp interior incident edge.
-fn touches_semi_sharp(level: &Level) -> Vec<bool> {
-    let mut faces_of_edge: std::collections::HashMap<(u32, u32), u32> =
-        std::collections::HashMap::with_capacity(level.face_vertices.len());
-    for f in 0..level.num_faces() {
+/// How many of the faces `counted` use each edge `(min, max)` of `level`.
+fn edge_uses(
+    level: &Level,
+    counted: impl Fn(usize) -> bool,
+) -> std::collections::HashMap<(u32, u32), u32> {
+    let mut uses = std::collections::HashMap::with_capacity(level.face_vertices.len());
+    for f in (0..level.num_faces()).filter(|&f| counted(f)) {
         let face = level.face(f);
         for (i, &a) in face.iter().enumerate() {
             let b = face[(i + 1) % face.len()];
-            *faces_of_edge.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+            *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
+    uses
+}
+
+/// Per face of `level`: whether a corner vertex has a semi-sharp vertex
+/// sharpness or a semi-sharp interior incident edge.
+fn touches_semi_sharp(level: &Level) -> Vec<bool> {
+    let faces_of_edge = edge_uses(level, |_| true);
     let mut semi = vec![false; level.num_vertices];
     for (&(a, b), &s) in &level.edge_sharpness {
         // A boundary edge is sharp anyway: its tag changes nothing.
@@ -178,14 +169,7 @@ fn support(level: &Level, refine: &[bool]) -> Vec<bool> {
     }
     loop {
         // Kept faces per edge, then boundary edges per vertex.
-        let mut uses: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
-        for f in (0..level.num_faces()).filter(|&f| keep[f]) {
-            let face = level.face(f);
-            for (i, &a) in face.iter().enumerate() {
-                let b = face[(i + 1) % face.len()];
-                *uses.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
+        let uses = edge_uses(level, |f| keep[f]);
         let mut open = vec![0u32; level.num_vertices];
         for (&(a, b), &n) in &uses {
             if n == 1 {

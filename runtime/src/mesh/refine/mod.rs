@@ -27,7 +27,7 @@ pub use step::QUAD_CHILD_OFFSET;
 
 use std::collections::BTreeSet;
 
-use crate::mesh::features::{is_semi_sharp, Features};
+use crate::mesh::features::{is_semi_sharp, BoundaryRule, Features};
 use crate::mesh::topology::{Topology, TopologyError, TopologyOptions};
 use crate::mesh::{Mesh, NO_NORMAL};
 
@@ -218,8 +218,7 @@ impl State {
                 .iter()
                 .map(|(&k, &s)| (k, s))
                 .collect(),
-            boundary_corners: features.boundary
-                == crate::mesh::features::BoundaryRule::EdgeAndCorner,
+            boundary_corners: features.boundary == BoundaryRule::EdgeAndCorner,
         };
         let mut leaves = Vec::with_capacity(mesh.num_faces());
         for f in 0..mesh.num_faces() {
@@ -337,23 +336,6 @@ impl State {
     ) -> Refinement {
         let stencils = StencilTable::from_rows(&self.rows);
         let positions = stencils.apply(&mesh.positions);
-        let level = self.level;
-        let nc = level.face_vertices.len();
-        let has_uv = !self.uv.is_empty();
-        let refined = Mesh {
-            positions,
-            face_offsets: level.face_offsets,
-            face_vertices: level.face_vertices,
-            tags: Vec::new(),
-            normals: Vec::new(),
-            face_normals: vec![NO_NORMAL; nc],
-            texcoords: self.uv,
-            face_texcoords: if has_uv {
-                (0..nc as u32).collect()
-            } else {
-                Vec::new()
-            },
-        };
         let holes: BTreeSet<u32> = self
             .empty
             .iter()
@@ -361,12 +343,8 @@ impl State {
             .filter(|(_, &e)| e)
             .map(|(f, _)| f as u32)
             .collect();
-        let features = Features {
-            boundary: features.boundary,
-            edge_sharpness: level.edge_sharpness.into_iter().collect(),
-            vertex_sharpness: level.vertex_sharpness.into_iter().collect(),
-            holes,
-        };
+        let features = self.level.features(features.boundary, holes);
+        let refined = self.level.into_mesh(positions, self.uv);
         Refinement {
             levels,
             stencils,
@@ -374,6 +352,44 @@ impl State {
             features,
             blocks,
             leaves: self.leaves,
+        }
+    }
+}
+
+impl step::Level {
+    /// The level's faces as a [`Mesh`] with `positions` and, when `uv` is
+    /// not empty, one texture coordinate per face corner (no normals).
+    fn into_mesh(self, positions: Vec<[f32; 3]>, uv: Vec<[f32; 2]>) -> Mesh {
+        let nc = self.face_vertices.len();
+        let face_texcoords = if uv.is_empty() {
+            Vec::new()
+        } else {
+            (0..nc as u32).collect()
+        };
+        Mesh {
+            positions,
+            face_offsets: self.face_offsets,
+            face_vertices: self.face_vertices,
+            tags: Vec::new(),
+            normals: Vec::new(),
+            face_normals: vec![NO_NORMAL; nc],
+            texcoords: uv,
+            face_texcoords,
+        }
+    }
+
+    /// The level's remaining sharpness as [`Features`], with `boundary`
+    /// and `holes`.
+    fn features(&self, boundary: BoundaryRule, holes: BTreeSet<u32>) -> Features {
+        Features {
+            boundary,
+            edge_sharpness: self.edge_sharpness.iter().map(|(&e, &s)| (e, s)).collect(),
+            vertex_sharpness: self
+                .vertex_sharpness
+                .iter()
+                .map(|(&v, &s)| (v, s))
+                .collect(),
+            holes,
         }
     }
 }
