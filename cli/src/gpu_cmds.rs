@@ -62,11 +62,70 @@ fn gpu_input(
     ))
 }
 
+/// What `render` draws: the mesh with its tags applied, refined into one
+/// mesh where it needs it (non-quads, semi-sharp creases: uniform steps,
+/// [`Request::one_mesh`](tessgen_runtime::tessellate::Request::one_mesh),
+/// so the patches meet without T-junctions), its topology marking holes;
+/// the per-patch level that keeps the base faces' sample density; the
+/// notes on what is not applied exactly.
+struct RenderInput {
+    topo: tessgen_runtime::Topology,
+    positions: Vec<glam::Vec3>,
+    level: u32,
+    notes: Vec<String>,
+}
+
+fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
+    use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Request};
+    let mesh = load_mesh(&args.mesh)?;
+    let request = match args.adaptive {
+        None => Request::uniform(&args.scheme, args.level),
+        // The metric is resolved on the refined topology below; only the
+        // refinement of an adaptive request matters here.
+        Some(_) => Request::adaptive(
+            &args.scheme,
+            AdaptiveRequest {
+                metric: EdgeMetric::Random {
+                    seed: 0,
+                    lo: 1.0,
+                    hi: 1.0,
+                },
+                partitioning: tessgen_runtime::adaptive::Partitioning::Integer,
+                max_factor: args.max_factor,
+            },
+        ),
+    }
+    .one_mesh(true);
+    let at = |e: String| format!("{}: {e}", args.mesh.display());
+    let v = request.validate(&mesh).map_err(|e| at(e.to_string()))?;
+    let topo = v
+        .topology()
+        .cloned()
+        .ok_or_else(|| at(format!("`render` takes quad schemes, not {}", args.scheme)))?;
+    Ok(RenderInput {
+        topo,
+        positions: v
+            .run_mesh()
+            .positions
+            .iter()
+            .map(|p| glam::Vec3::from_array(*p))
+            .collect(),
+        level: v.refined().map_or(args.level, |r| r.leaf_level.max(1)),
+        notes: v.notes().to_vec(),
+    })
+}
+
 pub(crate) fn render(args: &RenderArgs) -> CmdResult {
     use tessgen_runtime::render::{Camera, RenderOptions};
     let (w, h) = parse_size(&args.size)?;
     let dir = parse_camera(&args.camera)?;
-    let (topo, positions) = gpu_input(&args.mesh)?;
+    let RenderInput {
+        topo,
+        positions,
+        level,
+        notes,
+    } = render_input(args)?;
+    crate::warn_notes(&notes);
     let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
     for p in &positions {
         lo = lo.min(*p);
@@ -76,7 +135,7 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
     let mesh = tessgen_runtime::gpu::GpuMesh::new(&gpu, &topo, &positions, &args.scheme)
         .map_err(|e| format!("{}: {e}", args.mesh.display()))?;
     let opts = RenderOptions {
-        level: args.level,
+        level,
         width: w,
         height: h,
         camera: Camera::framing(lo, hi, dir),
@@ -118,7 +177,7 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
         "tessgen: rendered {} patches {} on {} → {} ({w}x{h})",
         topo.corners.len(),
         match args.adaptive {
-            None => format!("at level {}", args.level),
+            None => format!("at level {level}"),
             Some(_) => format!(
                 "adaptively (levels up to {}, GPU-driven indirect draws)",
                 crate::power_of_two_level(args.max_factor)

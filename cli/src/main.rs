@@ -76,12 +76,12 @@ struct CompareArgs {
 /// Render a mesh's smooth surface offscreen to a PNG with the generated WGSL (ordinary patches orange, extraordinary blue).
 #[derive(Args, Debug)]
 pub(crate) struct RenderArgs {
-    /// Input OBJ mesh (closed, all quads).
+    /// Input OBJ mesh, tags applied (non-quads and semi-sharp creases refined uniformly, holes left out).
     mesh: PathBuf,
     /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
     #[arg(long, default_value = "pccm", value_parser = parse_scheme)]
     scheme: String,
-    /// Tessellation level N of every patch.
+    /// Tessellation level N of every base face (a refined face runs at N/2 per step).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=256))]
     level: u32,
     /// Output PNG.
@@ -744,7 +744,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
 /// Prints every tag or feature the tessellation does not apply as written
 /// (tag warnings, refinement notes: [`tessellate::Validated::notes`]):
 /// never silently.
-fn warn_notes(notes: &[String]) {
+pub(crate) fn warn_notes(notes: &[String]) {
     const SHOWN: usize = 4;
     for w in notes.iter().take(SHOWN) {
         eprintln!("tessgen: warning: {w}");

@@ -348,10 +348,19 @@ fn adaptive_and_displaced(backend: Backend, meshes: &[&str]) {
     for name in meshes {
         let mesh = common::per_face_charts(common::mesh(name));
         let topo = topo(&mesh);
-        let f = factors(&topo);
+        // Adaptive runs tessellate the mesh they run (refined uniformly by
+        // the semi-sharp creases' steps): explicit factors are per edge of
+        // that mesh.
+        let run = adaptive_request("pccm", &[])
+            .validate(&mesh)
+            .expect("validate")
+            .topology()
+            .expect("quads")
+            .clone();
+        let f = factors(&run);
         let d = common::displacement(Ownership::LowestFace, 0.05 * common::bbox_diagonal(&mesh));
         let uniform_open = LEVEL as usize * topo.num_boundary_edges();
-        let adaptive_open = expected_adaptive_open(&topo, &f, backend);
+        let adaptive_open = expected_adaptive_open(&run, &f, backend);
         for scheme in ADAPTIVE_SCHEMES {
             let runs: [(&str, Request, usize); 3] = [
                 ("adaptive", adaptive_request(scheme, &f), adaptive_open),
@@ -813,22 +822,59 @@ fn hole_faces_emit_nothing_and_change_no_neighbour() {
             assert_eq!((r.overused_edges, r.degenerate_triangles), (0, 0));
         }
     }
-    // Adaptive tessellation cannot leave faces out yet: a typed error
-    // naming the first hole, not a drawn hole.
-    let req = Request::adaptive(
-        "pccm",
-        AdaptiveRequest {
-            metric: EdgeMetric::Random {
-                seed: 1,
-                lo: 1.0,
-                hi: 4.0,
+    // Adaptive tessellation leaves them out too, on every adaptive path
+    // (CPU and wgpu instanced grids, the hardware tessellator's capture):
+    // the same result as without the holes, minus the hole faces' patches.
+    let req = |backend| {
+        Request::adaptive(
+            "pccm",
+            AdaptiveRequest {
+                metric: EdgeMetric::Random {
+                    seed: 1,
+                    lo: 1.0,
+                    hi: 4.0,
+                },
+                partitioning: Partitioning::Integer,
+                max_factor: 8.0,
             },
-            partitioning: Partitioning::Integer,
-            max_factor: 8.0,
-        },
-    );
-    match session.tessellate(&holed, &req) {
-        Err(Error::HolesAdaptive { face }) => assert_eq!(face, 0),
-        other => panic!("expected HolesAdaptive, got {:?}", other.map(|_| ())),
+        )
+        .on(backend)
+    };
+    for backend in [Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl] {
+        let req = req(backend);
+        let v = req.validate(&holed).expect("holed adaptive");
+        let drop = v.topology().expect("quads").no_limit.clone();
+        assert!(drop.iter().filter(|&&d| d).count() >= holes.len());
+        let full = session.tessellate(&plain, &req).expect("plain adaptive");
+        let out = session.run(&v).expect("holed adaptive");
+        match (&full, &out) {
+            (Output::Instanced(a), Output::Instanced(b)) => {
+                let mut kept = a.clone();
+                kept.retain_faces(&drop.iter().map(|&d| !d).collect::<Vec<_>>());
+                assert_eq!(&kept, b, "{backend:?}: holed adaptive != plain minus holes");
+                assert!((0..b.levels.len()).all(|g| !drop[b.face_of(g)]));
+            }
+            (Output::Captured(a), Output::Captured(b)) => {
+                assert_eq!(a.patches.len(), b.patches.len());
+                for (f, (pa, pb)) in a.patches.iter().zip(&b.patches).enumerate() {
+                    if drop[f] {
+                        assert!(pb.triangles.is_empty(), "{backend:?}: hole {f} drawn");
+                    } else {
+                        assert_eq!(pa, pb, "{backend:?}: face {f} changed by the holes");
+                    }
+                }
+            }
+            _ => panic!("{backend:?}: unexpected adaptive outputs"),
+        }
+        let r = out.weld();
+        let boundary = v.expected_open_edges(&out);
+        let plain_boundary = req
+            .validate(&plain)
+            .expect("plain")
+            .expected_open_edges(&full);
+        assert!(boundary > plain_boundary, "{backend:?}: {boundary}");
+        assert_eq!(r.cracks(boundary), 0, "{backend:?}: {r:?}");
+        assert_eq!(r.open_edges, boundary, "{backend:?}");
+        assert_eq!(r.overused_edges, 0, "{backend:?}");
     }
 }

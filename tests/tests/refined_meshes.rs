@@ -401,3 +401,97 @@ fn stencils_deform_with_the_mesh() {
         assert!((sum - 1.0).abs() < 1e-6, "row {row} sums to {sum}");
     }
 }
+
+/// The largest distance from a sample of `a` to the nearest sample of
+/// `b`, over the bounding-box diagonal of `b` (hash grid of cell `diag /
+/// 256`, neighbouring cells searched: exact for distances below a cell).
+fn max_nearest(a: &[glam::Vec3], b: &[glam::Vec3]) -> f32 {
+    use std::collections::HashMap;
+    let lo = b.iter().fold(glam::Vec3::splat(f32::MAX), |m, p| m.min(*p));
+    let hi = b.iter().fold(glam::Vec3::splat(f32::MIN), |m, p| m.max(*p));
+    let diag = (hi - lo).length();
+    let cell = diag / 256.0;
+    let key = |p: &glam::Vec3| ((*p - lo) / cell).floor().as_ivec3();
+    let mut grid: HashMap<glam::IVec3, Vec<glam::Vec3>> = HashMap::new();
+    for p in b {
+        grid.entry(key(p)).or_default().push(*p);
+    }
+    let mut worst = 0.0f32;
+    for p in a {
+        let k = key(p);
+        let mut best = f32::INFINITY;
+        for d in (-1..=1).flat_map(|x| (-1..=1).flat_map(move |y| (-1..=1).map(move |z| (x, y, z))))
+        {
+            if let Some(v) = grid.get(&(k + glam::IVec3::new(d.0, d.1, d.2))) {
+                for q in v {
+                    best = best.min(p.distance(*q));
+                }
+            }
+        }
+        worst = worst.max(best.min(cell));
+    }
+    worst / diag
+}
+
+/// Adaptive tessellation takes the semi-sharp creases' steps too (uniform
+/// refinement, at most 2): with every crease of `catmark_single_crease`
+/// cut to sharpness ≤ 2 (or infinite), constant factor 4 on the twice
+/// refined mesh samples the base faces at the points of uniform level 16,
+/// and both are the exact limit — every adaptive sample lies on a uniform
+/// sample to f32 noise. Negative control: no crease steps (semi-sharp
+/// applied as sharp) moves the samples near the crease off the surface.
+#[test]
+fn adaptive_takes_the_crease_steps() {
+    let mut mesh = common::mesh("catmark_single_crease");
+    for t in mesh.tags.iter_mut().filter(|t| t.name == "crease") {
+        for s in &mut t.floats {
+            if *s < 10.0 {
+                *s = s.min(2.0);
+            }
+        }
+    }
+    let uniform = tessgen_runtime::tessellate::tessellate(&mesh, &Request::uniform("pccm", 16))
+        .expect("uniform")
+        .into_grid()
+        .expect("grid");
+    let adaptive = |steps: u32| {
+        let probe = Request::adaptive(
+            "pccm",
+            AdaptiveRequest {
+                metric: EdgeMetric::Random {
+                    seed: 0,
+                    lo: 4.0,
+                    hi: 4.0,
+                },
+                partitioning: Partitioning::Integer,
+                max_factor: 16.0,
+            },
+        )
+        .crease_refinement(steps);
+        let v = probe.validate(&mesh).expect("validate");
+        let faces = v.topology().expect("quads").corners.len();
+        let notes = v.notes().join("\n");
+        match tessgen_runtime::tessellate::Session::new()
+            .run(&v)
+            .expect("adaptive")
+        {
+            Output::Instanced(a) => (a, faces, notes),
+            other => panic!("not instanced: {other:?}"),
+        }
+    };
+    let (exact, faces, notes) = adaptive(6);
+    assert_eq!(faces, 16 * mesh.num_faces(), "two uniform steps");
+    assert!(exact.levels.iter().all(|&l| l == 4), "{:?}", exact.levels);
+    assert!(notes.contains("applied exactly by 2"), "{notes}");
+    let d = max_nearest(&exact.positions, &uniform.positions);
+    let (sharp, sharp_faces, sharp_notes) = adaptive(0);
+    assert_eq!(sharp_faces, mesh.num_faces());
+    assert!(
+        sharp_notes.contains("approximated as infinitely sharp"),
+        "{sharp_notes}"
+    );
+    let d_sharp = max_nearest(&sharp.positions, &uniform.positions);
+    println!("adaptive vs uniform level 16, max distance / diagonal: 2 crease steps {d:.2e}, none {d_sharp:.2e}");
+    assert!(d < 1e-6, "adaptive with crease steps off the limit: {d:e}");
+    assert!(d_sharp > 1e-3, "negative control: {d_sharp:e}");
+}

@@ -174,3 +174,66 @@ fn rendered_adaptive_displaced_cube_has_no_holes() {
     assert_eq!(holes(&ok), 0, "holes in the displaced adaptive surface");
     assert!(holes(&bad) > 0, "per-patch ownership showed no crack");
 }
+
+/// Hole faces (`t hole`) are built (their points shape the neighbours) but
+/// not drawn, uniform and adaptive: from inside the cube the background
+/// shows through exactly where a hole is, and nowhere without one.
+#[test]
+fn rendered_hole_faces_show_the_background() {
+    use tessgen_runtime::tessellate::Request;
+    let gpu = Gpu::new().expect("adapter");
+    let plain = common::mesh("catmark_cube");
+    let mut holed = plain.clone();
+    holed.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![0],
+        ..Default::default()
+    });
+    // Six views along the axes: one of them faces the hole.
+    let mut views = inside_views(&plain);
+    let base = views[0];
+    views = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z]
+        .into_iter()
+        .map(|d| {
+            let mut o = base;
+            o.camera.target = o.camera.eye + d;
+            o.camera.up = if d.z == 0.0 { Vec3::Z } else { Vec3::X };
+            o.level = 8;
+            o
+        })
+        .collect();
+    let draw = |mesh: &Mesh| -> (Vec<Image>, Vec<Image>) {
+        let req = Request::uniform("pccm", 8);
+        let v = req.validate(mesh).expect("validate");
+        let topo = v.topology().expect("quads");
+        let g = GpuMesh::new(&gpu, topo, &positions(mesh), "pccm").expect("gpu mesh");
+        let (_, edges) = adaptive::edge_ids(topo);
+        let uniform = views.iter().map(|o| g.render(o).expect("render")).collect();
+        let adaptive = views
+            .iter()
+            .map(|o| {
+                g.render_adaptive(o, topo, &random(edges), MAX_LEVEL)
+                    .expect("render")
+            })
+            .collect();
+        (uniform, adaptive)
+    };
+    let (u0, a0) = draw(&plain);
+    let (u1, a1) = draw(&holed);
+    println!(
+        "| pccm | inside catmark_cube, face 0 a hole | background pixels: uniform {} → {}, adaptive {} → {} |",
+        holes(&u0),
+        holes(&u1),
+        holes(&a0),
+        holes(&a1)
+    );
+    assert_eq!(
+        (holes(&u0), holes(&a0)),
+        (0, 0),
+        "closed cube shows background"
+    );
+    // The hole is about one sixth of the surface: most of one view.
+    let frame = (base.width * base.height) as usize;
+    assert!(holes(&u1) > frame / 4, "uniform: the hole face was drawn");
+    assert!(holes(&a1) > frame / 4, "adaptive: the hole face was drawn");
+}

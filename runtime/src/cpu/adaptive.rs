@@ -376,9 +376,44 @@ pub struct AdaptiveTessellation {
     pub offsets: Vec<usize>,
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
+    /// Face of each grid when some faces emit nothing (holes, faces
+    /// without a limit surface: docs/boundaries.md §5); empty means grid `g`
+    /// is face `g`. `levels` and `offsets` are per grid; `edge_levels`
+    /// stays per face (`sides·f + k` over every face), as the factors of
+    /// a hole's edges still decide its emitting neighbours' samples.
+    pub face_ids: Vec<u32>,
 }
 
 impl AdaptiveTessellation {
+    /// Face of grid `g` (docs/boundaries.md §5).
+    pub fn face_of(&self, g: usize) -> usize {
+        self.face_ids.get(g).map_or(g, |&f| f as usize)
+    }
+
+    /// Keeps only the grids of faces with `keep[face]`, recording their
+    /// faces in [`AdaptiveTessellation::face_ids`] (the adaptive form of
+    /// [`crate::Tessellation::retain_faces`]).
+    pub fn retain_faces(&mut self, keep: &[bool]) {
+        let (mut ids, mut levels, mut offsets) = (Vec::new(), Vec::new(), vec![0usize]);
+        let (mut pos, mut nrm) = (Vec::new(), Vec::new());
+        for g in 0..self.levels.len() {
+            let f = self.face_of(g);
+            if keep.get(f).copied().unwrap_or(true) {
+                let (a, b) = (self.offsets[g], self.offsets[g + 1]);
+                ids.push(f as u32);
+                levels.push(self.levels[g]);
+                pos.extend_from_slice(&self.positions[a..b]);
+                nrm.extend_from_slice(&self.normals[a..b]);
+                offsets.push(pos.len());
+            }
+        }
+        self.face_ids = ids;
+        self.levels = levels;
+        self.offsets = offsets;
+        self.positions = pos;
+        self.normals = nrm;
+    }
+
     /// Every face's grid triangles as world positions (a triangle soup for
     /// [`crate::check::weld::weld_triangles`] or OBJ output): the quad grid's
     /// ([`crate::grid::grid_triangles`]) or the triangle grid's
@@ -598,6 +633,7 @@ fn adaptive_cpu(
         offsets,
         positions,
         normals,
+        face_ids: Vec::new(),
     })
 }
 

@@ -234,6 +234,16 @@ impl TriangleCapture {
         Ok(worst)
     }
 
+    /// Empties the patches of faces with `drop[face]` (holes, faces
+    /// without a limit surface: docs/boundaries.md §5), keeping patch `k`
+    /// the `k`-th face so the layout and the boundary count stay indexed
+    /// by face.
+    pub fn clear_patches(&mut self, drop: &[bool]) {
+        for (p, _) in self.patches.iter_mut().zip(drop).filter(|(_, &d)| d) {
+            *p = CapturedPatch::default();
+        }
+    }
+
     pub fn vertex_count(&self) -> usize {
         self.patches.iter().map(|p| p.positions.len()).sum()
     }

@@ -138,7 +138,8 @@ enum Draw<'a> {
 
 impl GpuMesh<'_> {
     /// Render the surface offscreen: one instanced draw of `eval_vs` per
-    /// facet class at the uniform `opts.level`.
+    /// facet class at the uniform `opts.level`, of the class's emitting
+    /// patches (holes are left out).
     pub fn render(&self, opts: &RenderOptions) -> Result<Image, GpuError> {
         let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
         let indices = if self.scheme.sides == 3 {
@@ -156,13 +157,13 @@ impl GpuMesh<'_> {
                 // One instanced draw per facet class (patches are sorted by class).
                 let mut draws = Vec::new();
                 for c in &self.classes {
-                    if c.count == 0 {
+                    if c.emitting == 0 {
                         continue;
                     }
                     let p = self.params(
                         view_proj,
                         c.first,
-                        c.count,
+                        c.emitting,
                         c.class,
                         c.cp_base,
                         level,
@@ -172,7 +173,7 @@ impl GpuMesh<'_> {
                     draws.push(Draw::Direct {
                         group: self.bind_group("eval_vs", layout, &p, None),
                         pattern: 0,
-                        instances: c.count,
+                        instances: c.emitting,
                     });
                 }
                 (draws, count)
@@ -200,7 +201,7 @@ impl GpuMesh<'_> {
     ) -> Result<Image, GpuError> {
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
         let b = self.bucket_buffers(&inp)?;
-        let phases = self.bucket_phases(max_level, b.slots);
+        let phases = self.bucket_phases(max_level, b.slots, true);
         let slots = self.bucket_slots(max_level);
         // One index buffer per level 2^j: exactly the cells of the grid
         // (the plan pass writes 6·L² (quads) or 3·L² (triangles) indices).

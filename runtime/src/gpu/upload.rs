@@ -55,6 +55,9 @@ pub struct ClassRange {
     /// First patch (index into `patch_faces`).
     pub first: u32,
     pub count: u32,
+    /// The first `emitting` patches of the range have a limit surface and
+    /// are drawn; the rest (holes) are built but not drawn.
+    pub emitting: u32,
     /// First control point (in points).
     pub cp_base: u32,
     /// Control points per patch.
@@ -153,31 +156,46 @@ pub fn vec3_bytes(x: &[Vec3]) -> Vec<u8> {
     b
 }
 
-/// Patches sorted by class; control points laid out class by class.
+/// Patches sorted by class, and within a class the faces that emit
+/// first (`no_limit[f]`: holes, faces without a limit surface, which are
+/// still built because their points shape the neighbours); control points
+/// laid out class by class. A draw of a class's first
+/// [`ClassRange::emitting`] patches leaves the holes out.
 pub fn class_layout(
     scheme: &SchemeKernels,
     face_class: &[u32],
+    no_limit: &[bool],
 ) -> (Vec<u32>, Vec<ClassRange>, u32) {
     let mut patch_faces = Vec::with_capacity(face_class.len());
     let mut classes = Vec::new();
     let mut cp_base = 0u32;
+    let hole = |f: usize| no_limit.get(f).copied().unwrap_or(false);
     for (c, ck) in scheme.classes.iter().enumerate() {
         let first = patch_faces.len() as u32;
-        patch_faces.extend(
-            face_class
-                .iter()
-                .enumerate()
-                .filter(|(_, k)| **k == c as u32)
-                .map(|(f, _)| f as u32),
-        );
+        for holes in [false, true] {
+            patch_faces.extend(
+                face_class
+                    .iter()
+                    .enumerate()
+                    .filter(|&(f, k)| *k == c as u32 && hole(f) == holes)
+                    .map(|(f, _)| f as u32),
+            );
+            if !holes {
+                let emitting = patch_faces.len() as u32 - first;
+                classes.push(ClassRange {
+                    class: c as u32,
+                    first,
+                    count: emitting,
+                    emitting,
+                    cp_base,
+                    points: ck.control_points,
+                });
+            }
+        }
         let count = patch_faces.len() as u32 - first;
-        classes.push(ClassRange {
-            class: c as u32,
-            first,
-            count,
-            cp_base,
-            points: ck.control_points,
-        });
+        if let Some(range) = classes.last_mut() {
+            range.count = count;
+        }
         cp_base += count * ck.control_points;
     }
     (patch_faces, classes, cp_base)
@@ -211,7 +229,7 @@ impl Upload {
                 got: positions.len(),
             });
         }
-        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class, &topo.no_limit);
         let (vertex_out_offsets, total) = cpu::vertex_out_offsets(topo, scheme);
         let (corner_vertex, corner_sector) = cpu::corner_arrays(topo);
         Ok(Upload {
@@ -399,7 +417,7 @@ impl Upload {
             return Err(cpu::facet_error(scheme).into());
         }
         let face_class = vec![0u32; mesh.triangles.len()];
-        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class);
+        let (patch_faces, classes, cp_total) = class_layout(scheme, &face_class, &[]);
         let corner_vertex: Vec<u32> = mesh.triangles.iter().flatten().copied().collect();
         Ok(Upload {
             scheme,

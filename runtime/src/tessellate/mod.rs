@@ -115,7 +115,10 @@ impl Output {
             }
             Output::Instanced(a) => (0..a.positions.len())
                 .find(|&i| bad(&a.positions[i], &a.normals[i]))
-                .map(|i| (a.offsets.partition_point(|&o| o <= i).saturating_sub(1), i)),
+                .map(|i| {
+                    let g = a.offsets.partition_point(|&o| o <= i).saturating_sub(1);
+                    (a.face_of(g), i)
+                }),
             Output::Captured(c) => {
                 let mut base = 0;
                 for (k, patch) in c.patches.iter().enumerate() {
@@ -329,13 +332,27 @@ impl Session {
                 out
             }
             (Output::Grid(mut t), None, Some(no_limit)) => {
-                let keep: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
-                t.retain_faces(&keep);
+                t.retain_faces(&emitting(no_limit));
                 Output::Grid(t)
+            }
+            // Adaptive results are per face of the mesh run (the refined
+            // one after a refinement): its holes drop out the same way.
+            (Output::Instanced(mut a), _, Some(no_limit)) => {
+                a.retain_faces(&emitting(no_limit));
+                Output::Instanced(a)
+            }
+            (Output::Captured(mut c), _, Some(no_limit)) => {
+                c.clear_patches(no_limit);
+                Output::Captured(c)
             }
             (out, _, _) => out,
         })
     }
+}
+
+/// `keep` for `retain_faces`: the faces with a limit surface.
+fn emitting(no_limit: &[bool]) -> Vec<bool> {
+    no_limit.iter().map(|&n| !n).collect()
 }
 
 /// The last line of defence (the magnitude check of [`Request::validate`]

@@ -82,15 +82,14 @@ pub enum RefineError {
 /// [`crate::mesh::refine::UNIFORM_CREASE_REFINEMENT`] crease steps.
 pub fn choose_levels(need: &Need, level: Option<u32>, crease_cap: u32) -> (u32, u32) {
     let polygons = u32::from(need.non_quads > 0);
-    // Adaptive runs keep their per-base-patch output: creases as sharp.
-    let creases = match level {
-        Some(n) => need
-            .crease_levels()
-            .min(crease_cap)
-            .min(crate::mesh::refine::UNIFORM_CREASE_REFINEMENT)
-            .min(n.trailing_zeros()),
-        None => 0,
-    };
+    // A uniform level must stay divisible by the steps' powers of two;
+    // adaptive runs tessellate the refined faces, one patch each, so only
+    // the uniform refinement's cost bounds their steps.
+    let creases = need
+        .crease_levels()
+        .min(crease_cap)
+        .min(crate::mesh::refine::UNIFORM_CREASE_REFINEMENT)
+        .min(level.map_or(u32::MAX, u32::trailing_zeros));
     let steps = creases
         .max(polygons)
         .min(crate::mesh::refine::MAX_REFINE_LEVELS);
@@ -282,14 +281,14 @@ impl RefinedDomain {
                     need.crease_levels(),
                     creases,
                     if level.is_none() {
-                        "adaptive tessellation takes no crease steps"
+                        "adaptive tessellation refines uniformly, at most 2 crease steps"
                     } else if by_level {
                         "a level divisible by a higher power of two allows more"
                     } else if !adaptive_steps
                         && crease_cap > crate::mesh::refine::UNIFORM_CREASE_REFINEMENT
                     {
-                        "uniform refinement takes at most 2 crease steps; this scheme cannot \
-                         refine feature-adaptively"
+                        "uniform refinement into one mesh (the `regular` scheme, `render`) \
+                         takes at most 2 crease steps"
                     } else {
                         "the crease refinement cap"
                     }

@@ -115,6 +115,12 @@ pub struct Request<'a> {
     /// approximates every extraordinary face). Uniform sampling, schemes
     /// with an extraordinary class.
     pub isolate: u32,
+    /// Refine into one mesh (uniform Catmull-Clark steps, at most
+    /// [`crate::mesh::refine::UNIFORM_CREASE_REFINEMENT`] for creases)
+    /// instead of feature-adaptive depths: what a renderer that draws one
+    /// patch per face of the mesh run needs (depths meeting would show
+    /// T-junctions). Adaptive sampling always refines so.
+    pub one_mesh: bool,
 }
 
 impl<'a> Request<'a> {
@@ -138,7 +144,14 @@ impl<'a> Request<'a> {
             split_quads: false,
             crease_refinement: super::refined::DEFAULT_CREASE_REFINEMENT,
             isolate: 0,
+            one_mesh: false,
         }
+    }
+
+    /// See [`Request::one_mesh`].
+    pub fn one_mesh(mut self, yes: bool) -> Self {
+        self.one_mesh = yes;
+        self
     }
 
     /// At most `steps` Catmull-Clark steps for semi-sharp creases.
@@ -163,7 +176,9 @@ impl<'a> Request<'a> {
 
     /// Uniform sampling with a scheme that refines feature-adaptively.
     fn refines_adaptively(&self, kernels: &SchemeKernels) -> bool {
-        matches!(self.sampling, Sampling::Uniform(_)) && Self::has_extraordinary_class(kernels)
+        matches!(self.sampling, Sampling::Uniform(_))
+            && !self.one_mesh
+            && Self::has_extraordinary_class(kernels)
     }
 
     pub fn on(mut self, backend: Backend) -> Self {
@@ -236,7 +251,7 @@ impl<'a> Request<'a> {
                 Sampling::Adaptive(_) => None,
             };
             let opts = cpu::topology_options();
-            let feature_adaptive = Self::has_extraordinary_class(kernels);
+            let feature_adaptive = self.refines_adaptively(kernels);
             let refine = super::refined::RefineOptions {
                 level,
                 crease_cap: self.crease_refinement,
@@ -283,12 +298,6 @@ impl<'a> Request<'a> {
                     notes: Vec::new(),
                     deeper: Vec::new(),
                 });
-            }
-            if let (Sampling::Adaptive(_), Some(face)) =
-                (&self.sampling, topo.no_limit.iter().position(|&n| n))
-            {
-                let face = refined.as_ref().map_or(face, |r| r.base_face(face));
-                return Err(Error::HolesAdaptive { face });
             }
             let positions = run_mesh
                 .positions
@@ -530,10 +539,6 @@ pub enum Error {
     TagsUnused { scheme: String },
     #[error("displacement takes no crease tags (--displace does not take --tags)")]
     TagsWithDisplacement,
-    /// Holes (or boundary rule 0) with an output that is not one grid per
-    /// face: the adaptive and captured paths cannot leave faces out yet.
-    #[error("face {face} has no limit surface (a `t hole` face, or `interpolateboundary 0`): only uniform tessellation leaves such faces out so far, not adaptive tessellation")]
-    HolesAdaptive { face: usize },
     #[error(
         "--backend {backend} snaps to power-of-two levels: --partitioning integer only \
          (got {partitioning:?}; fractional partitioning needs the hardware tessellator, glsl or hlsl)"

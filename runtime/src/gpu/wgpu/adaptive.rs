@@ -279,6 +279,7 @@ impl<'g> GpuMesh<'g> {
             offsets,
             positions,
             normals,
+            face_ids: Vec::new(),
         })
     }
 

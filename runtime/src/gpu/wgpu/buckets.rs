@@ -130,7 +130,7 @@ impl<'g> GpuMesh<'g> {
         };
         let levels_read = staging("patch_levels readback", patches * abi::LEVELS_BYTES);
         let list_read = staging("bucket_list readback", b.list_words * abi::WORD_BYTES);
-        let mut phases = self.bucket_phases(max_level, slots);
+        let mut phases = self.bucket_phases(max_level, slots, false);
         let mut evals = Vec::new();
         for (slot, class, level) in self.bucket_slots(max_level) {
             evals.push((
@@ -200,6 +200,7 @@ impl<'g> GpuMesh<'g> {
             offsets,
             positions,
             normals,
+            face_ids: Vec::new(),
         })
     }
 
@@ -317,6 +318,7 @@ impl<'g> GpuMesh<'g> {
         &self,
         max_level: u32,
         slots: u32,
+        emitting_only: bool,
     ) -> Vec<(&'static str, Vec<(wgpu::Buffer, Run)>)> {
         let prm = |first, count, class, cp_base, level, out_base| {
             self.params_buffer(&params_bytes(
@@ -351,21 +353,18 @@ impl<'g> GpuMesh<'g> {
         phases.push(("adaptive_classify_main", classify));
         // The count and scatter passes: per class range, a workgroup per
         // chunk of CHUNK patches that holds one of the range's patches.
+        // With `emitting_only` (drawing) a range buckets only the patches
+        // that emit, so holes are classified (their edges' levels are
+        // their neighbours') but never drawn.
         let per_range = || {
             self.classes
                 .iter()
                 .enumerate()
-                .filter(|(_, c)| c.count > 0)
-                .map(|(r, c)| {
-                    let p = prm(
-                        c.first,
-                        c.count,
-                        c.class,
-                        c.cp_base,
-                        slots,
-                        SLOTS * r as u32,
-                    );
-                    let chunks = (c.first + c.count - 1) / CHUNK - c.first / CHUNK + 1;
+                .map(|(r, c)| (r, c, if emitting_only { c.emitting } else { c.count }))
+                .filter(|&(_, _, count)| count > 0)
+                .map(|(r, c, count)| {
+                    let p = prm(c.first, count, c.class, c.cp_base, slots, SLOTS * r as u32);
+                    let chunks = (c.first + count - 1) / CHUNK - c.first / CHUNK + 1;
                     (p, Run::Direct(chunks))
                 })
                 .collect::<Vec<_>>()
