@@ -92,8 +92,9 @@ pub(crate) fn bench(
             );
             patches
         };
-        println!("| N | samples | evaluate ms | ns/sample | samples/s | fill floor ns/sample | evaluate / floor | per-sample path ns/sample | per-sample / grid |");
-        println!("|---|---|---|---|---|---|---|---|---|");
+        let copies = cpu::lane_copies();
+        println!("| N | samples | evaluate ms | ns/sample | samples/s | fill floor ns/sample | evaluate / floor | per-sample path ns/sample | per-sample / grid | lane copies ns/sample ({}) |", copies.join(" / "));
+        println!("|---|---|---|---|---|---|---|---|---|---|");
         for &level in &args.levels {
             if level == 0 || level > cpu::MAX_LEVEL {
                 return Err(format!("level {level} out of range 1..={}", cpu::MAX_LEVEL));
@@ -114,8 +115,24 @@ pub(crate) fn bench(
                     .map_err(|e| e.to_string())
             })?;
             let ns = |s: f64| s * 1e9 / samples as f64;
+            // Each copy of the lane loops in the same run (the detected
+            // one is what `evaluate` ran above).
+            let mut per_copy = Vec::new();
+            for c in &copies {
+                let t_copy = min_time(runs, || {
+                    cpu::evaluate_slices_copy(
+                        c,
+                        &patches,
+                        level,
+                        &mut t.positions,
+                        &mut t.normals,
+                    )
+                    .map_err(|e| e.to_string())
+                })?;
+                per_copy.push(format!("{:.2}", ns(t_copy)));
+            }
             println!(
-                "| {level} | {samples} | {:.3} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.2} | {:.2} |",
+                "| {level} | {samples} | {:.3} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.2} | {:.2} | {} |",
                 t_grid * 1e3,
                 ns(t_grid),
                 samples as f64 / t_grid,
@@ -123,6 +140,7 @@ pub(crate) fn bench(
                 t_grid / t_fill,
                 ns(t_per_sample),
                 t_per_sample / t_grid,
+                per_copy.join(" / "),
             );
         }
         Ok(ExitCode::SUCCESS)

@@ -1,6 +1,6 @@
 //! The fast grid path (`cpu::evaluate`, `cpu::evaluate_into`: hoisted row
-//! curves, SIMD over columns, border samples in their own loop; both its
-//! AVX2 and its baseline copy) and the per-sample path (`cpu::evaluate_per_sample_into`: the generated `eval`
+//! curves, SIMD over columns, border samples in their own loop; every copy
+//! of its lane loops this machine runs: baseline, AVX2, AVX-512) and the per-sample path (`cpu::evaluate_per_sample_into`: the generated `eval`
 //! at every sample) give the same bits, for every scheme, every patch
 //! class and every level 1–64; and construction per deformation
 //! (`cpu::Construction::update`) gives the control points of a fresh
@@ -32,14 +32,25 @@ fn same_bits(what: &str, patches: &cpu::Patches) {
         let n = grid.positions.len();
         let (mut p, mut nrm) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
         cpu::evaluate_per_sample_into(patches, level, &mut p, &mut nrm).expect("per-sample path");
-        let (mut bp, mut bn) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
-        cpu::evaluate_slices_baseline(patches, level, &mut bp, &mut bn).expect("baseline copy");
-        for (name, a, b) in [
-            ("position", &grid.positions, &p),
-            ("normal", &grid.normals, &nrm),
-            ("position (baseline copy)", &bp, &p),
-            ("normal (baseline copy)", &bn, &nrm),
-        ] {
+        // Every copy of the lane loops this machine runs (baseline, AVX2,
+        // AVX-512), not only the detected one.
+        let copies: Vec<(String, Vec<Vec3>, Vec<Vec3>)> = cpu::lane_copies()
+            .into_iter()
+            .map(|c| {
+                let (mut bp, mut bn) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
+                cpu::evaluate_slices_copy(c, patches, level, &mut bp, &mut bn).expect(c);
+                (c.to_string(), bp, bn)
+            })
+            .collect();
+        let mut pairs: Vec<(String, &Vec<Vec3>, &Vec<Vec3>)> = vec![
+            ("position".into(), &grid.positions, &p),
+            ("normal".into(), &grid.normals, &nrm),
+        ];
+        for (c, bp, bn) in &copies {
+            pairs.push((format!("position ({c} copy)"), bp, &p));
+            pairs.push((format!("normal ({c} copy)"), bn, &nrm));
+        }
+        for (name, a, b) in pairs {
             let (a, b) = (bits(a), bits(b));
             if let Some(s) = (0..n).find(|&s| a[s] != b[s]) {
                 let per = grid.grid_len();
@@ -267,4 +278,22 @@ fn construction_update_refuses_foreign_patches() {
     assert!(prep
         .update(&positions[..positions.len() - 1], &mut patches)
         .is_err());
+}
+
+/// The bit checks above run every copy this machine has: all three on an
+/// x86-64 machine with AVX-512F (this project's machine class).
+#[test]
+fn every_detected_lane_copy_is_checked() {
+    let copies = tessgen_runtime::cpu::lane_copies();
+    println!("lane copies checked: {copies:?}");
+    assert_eq!(copies.first(), Some(&"baseline"));
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            assert!(copies.contains(&"avx2"), "{copies:?}");
+        }
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            assert!(copies.contains(&"avx512"), "{copies:?}");
+        }
+    }
 }

@@ -22,8 +22,8 @@
 //! row instead of decoding each sample index.
 //!
 //! The lane loops are written over fixed-width arrays so LLVM vectorises
-//! them; an AVX2 copy is chosen at run time (`is_x86_feature_detected!`),
-//! and the baseline copy (SSE2 on x86-64, whatever the target has
+//! them; an AVX2 copy or an AVX-512 copy (bicubic strips of 16 columns) is
+//! chosen at run time (`is_x86_feature_detected!`), and the baseline copy (SSE2 on x86-64, whatever the target has
 //! elsewhere) computes the same bits: both are IEEE single precision
 //! `+ − × ÷ √` lane by lane.
 //!
@@ -39,6 +39,9 @@ use glam::Vec3;
 /// bits are those of the generated `u32 as f32`): x86 has a packed
 /// signed conversion, not an unsigned one, before AVX-512.
 const LANES: usize = 8;
+/// The wide strip of the AVX-512 copy (one ZMM register).
+#[cfg(target_arch = "x86_64")]
+const WIDE: usize = 16;
 /// The narrower strip for a grid's last few columns (one SSE register).
 const HALF: usize = 4;
 /// `tessgen_patch_normal`'s threshold, from the ABI codegen declares
@@ -80,17 +83,47 @@ pub(crate) enum Isa {
     Baseline,
     #[cfg(target_arch = "x86_64")]
     Avx2,
+    /// AVX-512F: the bicubic interior in strips of [`WIDE`] columns; the
+    /// other loops as in the AVX2 copy, compiled with 512-bit registers
+    /// available. The same IEEE operations per lane, so the same bits.
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
 }
 
 impl Isa {
     pub(crate) fn detect() -> Isa {
         #[cfg(target_arch = "x86_64")]
         {
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx2")
+            {
+                return Isa::Avx512;
+            }
             if std::arch::is_x86_feature_detected!("avx2") {
                 return Isa::Avx2;
             }
         }
         Isa::Baseline
+    }
+
+    /// Whether AVX2 is available (the AVX2 and the AVX-512 copies): the
+    /// construction's lane loops, which have no wider copy, use it.
+    pub(crate) fn has_avx2(self) -> bool {
+        self != Isa::Baseline
+    }
+
+    /// The copy named `name` (`baseline`, `avx2`, `avx512`) if this
+    /// machine runs it: what the tests and the bench pin.
+    pub(crate) fn named(name: &str) -> Option<Isa> {
+        let best = Isa::detect();
+        match name {
+            "baseline" => Some(Isa::Baseline),
+            #[cfg(target_arch = "x86_64")]
+            "avx2" if best != Isa::Baseline => Some(Isa::Avx2),
+            #[cfg(target_arch = "x86_64")]
+            "avx512" if best == Isa::Avx512 => Some(Isa::Avx512),
+            _ => None,
+        }
     }
 }
 
@@ -119,6 +152,10 @@ pub(crate) fn patch_grid(
                 // SAFETY: `Isa::Avx2` is only produced after
                 // `is_x86_feature_detected!("avx2")`.
                 Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, level, pos, nrm) },
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `Isa::Avx512` is only produced after
+                // `is_x86_feature_detected!("avx512f")` and `("avx2")`.
+                Isa::Avx512 => unsafe { bicubic_patch_avx512(&g, &curve, level, pos, nrm) },
             };
             // A sample with parallel tangents takes its normal from one
             // nudge inside the patch (the generated `eval`): rare enough to
@@ -137,6 +174,9 @@ pub(crate) fn patch_grid(
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above.
                 Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, level, pos, nrm) },
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as above.
+                Isa::Avx512 => unsafe { tri_cubic_patch_avx512(&c, &curve, level, pos, nrm) },
             }
         }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
@@ -179,7 +219,21 @@ fn bicubic_patch(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let degenerate = bicubic_interior(g, level, pos, nrm);
+    let degenerate = bicubic_interior::<LANES>(g, level, pos, nrm);
+    quad_border(g, curve, level, pos);
+    degenerate
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn bicubic_patch_avx512(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    let degenerate = bicubic_interior::<WIDE>(g, level, pos, nrm);
     quad_border(g, curve, level, pos);
     degenerate
 }
@@ -205,16 +259,27 @@ unsafe fn bicubic_patch_avx2(
 /// writes (`LANES` samples of each row) stay in cache: one grid is at most
 /// a few tens of KiB at the usual levels.
 #[inline(always)]
-fn bicubic_interior(g: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) -> bool {
+fn bicubic_interior<const W: usize>(
+    g: &[Vec3; 16],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
     let width = level as usize + 1;
     let mut c0 = 0usize;
     let mut degenerate = false;
     while c0 < width {
-        // Strips of 8 columns; a last one of at most 4 takes 4 lanes, so
-        // little work goes to padding (N = 9: 8 + 4 lanes for 10 columns).
-        if width - c0 <= HALF {
+        // Strips of W columns while more than 8 are left, then of 8; a
+        // last one of at most 4 takes 4 lanes, so little work goes to
+        // padding (N = 9: 8 + 4 lanes for 10 columns; W = 16, N = 33:
+        // 16 + 16 + 4).
+        let left = width - c0;
+        if left <= HALF {
             degenerate |= bicubic_strip::<HALF>(g, level, c0, pos, nrm);
             c0 += HALF;
+        } else if W > LANES && left > LANES {
+            degenerate |= bicubic_strip::<W>(g, level, c0, pos, nrm);
+            c0 += W;
         } else {
             degenerate |= bicubic_strip::<LANES>(g, level, c0, pos, nrm);
             c0 += LANES;
@@ -474,6 +539,18 @@ fn tri_cubic_patch(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn tri_cubic_patch_avx2(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    tri_cubic_patch(c, curve, level, pos, nrm)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn tri_cubic_patch_avx512(
     c: &[Vec3; 16],
     curve: &[u32; 12],
     level: u32,

@@ -469,16 +469,30 @@ pub fn evaluate_slices(
     grid_path(patches, level, positions, normals, grid_eval::Isa::detect())
 }
 
-/// [`evaluate_slices`] with the baseline copy of the lane loops even where
-/// AVX2 is available, so the tests check both copies give the same bits.
+/// The copies of the lane loops this machine runs, best last:
+/// `baseline`, then `avx2` and `avx512` where detected.
 #[doc(hidden)]
-pub fn evaluate_slices_baseline(
+pub fn lane_copies() -> Vec<&'static str> {
+    ["baseline", "avx2", "avx512"]
+        .into_iter()
+        .filter(|n| grid_eval::Isa::named(n).is_some())
+        .collect()
+}
+
+/// [`evaluate_slices`] with the copy `name` of [`lane_copies`] (the tests
+/// check every copy gives the same bits; the bench times each).
+/// [`TessError::Level`]-style errors as `evaluate_slices`; a copy this
+/// machine does not run falls back to the detected one.
+#[doc(hidden)]
+pub fn evaluate_slices_copy(
+    name: &str,
     patches: &Patches,
     level: u32,
     positions: &mut [Vec3],
     normals: &mut [Vec3],
 ) -> Result<(), TessError> {
-    grid_path(patches, level, positions, normals, grid_eval::Isa::Baseline)
+    let isa = grid_eval::Isa::named(name).unwrap_or_else(grid_eval::Isa::detect);
+    grid_path(patches, level, positions, normals, isa)
 }
 
 /// The grids of faces `faces` (a range of `patches`' faces) into a

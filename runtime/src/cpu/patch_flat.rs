@@ -116,7 +116,7 @@ impl GatherPlan {
         let source = &self.source[a..b];
         let dst = &mut dst[..source.len()];
         #[cfg(target_arch = "x86_64")]
-        if self.isa == Isa::Avx2 && vertex_out.len() >= self.vertex_outputs {
+        if self.isa.has_avx2() && vertex_out.len() >= self.vertex_outputs {
             // SAFETY: AVX2 was detected; every source is below
             // `vertex_outputs` ≤ `vertex_out.len()` and below 2^23.
             unsafe { copy_avx2(source, vertex_out, dst) };

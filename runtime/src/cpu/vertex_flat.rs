@@ -238,10 +238,10 @@ impl FlatVertexStage {
         let chunks = &self.chunks[c0 as usize..c1 as usize];
         match self.isa {
             #[cfg(target_arch = "x86_64")]
-            // SAFETY: `Isa::Avx2` is only produced after
-            // `is_x86_feature_detected!("avx2")`, and the positions are
-            // long enough for every gather index.
-            Isa::Avx2 if positions.len() >= self.vertices => unsafe {
+            // SAFETY: `Isa::Avx2` and `Isa::Avx512` are only produced
+            // after `is_x86_feature_detected!("avx2")`, and the positions
+            // are long enough for every gather index.
+            isa if isa.has_avx2() && positions.len() >= self.vertices => unsafe {
                 self.chunks_avx2(chunks, positions, out, scratch)
             },
             _ => self.chunks_baseline(chunks, positions, out, &mut scratch.p),
