@@ -297,3 +297,42 @@ fn every_detected_lane_copy_is_checked() {
         }
     }
 }
+
+/// Leaving out the faces that emit nothing (`cpu::evaluate_emitting`, what
+/// the CPU backend runs for holes and feature-adaptive depths) gives
+/// exactly `evaluate` followed by `retain_faces`: same grids, same face
+/// ids, same bits.
+#[test]
+fn evaluating_only_the_emitting_faces_changes_no_bit() {
+    let mesh = common::mesh("catmark_toroidal_tet");
+    let (topo, positions) = common::topo_positions(&mesh);
+    let k = cpu::scheme("pccm").expect("scheme");
+    let patches = cpu::construct(&topo, &positions, k).expect("construct");
+    let faces = patches.face_class.len();
+    for (what, emits) in [
+        (
+            "every third",
+            (0..faces).map(|f| f % 3 != 0).collect::<Vec<_>>(),
+        ),
+        ("none", vec![false; faces]),
+        ("all", vec![true; faces]),
+    ] {
+        for level in [1, 4, 9] {
+            let mut all = cpu::evaluate(&patches, level).expect("evaluate");
+            all.retain_faces(&emits);
+            let some = cpu::evaluate_emitting(&patches, level, &emits).expect("emitting");
+            assert_eq!(some.face_ids, all.face_ids, "{what} level {level}");
+            assert_eq!(
+                bits(&some.positions),
+                bits(&all.positions),
+                "{what} level {level}"
+            );
+            assert_eq!(
+                bits(&some.normals),
+                bits(&all.normals),
+                "{what} level {level}"
+            );
+            assert_eq!(some.faces, emits.iter().filter(|&&e| e).count());
+        }
+    }
+}

@@ -70,7 +70,15 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
     };
     let edges = v.domain.edges();
     Ok(match (&v.adaptive, &data) {
-        (None, None) => Output::Grid(cpu::evaluate(&patches, level(v))?),
+        // Faces that emit nothing (holes; a feature-adaptive depth's
+        // non-leaves) are not evaluated on the CPU.
+        (None, None) => Output::Grid(match v.no_limit() {
+            Some(no_limit) => {
+                let emits: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
+                cpu::evaluate_emitting(&patches, level(v), &emits)?
+            }
+            None => cpu::evaluate(&patches, level(v))?,
+        }),
         (None, Some(d)) => Output::Grid(cpu::evaluate_displaced(&patches, level(v), d)?),
         (Some(a), None) => Output::Instanced(crate::cpu::adaptive::evaluate_cpu_adaptive(
             &patches,

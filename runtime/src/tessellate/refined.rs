@@ -400,6 +400,22 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
             c
         })
         .collect();
+    // Grid of each face in a part's result: face f, or (when the backend
+    // left out the faces that emit nothing) its place in `face_ids`.
+    let grid_of: Vec<Option<Vec<u32>>> = parts
+        .iter()
+        .map(|p| {
+            (!p.t.face_ids.is_empty()).then(|| {
+                let mut g = vec![u32::MAX; p.domain.refinement.leaves.len().max(p.t.faces)];
+                for (k, &f) in p.t.face_ids.iter().enumerate() {
+                    if let Some(x) = g.get_mut(f as usize) {
+                        *x = k as u32;
+                    }
+                }
+                g
+            })
+        })
+        .collect();
     let mut quads = GridBuilder::default();
     let mut subfaces = GridBuilder::default();
     let mut corners = Vec::new();
@@ -429,7 +445,7 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
         for j in 0..=l {
             for i in 0..=l {
                 let mut found = None;
-                for (p, c) in parts.iter().zip(&cells) {
+                for ((p, c), grid) in parts.iter().zip(&cells).zip(&grid_of) {
                     let Some(cell) = &c[b] else { continue };
                     let r = p.domain.refinement.levels - u32::from(sub);
                     let side = 1usize << r;
@@ -437,8 +453,12 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
                     let (x, li) = leaf_coord(i, l, m, side);
                     let (y, lj) = leaf_coord(j, l, m, side);
                     let f = cell[y * side + x];
-                    if f != u32::MAX {
-                        found = Some((p, f as usize * (m + 1) * (m + 1) + lj * (m + 1) + li));
+                    let g = match grid {
+                        Some(g) => g.get(f as usize).copied().unwrap_or(u32::MAX),
+                        None => f,
+                    };
+                    if f != u32::MAX && g != u32::MAX {
+                        found = Some((p, g as usize * (m + 1) * (m + 1) + lj * (m + 1) + li));
                         break;
                     }
                 }
