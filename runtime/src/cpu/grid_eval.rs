@@ -147,7 +147,7 @@ pub(crate) fn patch_grid(
             let mut curve = [0u32; 16];
             curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
             let degenerate = match isa {
-                Isa::Baseline => bicubic_patch(&g, &curve, level, pos, nrm),
+                Isa::Baseline => bicubic_patch::<LANES>(&g, &curve, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `Isa::Avx2` is only produced after
                 // `is_x86_feature_detected!("avx2")`.
@@ -212,14 +212,14 @@ fn per_sample(
 /// positions from the edge evaluator. Whether a sample's tangents were
 /// parallel (`tessgen_patch_normal`'s zero normal).
 #[inline(always)]
-fn bicubic_patch(
+fn bicubic_patch<const W: usize>(
     g: &[Vec3; 16],
     curve: &[u32; 16],
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let degenerate = bicubic_interior::<LANES>(g, level, pos, nrm);
+    let degenerate = bicubic_interior::<W>(g, level, pos, nrm);
     quad_border(g, curve, level, pos);
     degenerate
 }
@@ -233,9 +233,7 @@ unsafe fn bicubic_patch_avx512(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let degenerate = bicubic_interior::<WIDE>(g, level, pos, nrm);
-    quad_border(g, curve, level, pos);
-    degenerate
+    bicubic_patch::<WIDE>(g, curve, level, pos, nrm)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -247,7 +245,7 @@ unsafe fn bicubic_patch_avx2(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    bicubic_patch(g, curve, level, pos, nrm)
+    bicubic_patch::<LANES>(g, curve, level, pos, nrm)
 }
 
 /// The generated `ordinary_surface` at every grid point of a bicubic patch
