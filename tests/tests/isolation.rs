@@ -17,8 +17,7 @@
 mod common;
 
 use tessgen_runtime::accuracy::{compare_with, LimitSamples};
-use tessgen_runtime::adaptive::Partitioning;
-use tessgen_runtime::tessellate::{AdaptiveRequest, Backend, EdgeMetric, Output, Request, Session};
+use tessgen_runtime::tessellate::{Backend, Output, Request, Session};
 
 fn limit(name: &str) -> LimitSamples {
     LimitSamples::load(common::data(&format!("cc_limit/{name}.bin"))).expect("limit")
@@ -127,19 +126,7 @@ fn isolation_says_where_it_does_not_apply() {
         v.notes()
     );
     let cube = common::mesh("catmark_cube");
-    let r = Request::adaptive(
-        "pccm",
-        AdaptiveRequest {
-            metric: EdgeMetric::Random {
-                seed: 1,
-                lo: 1.0,
-                hi: 4.0,
-            },
-            partitioning: Partitioning::Integer,
-            max_factor: 4.0,
-        },
-    )
-    .isolate(2);
+    let r = common::random_adaptive("pccm", 1, 1.0, 4.0, 4.0).isolate(2);
     let v = r.validate(&cube).expect("validate");
     assert!(v.notes().iter().any(|n| n.contains("not applied")));
     // Applied: the note says how deep.

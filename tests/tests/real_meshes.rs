@@ -816,21 +816,7 @@ fn hole_faces_emit_nothing_and_change_no_neighbour() {
     // Adaptive tessellation leaves them out too, on every adaptive path
     // (CPU and wgpu instanced grids, the hardware tessellator's capture):
     // the same result as without the holes, minus the hole faces' patches.
-    let req = |backend| {
-        Request::adaptive(
-            "pccm",
-            AdaptiveRequest {
-                metric: EdgeMetric::Random {
-                    seed: 1,
-                    lo: 1.0,
-                    hi: 4.0,
-                },
-                partitioning: Partitioning::Integer,
-                max_factor: 8.0,
-            },
-        )
-        .on(backend)
-    };
+    let req = |backend| common::random_adaptive("pccm", 1, 1.0, 4.0, 8.0).on(backend);
     for backend in [Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl] {
         let req = req(backend);
         let v = req.validate(&holed).expect("holed adaptive");

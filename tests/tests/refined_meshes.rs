@@ -15,15 +15,12 @@
 mod common;
 
 use tessgen_runtime::accuracy::{compare_with, LimitSamples};
-use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::Ownership;
 use tessgen_runtime::mesh::features::Features;
 use tessgen_runtime::mesh::refine;
 use tessgen_runtime::mesh::Tag;
 use tessgen_runtime::tessellate::refined::RefineError;
-use tessgen_runtime::tessellate::{
-    AdaptiveRequest, Backend, EdgeMetric, Error, Output, Request, Session,
-};
+use tessgen_runtime::tessellate::{Backend, Error, Output, Request, Session};
 use tessgen_runtime::Mesh;
 
 const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
@@ -296,19 +293,7 @@ fn adaptive_polygon_meshes_weld() {
     let mesh = common::mesh("catmark_nonquads");
     let mut session = Session::new();
     for backend in [Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl] {
-        let request = Request::adaptive(
-            "pccm",
-            AdaptiveRequest {
-                metric: EdgeMetric::Random {
-                    seed: 7,
-                    lo: 1.0,
-                    hi: 8.0,
-                },
-                partitioning: Partitioning::Integer,
-                max_factor: 8.0,
-            },
-        )
-        .on(backend);
+        let request = common::random_adaptive("pccm", 7, 1.0, 8.0, 8.0).on(backend);
         welded(
             &mesh,
             &request,
@@ -455,19 +440,7 @@ fn adaptive_takes_the_crease_steps() {
         .into_grid()
         .expect("grid");
     let adaptive = |steps: u32| {
-        let probe = Request::adaptive(
-            "pccm",
-            AdaptiveRequest {
-                metric: EdgeMetric::Random {
-                    seed: 0,
-                    lo: 4.0,
-                    hi: 4.0,
-                },
-                partitioning: Partitioning::Integer,
-                max_factor: 16.0,
-            },
-        )
-        .crease_refinement(steps);
+        let probe = common::random_adaptive("pccm", 0, 4.0, 4.0, 16.0).crease_refinement(steps);
         let v = probe.validate(&mesh).expect("validate");
         let faces = v.topology().expect("quads").corners.len();
         let notes = v.notes().join("\n");

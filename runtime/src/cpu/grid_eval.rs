@@ -23,9 +23,9 @@
 //!
 //! The lane loops are written over fixed-width arrays so LLVM vectorises
 //! them; an AVX2 copy or an AVX-512 copy (bicubic strips of 16 columns) is
-//! chosen at run time (`is_x86_feature_detected!`), and the baseline copy (SSE2 on x86-64, whatever the target has
-//! elsewhere) computes the same bits: both are IEEE single precision
-//! `+ − × ÷ √` lane by lane.
+//! chosen at run time (`is_x86_feature_detected!`), and the baseline copy
+//! (SSE2 on x86-64, whatever the target has elsewhere) computes the same
+//! bits: all are IEEE single precision `+ − × ÷ √` lane by lane.
 //!
 //! `tests/tests/grid_path.rs` checks that this path and the per-sample path
 //! give the same bits for every scheme, class and level 1–64.

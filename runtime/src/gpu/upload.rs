@@ -172,30 +172,25 @@ pub fn class_layout(
     let hole = |f: usize| no_limit.get(f).copied().unwrap_or(false);
     for (c, ck) in scheme.classes.iter().enumerate() {
         let first = patch_faces.len() as u32;
-        for holes in [false, true] {
-            patch_faces.extend(
-                face_class
-                    .iter()
-                    .enumerate()
-                    .filter(|&(f, k)| *k == c as u32 && hole(f) == holes)
-                    .map(|(f, _)| f as u32),
-            );
-            if !holes {
-                let emitting = patch_faces.len() as u32 - first;
-                classes.push(ClassRange {
-                    class: c as u32,
-                    first,
-                    count: emitting,
-                    emitting,
-                    cp_base,
-                    points: ck.control_points,
-                });
-            }
-        }
+        let of_class = |holes: bool| {
+            face_class
+                .iter()
+                .enumerate()
+                .filter(move |&(f, k)| *k == c as u32 && hole(f) == holes)
+                .map(|(f, _)| f as u32)
+        };
+        patch_faces.extend(of_class(false));
+        let emitting = patch_faces.len() as u32 - first;
+        patch_faces.extend(of_class(true));
         let count = patch_faces.len() as u32 - first;
-        if let Some(range) = classes.last_mut() {
-            range.count = count;
-        }
+        classes.push(ClassRange {
+            class: c as u32,
+            first,
+            count,
+            emitting,
+            cp_base,
+            points: ck.control_points,
+        });
         cp_base += count * ck.control_points;
     }
     (patch_faces, classes, cp_base)

@@ -74,8 +74,7 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
         // non-leaves) are not evaluated on the CPU.
         (None, None) => Output::Grid(match v.no_limit() {
             Some(no_limit) => {
-                let emits: Vec<bool> = no_limit.iter().map(|&n| !n).collect();
-                cpu::evaluate_emitting(&patches, level(v), &emits)?
+                cpu::evaluate_emitting(&patches, level(v), &super::emitting(no_limit))?
             }
             None => cpu::evaluate(&patches, level(v))?,
         }),

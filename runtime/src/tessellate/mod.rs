@@ -350,8 +350,9 @@ impl Session {
     }
 }
 
-/// `keep` for `retain_faces`: the faces with a limit surface.
-fn emitting(no_limit: &[bool]) -> Vec<bool> {
+/// `keep` for `retain_faces` (and `cpu::evaluate_emitting`): the faces
+/// with a limit surface.
+pub(crate) fn emitting(no_limit: &[bool]) -> Vec<bool> {
     no_limit.iter().map(|&n| !n).collect()
 }
 

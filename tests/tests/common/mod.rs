@@ -157,3 +157,24 @@ pub fn grid(
     tessgen_runtime::tessellate::tessellate(mesh, request)
         .map(|o| o.into_grid().expect("a uniform CPU request gives grids"))
 }
+
+/// An adaptive request for `scheme` with random per-edge factors in
+/// `[lo, hi]` (seeded, integer partitioning), factors clamped to
+/// `max_factor`: what most adaptive tests run.
+pub fn random_adaptive(
+    scheme: &str,
+    seed: u64,
+    lo: f32,
+    hi: f32,
+    max_factor: f32,
+) -> tessgen_runtime::tessellate::Request<'static> {
+    use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Request};
+    Request::adaptive(
+        scheme,
+        AdaptiveRequest {
+            metric: EdgeMetric::Random { seed, lo, hi },
+            partitioning: tessgen_runtime::adaptive::Partitioning::Integer,
+            max_factor,
+        },
+    )
+}
