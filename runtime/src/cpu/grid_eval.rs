@@ -60,6 +60,51 @@ pub(crate) enum Path {
     PerSample,
 }
 
+/// The grid weights `l_i = (N − i)/N` and `r_i = i/N`, `i = 0 … N`, made
+/// once per evaluation with the generated code's operations (an exact
+/// integer-to-float conversion, then one division by `N as f32`), so the
+/// columns, rows and edges of every patch read the same bits instead of
+/// converting and dividing per lane. Entries past `N` repeat those at `N`:
+/// padded lanes compute column `N` again and are never stored.
+pub(crate) struct LevelWeights {
+    l: Vec<f32>,
+    r: Vec<f32>,
+}
+
+impl LevelWeights {
+    pub(crate) fn new(level: u32) -> LevelWeights {
+        // Integers ≤ MAX_LEVEL convert exactly through i32 or u32 alike.
+        let nf = level as f32;
+        let len = level as usize + 1 + PAD;
+        let at = |i: usize| (i as u32).min(level);
+        LevelWeights {
+            l: (0..len)
+                .map(|i| ((level - at(i)) as i32 as f32) / nf)
+                .collect(),
+            r: (0..len).map(|i| (at(i) as i32 as f32) / nf).collect(),
+        }
+    }
+
+    /// `L` consecutive `l` weights from `i`.
+    #[inline(always)]
+    fn l_from<const L: usize>(&self, i: usize) -> [f32; L] {
+        let mut v = [0.0f32; L];
+        v.copy_from_slice(&self.l[i..i + L]);
+        v
+    }
+
+    /// `L` consecutive `r` weights from `i`.
+    #[inline(always)]
+    fn r_from<const L: usize>(&self, i: usize) -> [f32; L] {
+        let mut v = [0.0f32; L];
+        v.copy_from_slice(&self.r[i..i + L]);
+        v
+    }
+}
+
+/// How far past `N` a lane group may read [`LevelWeights`] (the widest strip).
+const PAD: usize = 16;
+
 /// The path of every class of `kernels` (index = class).
 pub(crate) fn class_paths(kernels: &SchemeKernels) -> Vec<Path> {
     kernels
@@ -134,12 +179,14 @@ pub(crate) fn patch_grid(
     kernels: &SchemeKernels,
     path: Path,
     isa: Isa,
+    weights: &LevelWeights,
     cp: &[Vec3],
     class: u32,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) {
+    let w = weights;
     match path {
         Path::Bicubic => {
             let mut g = [Vec3::ZERO; 16];
@@ -147,15 +194,15 @@ pub(crate) fn patch_grid(
             let mut curve = [0u32; 16];
             curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
             let degenerate = match isa {
-                Isa::Baseline => bicubic_patch::<LANES>(&g, &curve, level, pos, nrm),
+                Isa::Baseline => bicubic_patch::<LANES, false>(&g, &curve, w, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `Isa::Avx2` is only produced after
                 // `is_x86_feature_detected!("avx2")`.
-                Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, level, pos, nrm) },
+                Isa::Avx2 => unsafe { bicubic_patch_avx2(&g, &curve, w, level, pos, nrm) },
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: `Isa::Avx512` is only produced after
                 // `is_x86_feature_detected!("avx512f")` and `("avx2")`.
-                Isa::Avx512 => unsafe { bicubic_patch_avx512(&g, &curve, level, pos, nrm) },
+                Isa::Avx512 => unsafe { bicubic_patch_avx512(&g, &curve, w, level, pos, nrm) },
             };
             // A sample with parallel tangents takes its normal from one
             // nudge inside the patch (the generated `eval`): rare enough to
@@ -170,13 +217,13 @@ pub(crate) fn patch_grid(
             let mut curve = [0u32; 12];
             curve.copy_from_slice(&kernels.edge_curve[class as usize * 12..][..12]);
             match isa {
-                Isa::Baseline => tri_cubic_patch(&c, &curve, level, pos, nrm),
+                Isa::Baseline => tri_cubic_patch::<false>(&c, &curve, w, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above.
-                Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, level, pos, nrm) },
+                Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, w, level, pos, nrm) },
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above.
-                Isa::Avx512 => unsafe { tri_cubic_patch_avx512(&c, &curve, level, pos, nrm) },
+                Isa::Avx512 => unsafe { tri_cubic_patch_avx512(&c, &curve, w, level, pos, nrm) },
             }
         }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
@@ -212,15 +259,16 @@ fn per_sample(
 /// positions from the edge evaluator. Whether a sample's tangents were
 /// parallel (`tessgen_patch_normal`'s zero normal).
 #[inline(always)]
-fn bicubic_patch<const W: usize>(
+fn bicubic_patch<const W: usize, const V: bool>(
     g: &[Vec3; 16],
     curve: &[u32; 16],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let degenerate = bicubic_interior::<W>(g, level, pos, nrm);
-    quad_border(g, curve, level, pos);
+    let degenerate = bicubic_interior::<W, V>(g, w, level, pos, nrm);
+    quad_border::<V>(g, curve, w, level, pos);
     degenerate
 }
 
@@ -229,11 +277,12 @@ fn bicubic_patch<const W: usize>(
 unsafe fn bicubic_patch_avx512(
     g: &[Vec3; 16],
     curve: &[u32; 16],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    bicubic_patch::<WIDE>(g, curve, level, pos, nrm)
+    bicubic_patch::<WIDE, true>(g, curve, w, level, pos, nrm)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -241,11 +290,12 @@ unsafe fn bicubic_patch_avx512(
 unsafe fn bicubic_patch_avx2(
     g: &[Vec3; 16],
     curve: &[u32; 16],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    bicubic_patch::<LANES>(g, curve, level, pos, nrm)
+    bicubic_patch::<LANES, true>(g, curve, w, level, pos, nrm)
 }
 
 /// The generated `ordinary_surface` at every grid point of a bicubic patch
@@ -257,8 +307,9 @@ unsafe fn bicubic_patch_avx2(
 /// writes (`LANES` samples of each row) stay in cache: one grid is at most
 /// a few tens of KiB at the usual levels.
 #[inline(always)]
-fn bicubic_interior<const W: usize>(
+fn bicubic_interior<const W: usize, const V: bool>(
     g: &[Vec3; 16],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
@@ -273,13 +324,13 @@ fn bicubic_interior<const W: usize>(
         // 16 + 16 + 4).
         let left = width - c0;
         if left <= HALF {
-            degenerate |= bicubic_strip::<HALF>(g, level, c0, pos, nrm);
+            degenerate |= bicubic_strip::<HALF, V>(g, w, level, c0, pos, nrm);
             c0 += HALF;
         } else if W > LANES && left > LANES {
-            degenerate |= bicubic_strip::<W>(g, level, c0, pos, nrm);
+            degenerate |= bicubic_strip::<W, V>(g, w, level, c0, pos, nrm);
             c0 += W;
         } else {
-            degenerate |= bicubic_strip::<LANES>(g, level, c0, pos, nrm);
+            degenerate |= bicubic_strip::<LANES, V>(g, w, level, c0, pos, nrm);
             c0 += LANES;
         }
     }
@@ -288,24 +339,17 @@ fn bicubic_interior<const W: usize>(
 
 /// Columns `c0 .. c0 + L` (clamped to the grid) of a bicubic patch's grid.
 #[inline(always)]
-fn bicubic_strip<const L: usize>(
+fn bicubic_strip<const L: usize, const V: bool>(
     g: &[Vec3; 16],
+    w: &LevelWeights,
     level: u32,
     c0: usize,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let n = level as usize;
-    let nf = level as f32;
-    let width = n + 1;
+    let width = level as usize + 1;
     // Padded lanes repeat column N.
-    let mut lu = [0.0f32; L];
-    let mut ru = [0.0f32; L];
-    for k in 0..L {
-        let iu = (c0 + k).min(n) as u32;
-        lu[k] = ((level - iu) as i32 as f32) / nf;
-        ru[k] = (iu as i32 as f32) / nf;
-    }
+    let (lu, ru) = (w.l_from::<L>(c0), w.r_from::<L>(c0));
     // Row curves of the strip: [row][component] point and tangent.
     let mut pt = [[[0.0f32; L]; 3]; 4];
     let mut tg = [[[0.0f32; L]; 3]; 4];
@@ -323,14 +367,13 @@ fn bicubic_strip<const L: usize>(
     }
     let m = (width - c0).min(L);
     let mut degenerate = false;
-    for iv in 0..=level {
-        let lv = ((level - iv) as f32) / nf;
-        let rv = (iv as f32) / nf;
+    for iv in 0..=level as usize {
+        let (lv, rv) = (w.l[iv], w.r[iv]);
         let mut out = [[0.0f32; L]; 6];
         degenerate |= sample_lanes(&pt, &tg, lv, rv, &mut out);
-        let base = iv as usize * width + c0;
-        store_lanes(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
-        store_lanes(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
+        let base = iv * width + c0;
+        store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[base..base + m]);
+        store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
     }
     degenerate
 }
@@ -414,10 +457,41 @@ fn sample_lanes<const L: usize>(
     degenerate
 }
 
-/// The first `dst.len()` (≤ LANES) lanes of (x, y, z) into `dst`: full
-/// chunks interleave in registers, then one copy.
+/// The first `dst.len()` (≤ L) lanes of (x, y, z) into `dst`. With `V`
+/// (only in the copies compiled with AVX2 enabled) each full group of 8
+/// lanes is interleaved in registers by [`interleave8`]; otherwise full
+/// chunks interleave through an array, then one copy. Data movement only:
+/// the bits are the lanes'.
 #[inline(always)]
-fn store_lanes<const L: usize>(x: &[f32; L], y: &[f32; L], z: &[f32; L], dst: &mut [Vec3]) {
+fn store_lanes<const L: usize, const V: bool>(
+    x: &[f32; L],
+    y: &[f32; L],
+    z: &[f32; L],
+    dst: &mut [Vec3],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if V && L % 8 == 0 && dst.len() == L {
+        for c in 0..L / 8 {
+            let (xs, ys, zs) = (
+                &x[c * 8..c * 8 + 8],
+                &y[c * 8..c * 8 + 8],
+                &z[c * 8..c * 8 + 8],
+            );
+            let d = &mut dst[c * 8..c * 8 + 8];
+            // SAFETY: `V` is true only in the AVX2 and AVX-512 copies, which
+            // run after `is_x86_feature_detected!("avx2")`; the three
+            // sources hold 8 floats each and `d` 8 `Vec3`s (24 floats).
+            unsafe {
+                interleave8(
+                    xs.as_ptr(),
+                    ys.as_ptr(),
+                    zs.as_ptr(),
+                    d.as_mut_ptr() as *mut f32,
+                )
+            };
+        }
+        return;
+    }
     if dst.len() == L {
         let mut v = [Vec3::ZERO; L];
         for k in 0..L {
@@ -431,25 +505,54 @@ fn store_lanes<const L: usize>(x: &[f32; L], y: &[f32; L], z: &[f32; L], dst: &m
     }
 }
 
+/// Eight lanes of x, y and z as eight packed `(x, y, z)` triples (24
+/// floats at `dst`): six in-lane shuffles and three cross-lane permutes,
+/// where LLVM's own interleave of `[Vec3; 8]` went through the stack.
+///
+/// # Safety
+/// AVX must be available; `x`, `y`, `z` must be readable for 8 floats and
+/// `dst` writable for 24.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+unsafe fn interleave8(x: *const f32, y: *const f32, z: *const f32, dst: *mut f32) {
+    use std::arch::x86_64::*;
+    let (x, y, z) = (_mm256_loadu_ps(x), _mm256_loadu_ps(y), _mm256_loadu_ps(z));
+    // Per 128-bit half (lanes 0–3 shown):
+    let xy = _mm256_shuffle_ps::<0b10_00_10_00>(x, y); // x0 x2 y0 y2
+    let yz = _mm256_shuffle_ps::<0b11_01_11_01>(y, z); // y1 y3 z1 z3
+    let zx = _mm256_shuffle_ps::<0b11_01_10_00>(z, x); // z0 z2 x1 x3
+    let r03 = _mm256_shuffle_ps::<0b10_00_10_00>(xy, zx); // x0 y0 z0 x1
+    let r14 = _mm256_shuffle_ps::<0b11_01_10_00>(yz, xy); // y1 z1 x2 y2
+    let r25 = _mm256_shuffle_ps::<0b11_01_11_01>(zx, yz); // z2 x3 y3 z3
+    _mm256_storeu_ps(dst, _mm256_permute2f128_ps::<0x20>(r03, r14));
+    _mm256_storeu_ps(dst.add(8), _mm256_permute2f128_ps::<0x30>(r25, r03));
+    _mm256_storeu_ps(dst.add(16), _mm256_permute2f128_ps::<0x31>(r14, r25));
+}
+
 /// Border positions of a quad patch from the shared edge evaluator, with
 /// the generated `eval`'s edge choice: `iv = 0` is edge 0 (`t = iu`), else
 /// `iu = N` edge 1 (`t = iv`), else `iv = N` edge 2 (`t = N − iu`), else
 /// `iu = 0` edge 3 (`t = N − iv`). `curve` is the class's 16 `EDGE_CURVE`
 /// entries (four points per edge).
 #[inline(always)]
-fn quad_border(g: &[Vec3; 16], curve: &[u32; 16], level: u32, pos: &mut [Vec3]) {
+fn quad_border<const V: bool>(
+    g: &[Vec3; 16],
+    curve: &[u32; 16],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+) {
     let n = level as usize;
     let width = n + 1;
     let b = |e: usize| edge_points(g, curve, e);
-    edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);
-    edge_run(&b(1), level, 1..=level, |t, p| {
-        pos[t as usize * width + n] = p
+    edge_run::<V>(&b(0), w, level, 0..=level, |t, p| pos[t] = p);
+    edge_run::<V>(&b(1), w, level, 1..=level, |t, p| pos[t * width + n] = p);
+    edge_run::<V>(&b(2), w, level, 1..=level, |t, p| {
+        pos[n * width + (n - t)] = p
     });
-    edge_run(&b(2), level, 1..=level, |t, p| {
-        pos[n * width + (n - t as usize)] = p
-    });
-    edge_run(&b(3), level, 1..=level.saturating_sub(1), |t, p| {
-        pos[(n - t as usize) * width] = p
+    edge_run::<V>(&b(3), w, level, 1..=level.saturating_sub(1), |t, p| {
+        pos[(n - t) * width] = p
     });
 }
 
@@ -463,15 +566,20 @@ fn edge_points<const C: usize>(g: &[Vec3; 16], curve: &[u32; C], e: usize) -> [V
 }
 
 /// `tessgen_edge(b0, b1, b2, b3, t, level)` for every `t` of `ts`, lane by
-/// lane (chunks of `LANES` values of `t`), each handed to `put(t, point)`.
+/// lane (chunks of `LANES` values of `t`, the weights read from `w`), each
+/// handed to `put(t, point)`. The edge evaluator returns the corner points
+/// themselves at `t = 0` and `t = level`; those lanes are overwritten with
+/// them after the de Casteljau steps, which is the generated select.
 #[inline(always)]
-fn edge_run(
+fn edge_run<const V: bool>(
     b: &[Vec3; 4],
+    w: &LevelWeights,
     level: u32,
     ts: std::ops::RangeInclusive<u32>,
-    mut put: impl FnMut(u32, Vec3),
+    mut put: impl FnMut(usize, Vec3),
 ) {
-    let (first, last) = (*ts.start(), *ts.end());
+    let (first, last) = (*ts.start() as usize, *ts.end() as usize);
+    let level = level as usize;
     let comp = [
         [b[0].x, b[1].x, b[2].x, b[3].x],
         [b[0].y, b[1].y, b[2].y, b[3].y],
@@ -479,59 +587,55 @@ fn edge_run(
     ];
     let mut t0 = first;
     while t0 <= last {
+        let (l, r) = (w.l_from::<LANES>(t0), w.r_from::<LANES>(t0));
         let mut out = [[0.0f32; LANES]; 3];
         for (o, bc) in out.iter_mut().zip(&comp) {
-            edge_lanes(bc, t0, last, level, o);
+            edge_lanes(bc, &l, &r, o);
         }
         let mut v = [Vec3::ZERO; LANES];
-        store_lanes(&out[0], &out[1], &out[2], &mut v);
-        let m = ((last - t0) as usize + 1).min(LANES);
-        for (k, p) in v.iter().take(m).enumerate() {
-            put(t0 + k as u32, *p);
+        store_lanes::<LANES, V>(&out[0], &out[1], &out[2], &mut v);
+        if t0 == 0 {
+            v[0] = b[0];
         }
-        t0 += LANES as u32;
+        if (t0..t0 + LANES).contains(&level) {
+            v[level - t0] = b[3];
+        }
+        let m = (last - t0 + 1).min(LANES);
+        for (k, p) in v.iter().take(m).enumerate() {
+            put(t0 + k, *p);
+        }
+        t0 += LANES;
     }
 }
 
-/// One component of `tessgen_edge` for `t = t0 + k` (clamped to `last`),
-/// per lane: the corner point itself at `t = 0` and `t = level`, else
-/// symmetric de Casteljau with `r = t/level`, `l = (level − t)/level`
-/// (integers below 2²⁴ convert exactly, through i32 or u32 alike).
+/// One component of `tessgen_edge`'s symmetric de Casteljau per lane, with
+/// `r = t/level`, `l = (level − t)/level` from [`LevelWeights`].
 #[inline(always)]
-fn edge_lanes(b: &[f32; 4], t0: u32, last: u32, level: u32, out: &mut [f32; LANES]) {
-    let lf = level as i32 as f32;
-    for (k, o) in out.iter_mut().enumerate() {
-        let i = (t0 + k as u32).min(last);
-        let r = (i as i32 as f32) / lf;
-        let l = ((level - i) as i32 as f32) / lf;
+fn edge_lanes(b: &[f32; 4], l: &[f32; LANES], r: &[f32; LANES], out: &mut [f32; LANES]) {
+    for k in 0..LANES {
+        let (l, r) = (l[k], r[k]);
         let c0 = (b[0] * l) + (b[1] * r);
         let c1 = (b[1] * l) + (b[2] * r);
         let c2 = (b[2] * l) + (b[3] * r);
         let d0 = (c0 * l) + (c1 * r);
         let d1 = (c1 * l) + (c2 * r);
-        let v = (d0 * l) + (d1 * r);
-        *o = if i == 0 {
-            b[0]
-        } else if i == level {
-            b[3]
-        } else {
-            v
-        };
+        out[k] = (d0 * l) + (d1 * r);
     }
 }
 
 /// A `tri_cubic` patch's grid: the surface everywhere, then the border
 /// positions from the edge evaluator.
 #[inline(always)]
-fn tri_cubic_patch(
+fn tri_cubic_patch<const V: bool>(
     c: &[Vec3; 16],
     curve: &[u32; 12],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) {
-    tri_cubic_interior(c, level, pos, nrm);
-    tri_border(c, curve, level, pos);
+    tri_cubic_interior::<V>(c, w, level, pos, nrm);
+    tri_border::<V>(c, curve, w, level, pos);
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -539,11 +643,12 @@ fn tri_cubic_patch(
 unsafe fn tri_cubic_patch_avx2(
     c: &[Vec3; 16],
     curve: &[u32; 12],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) {
-    tri_cubic_patch(c, curve, level, pos, nrm)
+    tri_cubic_patch::<true>(c, curve, w, level, pos, nrm)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -551,11 +656,12 @@ unsafe fn tri_cubic_patch_avx2(
 unsafe fn tri_cubic_patch_avx512(
     c: &[Vec3; 16],
     curve: &[u32; 12],
+    w: &LevelWeights,
     level: u32,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) {
-    tri_cubic_patch(c, curve, level, pos, nrm)
+    tri_cubic_patch::<true>(c, curve, w, level, pos, nrm)
 }
 
 /// The generated `triangle_surface` at every grid point of a `tri_cubic`
@@ -564,7 +670,13 @@ unsafe fn tri_cubic_patch_avx512(
 /// steps over the 10-point net and the quadratic normal field, then
 /// `tessgen_normalize` — lane by lane, the generated order.
 #[inline(always)]
-fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [Vec3]) {
+fn tri_cubic_interior<const V: bool>(
+    c: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
     // The net's x, y and z, once per patch.
     let mut comp = [[0.0f32; 16]; 3];
     for (k, p) in c.iter().enumerate() {
@@ -577,10 +689,10 @@ fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [V
         let mut o = 0usize;
         while o < m {
             if m - o <= HALF {
-                tri_cubic_chunk::<HALF>(c, &comp, level, iv, o, dst_p, dst_n);
+                tri_cubic_chunk::<HALF, V>(c, &comp, w, iv, o, dst_p, dst_n);
                 o += HALF;
             } else {
-                tri_cubic_chunk::<LANES>(c, &comp, level, iv, o, dst_p, dst_n);
+                tri_cubic_chunk::<LANES, V>(c, &comp, w, iv, o, dst_p, dst_n);
                 o += LANES;
             }
         }
@@ -591,33 +703,30 @@ fn tri_cubic_interior(c: &[Vec3; 16], level: u32, pos: &mut [Vec3], nrm: &mut [V
 /// Samples `o .. o + L` (clamped to the row) of row `iv` of a `tri_cubic`
 /// patch's grid; `dst_p`, `dst_n` are the row.
 #[inline(always)]
-fn tri_cubic_chunk<const L: usize>(
+fn tri_cubic_chunk<const L: usize, const V: bool>(
     c: &[Vec3; 16],
     comp: &[[f32; 16]; 3],
-    level: u32,
+    w: &LevelWeights,
     iv: u32,
     o: usize,
     dst_p: &mut [Vec3],
     dst_n: &mut [Vec3],
 ) {
-    let nf = level as f32;
     let m = dst_p.len();
-    let w2 = (iv as f32) / nf;
-    let mut w0 = [0.0f32; L];
-    let mut w1 = [0.0f32; L];
-    for k in 0..L {
-        let iu = ((o + k).min(m - 1)) as u32;
-        w0[k] = (((level - iu) - iv) as i32 as f32) / nf;
-        w1[k] = (iu as i32 as f32) / nf;
-    }
+    // w2 = iv/N; per lane iu = o + k: w1 = iu/N, w0 = ((N − iu) − iv)/N =
+    // l[iu + iv] (the same integer, the same division). Lanes past the row
+    // read further weights and are not stored.
+    let w2 = w.r[iv as usize];
+    let w0 = w.l_from::<L>(o + iv as usize);
+    let w1 = w.r_from::<L>(o);
     let mut out = [[0.0f32; L]; 6];
     for (ca, oa) in comp.iter().zip(out.iter_mut()) {
         tri_point_lanes(ca, &w0, &w1, w2, oa);
     }
     tri_normal_lanes(c, &w0, &w1, w2, &mut out);
     let n = (m - o).min(L);
-    store_lanes(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
-    store_lanes(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
+    store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
+    store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
 }
 
 /// One component of `triangle_surface_at`'s point, per lane: the 10-point
@@ -686,17 +795,22 @@ fn tri_normal_lanes<const L: usize>(
 /// else `iu + iv = N` edge 1 (`t = iv`), else `iu = 0` edge 2 (`t = N − iv`).
 /// `curve` is the class's 12 `EDGE_CURVE` entries.
 #[inline(always)]
-fn tri_border(c: &[Vec3; 16], curve: &[u32; 12], level: u32, pos: &mut [Vec3]) {
+fn tri_border<const V: bool>(
+    c: &[Vec3; 16],
+    curve: &[u32; 12],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+) {
     let n = level as usize;
     let b = |e: usize| edge_points(c, curve, e);
     // First sample of row iv: Σ_{r<iv} (N + 1 − r).
     let row = |iv: usize| iv * (n + 1) - iv * iv.saturating_sub(1) / 2;
-    edge_run(&b(0), level, 0..=level, |t, p| pos[t as usize] = p);
-    edge_run(&b(1), level, 1..=level, |t, p| {
-        let iv = t as usize;
+    edge_run::<V>(&b(0), w, level, 0..=level, |t, p| pos[t] = p);
+    edge_run::<V>(&b(1), w, level, 1..=level, |iv, p| {
         pos[row(iv) + (n - iv)] = p
     });
-    edge_run(&b(2), level, 1..=level.saturating_sub(1), |t, p| {
-        pos[row(n - t as usize)] = p
+    edge_run::<V>(&b(2), w, level, 1..=level.saturating_sub(1), |t, p| {
+        pos[row(n - t)] = p
     });
 }

@@ -627,6 +627,7 @@ fn grid_path_of(
     let kernels = patches.scheme;
     let per = (kernels.grid_len)(level) as usize;
     let paths = grid_eval::class_paths(kernels);
+    let weights = grid_eval::LevelWeights::new(level);
     positions
         .par_chunks_mut(per)
         .zip(normals.par_chunks_mut(per))
@@ -641,6 +642,7 @@ fn grid_path_of(
                 kernels,
                 paths[class as usize],
                 isa,
+                &weights,
                 cp,
                 class,
                 level,
