@@ -470,7 +470,7 @@ fn store_lanes<const L: usize, const V: bool>(
     dst: &mut [Vec3],
 ) {
     #[cfg(target_arch = "x86_64")]
-    if V && L % 8 == 0 && dst.len() == L {
+    if V && L.is_multiple_of(8) && dst.len() == L {
         for c in 0..L / 8 {
             let (xs, ys, zs) = (
                 &x[c * 8..c * 8 + 8],
