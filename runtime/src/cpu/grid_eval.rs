@@ -30,6 +30,7 @@
 //! `tests/tests/grid_path.rs` checks that this path and the per-sample path
 //! give the same bits for every scheme, class and level 1–64.
 
+use super::grid_cpatch::cpatch_patch;
 use crate::kernels::common::SchemeKernels;
 use glam::Vec3;
 
@@ -38,12 +39,12 @@ use glam::Vec3;
 /// `MAX_LEVEL` = 4096, so every integer is exact in f32 either way and the
 /// bits are those of the generated `u32 as f32`): x86 has a packed
 /// signed conversion, not an unsigned one, before AVX-512.
-const LANES: usize = 8;
+pub(crate) const LANES: usize = 8;
 /// The wide strip of the AVX-512 copy (one ZMM register).
 #[cfg(target_arch = "x86_64")]
 const WIDE: usize = 16;
 /// The narrower strip for a grid's last few columns (one SSE register).
-const HALF: usize = 4;
+pub(crate) const HALF: usize = 4;
 /// `tessgen_patch_normal`'s threshold, from the ABI codegen declares
 /// (tests/tests/grid_path.rs checks this path against the generated `eval`
 /// on patches with parallel tangents).
@@ -56,6 +57,9 @@ pub(crate) enum Path {
     Bicubic,
     /// Cubic Bézier triangle: vectorised over the samples of a row.
     TriCubic,
+    /// PCCM's c-patch: per piece net once, vectorised over each row's run
+    /// of samples in a piece ([`super::grid_cpatch`]).
+    CPatch,
     /// Any other form: the generated `eval` per sample.
     PerSample,
 }
@@ -67,8 +71,8 @@ pub(crate) enum Path {
 /// converting and dividing per lane. Entries past `N` repeat those at `N`:
 /// padded lanes compute column `N` again and are never stored.
 pub(crate) struct LevelWeights {
-    l: Vec<f32>,
-    r: Vec<f32>,
+    pub(crate) l: Vec<f32>,
+    pub(crate) r: Vec<f32>,
 }
 
 impl LevelWeights {
@@ -115,6 +119,8 @@ pub(crate) fn class_paths(kernels: &SchemeKernels) -> Vec<Path> {
                 Path::Bicubic
             } else if kernels.sides == 3 && c.form == "tri_cubic" && c.control_points == 16 {
                 Path::TriCubic
+            } else if kernels.sides == 4 && c.form == "cpatch" && c.control_points == 24 {
+                Path::CPatch
             } else {
                 Path::PerSample
             }
@@ -226,8 +232,38 @@ pub(crate) fn patch_grid(
                 Isa::Avx512 => unsafe { tri_cubic_patch_avx512(&c, &curve, w, level, pos, nrm) },
             }
         }
+        Path::CPatch => {
+            let mut g = [Vec3::ZERO; 24];
+            g.copy_from_slice(&cp[..24]);
+            let mut curve = [0u32; 16];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
+            let degenerate = match isa {
+                Isa::Baseline => cpatch_patch::<false>(&g, &curve, w, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as above.
+                Isa::Avx2 | Isa::Avx512 => unsafe {
+                    cpatch_patch_avx2(&g, &curve, w, level, pos, nrm)
+                },
+            };
+            if degenerate {
+                per_sample(kernels, cp, class, level, pos, nrm);
+            }
+        }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
     }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn cpatch_patch_avx2(
+    g: &[Vec3; 24],
+    curve: &[u32; 16],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    cpatch_patch::<true>(g, curve, w, level, pos, nrm)
 }
 
 /// The generated `eval` at every grid point, row by row.
@@ -268,7 +304,7 @@ fn bicubic_patch<const W: usize, const V: bool>(
     nrm: &mut [Vec3],
 ) -> bool {
     let degenerate = bicubic_interior::<W, V>(g, w, level, pos, nrm);
-    quad_border::<V>(g, curve, w, level, pos);
+    quad_border::<V, 16>(g, curve, w, level, pos);
     degenerate
 }
 
@@ -463,7 +499,7 @@ fn sample_lanes<const L: usize>(
 /// chunks interleave through an array, then one copy. Data movement only:
 /// the bits are the lanes'.
 #[inline(always)]
-fn store_lanes<const L: usize, const V: bool>(
+pub(crate) fn store_lanes<const L: usize, const V: bool>(
     x: &[f32; L],
     y: &[f32; L],
     z: &[f32; L],
@@ -536,8 +572,8 @@ unsafe fn interleave8(x: *const f32, y: *const f32, z: *const f32, dst: *mut f32
 /// `iu = 0` edge 3 (`t = N − iv`). `curve` is the class's 16 `EDGE_CURVE`
 /// entries (four points per edge).
 #[inline(always)]
-fn quad_border<const V: bool>(
-    g: &[Vec3; 16],
+pub(crate) fn quad_border<const V: bool, const P: usize>(
+    g: &[Vec3; P],
     curve: &[u32; 16],
     w: &LevelWeights,
     level: u32,
@@ -560,7 +596,11 @@ fn quad_border<const V: bool>(
 /// of the class) of a 16-point patch. (Spelled out: `array::map` is not
 /// always inlined here, and costs a call per edge.)
 #[inline(always)]
-fn edge_points<const C: usize>(g: &[Vec3; 16], curve: &[u32; C], e: usize) -> [Vec3; 4] {
+fn edge_points<const P: usize, const C: usize>(
+    g: &[Vec3; P],
+    curve: &[u32; C],
+    e: usize,
+) -> [Vec3; 4] {
     let k = |i: usize| g[curve[e * 4 + i] as usize];
     [k(0), k(1), k(2), k(3)]
 }

@@ -14,6 +14,7 @@
 pub mod adaptive;
 pub mod construct;
 pub mod displace;
+mod grid_cpatch;
 mod grid_eval;
 mod patch_flat;
 mod vertex_flat;
