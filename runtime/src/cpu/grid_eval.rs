@@ -17,12 +17,16 @@
 //! edge evaluator (`tessgen_edge`'s operations, lanes over `t`) in their
 //! own loop, after the interior loop wrote the surface everywhere: the
 //! generated `eval` also keeps the surface normal and replaces only the
-//! position. Every other form (c-patches, ACC and Gregory extraordinary
-//! patches) runs the generated `eval` per sample, walking the grid row by
-//! row instead of decoding each sample index.
+//! position. The `cpatch` form (PCCM's extraordinary class) has its own
+//! lanes ([`super::grid_cpatch`]). Every other form (ACC and Gregory
+//! extraordinary patches) runs the generated `eval` per sample, walking
+//! the grid row by row instead of decoding each sample index.
+//!
+//! The grid weights `i/N`, `(N − i)/N` are made once per evaluation
+//! ([`LevelWeights`]), with the generated conversion and division.
 //!
 //! The lane loops are written over fixed-width arrays so LLVM vectorises
-//! them; an AVX2 copy or an AVX-512 copy (bicubic strips of 16 columns) is
+//! them; an AVX2 copy or an AVX-512 copy (full bicubic strips of 16 columns) is
 //! chosen at run time (`is_x86_feature_detected!`), and the baseline copy
 //! (SSE2 on x86-64, whatever the target has elsewhere) computes the same
 //! bits: all are IEEE single precision `+ − × ÷ √` lane by lane.
@@ -134,9 +138,10 @@ pub(crate) enum Isa {
     Baseline,
     #[cfg(target_arch = "x86_64")]
     Avx2,
-    /// AVX-512F: the bicubic interior in strips of [`WIDE`] columns; the
-    /// other loops as in the AVX2 copy, compiled with 512-bit registers
-    /// available. The same IEEE operations per lane, so the same bits.
+    /// AVX-512F: full bicubic strips of [`WIDE`] columns compiled with
+    /// 512-bit registers; everything else is the AVX2 code (compiled with
+    /// AVX-512 enabled, the 8-lane loops ran 1.4–1.7× slower). The same
+    /// IEEE operations per lane, so the same bits.
     #[cfg(target_arch = "x86_64")]
     Avx512,
 }
@@ -226,10 +231,12 @@ pub(crate) fn patch_grid(
                 Isa::Baseline => tri_cubic_patch::<false>(&c, &curve, w, level, pos, nrm),
                 #[cfg(target_arch = "x86_64")]
                 // SAFETY: as above.
-                Isa::Avx2 => unsafe { tri_cubic_patch_avx2(&c, &curve, w, level, pos, nrm) },
-                #[cfg(target_arch = "x86_64")]
-                // SAFETY: as above.
-                Isa::Avx512 => unsafe { tri_cubic_patch_avx512(&c, &curve, w, level, pos, nrm) },
+                // (The AVX-512 copy runs the AVX2 code: rows of at most N + 1
+                // samples gain nothing from 16 lanes, and the code compiled
+                // with AVX-512 enabled ran 1.5–1.7× slower.)
+                Isa::Avx2 | Isa::Avx512 => unsafe {
+                    tri_cubic_patch_avx2(&c, &curve, w, level, pos, nrm)
+                },
             }
         }
         Path::CPatch => {
@@ -308,8 +315,16 @@ fn bicubic_patch<const W: usize, const V: bool>(
     degenerate
 }
 
+/// The AVX-512 copy: compiled for AVX2 like [`bicubic_patch_avx2`],
+/// except that full strips of [`WIDE`] columns call
+/// [`bicubic_strip_wide`], the one loop compiled with 512-bit registers.
+/// (The whole patch compiled with AVX-512 enabled ran the 8-lane strips and
+/// the border 1.45× slower at N = 9 than the AVX2 copy.)
+///
+/// # Safety
+/// AVX-512F and AVX2 must be available.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
+#[target_feature(enable = "avx2")]
 unsafe fn bicubic_patch_avx512(
     g: &[Vec3; 16],
     curve: &[u32; 16],
@@ -319,6 +334,25 @@ unsafe fn bicubic_patch_avx512(
     nrm: &mut [Vec3],
 ) -> bool {
     bicubic_patch::<WIDE, true>(g, curve, w, level, pos, nrm)
+}
+
+/// Columns `c0 .. c0 + WIDE` of a bicubic patch's grid in one ZMM
+/// register per lane array.
+///
+/// # Safety
+/// AVX-512F and AVX2 must be available (only [`bicubic_patch_avx512`],
+/// behind `Isa::Avx512`, calls it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn bicubic_strip_wide(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    c0: usize,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    bicubic_strip::<WIDE, true>(g, w, level, c0, pos, nrm)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -354,16 +388,25 @@ fn bicubic_interior<const W: usize, const V: bool>(
     let mut c0 = 0usize;
     let mut degenerate = false;
     while c0 < width {
-        // Strips of W columns while more than 8 are left, then of 8; a
-        // last one of at most 4 takes 4 lanes, so little work goes to
-        // padding (N = 9: 8 + 4 lanes for 10 columns; W = 16, N = 33:
+        // Full strips of W columns, then of 8; a last one of at most 4
+        // takes 4 lanes, so little work goes to padding (N = 9: 8 + 4
+        // lanes for 10 columns, with W = 16 too; W = 16, N = 33:
         // 16 + 16 + 4).
         let left = width - c0;
         if left <= HALF {
             degenerate |= bicubic_strip::<HALF, V>(g, w, level, c0, pos, nrm);
             c0 += HALF;
-        } else if W > LANES && left > LANES {
-            degenerate |= bicubic_strip::<W, V>(g, w, level, c0, pos, nrm);
+        } else if W > LANES && left >= W {
+            // SAFETY: W > LANES only in the AVX-512 copy
+            // (`bicubic_patch_avx512`, behind `Isa::Avx512`).
+            #[cfg(target_arch = "x86_64")]
+            {
+                degenerate |= unsafe { bicubic_strip_wide(g, w, level, c0, pos, nrm) };
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                degenerate |= bicubic_strip::<W, V>(g, w, level, c0, pos, nrm);
+            }
             c0 += W;
         } else {
             degenerate |= bicubic_strip::<LANES, V>(g, w, level, c0, pos, nrm);
@@ -681,19 +724,6 @@ fn tri_cubic_patch<const V: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn tri_cubic_patch_avx2(
-    c: &[Vec3; 16],
-    curve: &[u32; 12],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) {
-    tri_cubic_patch::<true>(c, curve, w, level, pos, nrm)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx2")]
-unsafe fn tri_cubic_patch_avx512(
     c: &[Vec3; 16],
     curve: &[u32; 12],
     w: &LevelWeights,
