@@ -130,7 +130,7 @@ pub fn mesh(data: &[u8]) -> bool {
             *c += f32::from(r.byte() as i8) / 16.0;
         }
     }
-    if base % 4 == 0 {
+    if base.is_multiple_of(4) {
         while !r.done() && faces.len() < 24 {
             let sides = r.byte();
             if sides == 0xFF {
