@@ -95,8 +95,8 @@ pub(crate) fn bench(
         let copies = cpu::lane_copies();
         // One column per copy of the lane loops this machine runs.
         let copy_heads: String = copies.iter().map(|c| format!(" {c} ns/sample |")).collect();
-        println!("| N | samples | evaluate ms | ns/sample | samples/s | fill floor ns/sample | evaluate / floor | per-sample path ns/sample | per-sample / grid |{copy_heads}");
-        println!("|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(copies.len()));
+        println!("| N | samples | evaluate ms | ns/sample | samples/s | fill floor ns/sample | evaluate / floor | streaming fill floor ns/sample | evaluate / streaming floor | per-sample path ns/sample | per-sample / grid |{copy_heads}");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|{}", "---|".repeat(copies.len()));
         for &level in &args.levels {
             if level == 0 || level > cpu::MAX_LEVEL {
                 return Err(format!("level {level} out of range 1..={}", cpu::MAX_LEVEL));
@@ -110,6 +110,10 @@ pub(crate) fn bench(
             })?;
             let t_fill = min_time(runs, || {
                 fill(&mut t.positions, &mut t.normals, per, level);
+                Ok(())
+            })?;
+            let t_stream = min_time(runs, || {
+                stream_fill(&mut t.positions, &mut t.normals, per, level);
                 Ok(())
             })?;
             let t_per_sample = min_time(runs, || {
@@ -134,12 +138,14 @@ pub(crate) fn bench(
                 per_copy.push(format!(" {:.2} |", ns(t_copy)));
             }
             println!(
-                "| {level} | {samples} | {:.3} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.2} | {:.2} |{}",
+                "| {level} | {samples} | {:.3} | {:.2} | {:.3e} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |{}",
                 t_grid * 1e3,
                 ns(t_grid),
                 samples as f64 / t_grid,
                 ns(t_fill),
                 t_grid / t_fill,
+                ns(t_stream),
+                t_grid / t_stream,
                 ns(t_per_sample),
                 t_per_sample / t_grid,
                 per_copy.concat(),
@@ -160,5 +166,55 @@ fn fill(positions: &mut [Vec3], normals: &mut [Vec3], per: usize, level: u32) {
         .for_each(|(p, n)| {
             p.fill(v);
             n.fill(v);
+        });
+}
+
+/// The write floor without reads for ownership: the same fill with
+/// streaming (non-temporal) stores, which write whole cache lines without
+/// first reading them — what the memory bus allows for the output alone.
+/// (SSE's `movntps` is part of x86-64; elsewhere a plain fill.)
+fn stream_fill(positions: &mut [Vec3], normals: &mut [Vec3], per: usize, level: u32) {
+    use rayon::prelude::*;
+    let v = level as f32;
+    let put = |dst: &mut [Vec3]| {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_mm_set1_ps, _mm_stream_ps};
+            let n = dst.len() * 3;
+            let d = dst.as_mut_ptr() as *mut f32;
+            let head = ((16 - (d as usize) % 16) % 16 / 4).min(n);
+            let body = (n - head) / 4 * 4;
+            // SAFETY: `dst` holds `n` floats (`Vec3` is three `f32`s,
+            // `#[repr(C)]`); every index is `< n`; `d + head` is 16-byte
+            // aligned as `_mm_stream_ps` requires.
+            unsafe {
+                for i in (0..head).chain(head + body..n) {
+                    *d.add(i) = v;
+                }
+                let x = _mm_set1_ps(v);
+                let mut i = head;
+                while i < head + body {
+                    _mm_stream_ps(d.add(i), x);
+                    i += 4;
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        dst.fill(Vec3::splat(v));
+    };
+    // Tasks of about 256 KiB, one store fence each (as the streamed
+    // evaluation).
+    let group = ((256 << 10) / (per.max(1) * 24)).max(1);
+    positions
+        .par_chunks_mut(per * group)
+        .zip(normals.par_chunks_mut(per * group))
+        .for_each(|(p, n)| {
+            put(p);
+            put(n);
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: `sfence` has no operands and no preconditions.
+            unsafe {
+                std::arch::x86_64::_mm_sfence()
+            };
         });
 }

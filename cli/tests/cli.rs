@@ -889,9 +889,10 @@ fn bench_uniform_and_adaptive() {
     let cube = cube.to_str().unwrap();
     for (backend, adaptive, columns) in [
         // cpu: N, samples, ms, ns/sample, samples/s, fill floor, ratio,
-        // per-sample path, ratio (the same-run baselines of docs/performance.md),
-        // then ns/sample of each copy of the lane loops this machine runs.
-        ("cpu", None, 9 + tessgen_runtime::cpu::lane_copies().len()),
+        // streaming fill floor, ratio, per-sample path, ratio (the same-run
+        // baselines of docs/performance.md), then ns/sample of each copy
+        // of the lane loops this machine runs.
+        ("cpu", None, 11 + tessgen_runtime::cpu::lane_copies().len()),
         ("wgpu", None, 5),
         ("cpu", Some("random:3:1:4"), 8),
         ("wgpu", Some("random:3:1:4"), 9),
