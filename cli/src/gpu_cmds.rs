@@ -78,6 +78,16 @@ struct RenderInput {
 fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
     use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Request};
     let mesh = load_mesh(&args.mesh)?;
+    let at = |e: String| format!("{}: {e}", args.mesh.display());
+    // Before validation, whose triangle-scheme errors suggest options
+    // `render` does not have (--split-quads).
+    let quads = |k: &tessgen_runtime::kernels::common::SchemeKernels| k.sides == 4;
+    if !tessgen_runtime::kernels::scheme(&args.scheme).is_some_and(quads) {
+        return Err(at(format!(
+            "`render` takes quad schemes, not {}",
+            args.scheme
+        )));
+    }
     let request = match args.adaptive {
         None => Request::uniform(&args.scheme, args.level),
         // The metric is resolved on the refined topology below; only the
@@ -96,7 +106,6 @@ fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
         ),
     }
     .one_mesh(true);
-    let at = |e: String| format!("{}: {e}", args.mesh.display());
     let v = request.validate(&mesh).map_err(|e| at(e.to_string()))?;
     let topo = v
         .topology()
@@ -199,6 +208,13 @@ pub(crate) fn bench(args: &BenchArgs) -> CmdResult {
     let (topo, positions) = gpu_input(&args.mesh)?;
     let runs = args.runs as usize;
     let kernels = cpu::scheme(&args.scheme).map_err(|e| e.to_string())?;
+    if kernels.sides == 3 && (args.backend == Backend::Wgpu || args.adaptive.is_some()) {
+        return Err(format!(
+            "bench: triangle scheme `{}` is benched on --backend cpu at uniform levels only \
+             (on the mesh's quads split into triangles)",
+            args.scheme
+        ));
+    }
     let gpu = match args.backend {
         Backend::Wgpu => Some(tessgen_runtime::gpu::Gpu::new().map_err(|e| e.to_string())?),
         Backend::Cpu => None,

@@ -14,7 +14,7 @@ use std::time::Instant;
 use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::adaptive::Partitioning;
-use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::displace::{DisplaceError, DisplaceMap, Displacement, Ownership};
 use tessgen_runtime::stats::{FeatureStats, MeshStats};
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::tessellate::{
@@ -105,7 +105,8 @@ pub(crate) struct RenderArgs {
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
     /// Largest adaptive factor, rounded down to a power of two (at most 64).
-    #[arg(long, value_name = "F", default_value_t = 64.0, requires = "adaptive")]
+    #[arg(long, value_name = "F", default_value_t = 64.0, requires = "adaptive",
+          value_parser = parse_max_factor)]
     max_factor: f32,
 }
 
@@ -255,7 +256,7 @@ struct TessellateArgs {
     #[arg(long, value_name = "MODE", default_value = "integer", value_parser = parse_partitioning)]
     partitioning: Partitioning,
     /// Largest adaptive factor (clamp; the device allows up to maxTessellationGenerationLevel, 64 on lavapipe).
-    #[arg(long, value_name = "F", default_value_t = 64.0)]
+    #[arg(long, value_name = "F", default_value_t = 64.0, value_parser = parse_max_factor)]
     max_factor: f32,
     /// Output OBJ file.
     #[arg(long, value_name = "OUT.obj")]
@@ -314,6 +315,14 @@ fn parse_adaptive(s: &str) -> Result<AdaptiveArg, String> {
             "unknown adaptive metric `{s}` (random:SEED[:LO:HI], distance:K, screen:PX)"
         )),
     }
+}
+
+/// `--max-factor`: factors are clamped to `[1, F]`, so F is a finite number ≥ 1.
+fn parse_max_factor(s: &str) -> Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|f| f.is_finite() && *f >= 1.0)
+        .ok_or_else(|| format!("`{s}` is not a number ≥ 1"))
 }
 
 fn parse_partitioning(s: &str) -> Result<Partitioning, String> {
@@ -568,7 +577,11 @@ pub(crate) fn power_of_two_level(max_factor: f32) -> u32 {
 /// `--displace MAP [--displace-scale S] [--displace-per-patch]`.
 fn displacement_arg(path: &std::path::Path, args: &TessellateArgs) -> Result<Displacement, String> {
     Ok(Displacement {
-        map: DisplaceMap::from_png(path).map_err(|e| e.to_string())?,
+        map: DisplaceMap::from_png(path).map_err(|e| match e {
+            // Already names the path.
+            DisplaceError::Image { .. } => e.to_string(),
+            _ => format!("{}: {e}", path.display()),
+        })?,
         scale: args.displace_scale,
         ownership: if args.displace_per_patch {
             Ownership::PerPatch
@@ -645,7 +658,8 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     let samples = mesh.num_faces() as u64 * per_face;
     if samples > u64::from(u32::MAX) {
         return Err(format!(
-            "{} faces at level {} make {samples} samples, more than 2^32 - 1",
+            "{}: {} faces at level {} make {samples} samples, more than 2^32 - 1",
+            args.mesh.display(),
             mesh.num_faces(),
             level
         ));
@@ -806,7 +820,7 @@ fn load_mesh(path: &Path) -> Result<Mesh, String> {
 }
 
 fn compare(args: &CompareArgs) -> CmdResult {
-    use tessgen_runtime::accuracy::{self, LimitSamples};
+    use tessgen_runtime::accuracy::{self, LimitError, LimitSamples};
     let mesh = load_mesh(&args.mesh)?;
     let limit = match &args.reference {
         None => None,
@@ -823,12 +837,12 @@ fn compare(args: &CompareArgs) -> CmdResult {
             };
             let lim = LimitSamples::load(&path).map_err(|e| e.to_string())?;
             if lim.faces != mesh.num_faces() {
-                return Err(format!(
-                    "{}: {} faces of limit samples, the mesh has {}",
-                    path.display(),
-                    lim.faces,
-                    mesh.num_faces()
-                ));
+                return Err(LimitError::FaceCount {
+                    path: path.display().to_string(),
+                    file: lim.faces,
+                    mesh: mesh.num_faces(),
+                }
+                .to_string());
             }
             Some(lim)
         }
@@ -842,7 +856,8 @@ fn compare(args: &CompareArgs) -> CmdResult {
         match accuracy::compare_with(&mesh, &request, limit.as_ref()) {
             Ok(r) => rows.push(r),
             Err(e) => {
-                eprintln!("tessgen: {scheme}: {e}");
+                // The other schemes' rows still print; the exit code is 1.
+                eprintln!("tessgen: error: {scheme}: {e}");
                 failed = true;
             }
         }

@@ -72,7 +72,13 @@ impl LimitSamples {
         if k != 6 || n < 2 {
             return Err(bad("expected 6 floats per sample and n ≥ 2"));
         }
-        if b.len() != 32 + faces * n * n * k * 4 {
+        // Checked: the header's counts come from the file (a header of
+        // 2^32 − 1 faces overflowed here, a panic in debug builds).
+        let size = [n, n, k, 4]
+            .iter()
+            .try_fold(faces, |acc, &x| acc.checked_mul(x))
+            .and_then(|x| x.checked_add(32));
+        if size != Some(b.len()) {
             return Err(bad("size does not match the header"));
         }
         let f: Vec<f32> = b[32..]

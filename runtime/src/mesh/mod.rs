@@ -179,27 +179,33 @@ pub enum MeshError {
         index: u32,
     },
     /// A face refers to a vertex that does not exist.
-    #[error("face {face} refers to vertex {index} (0-based), which does not exist")]
+    #[error("face {face}{} refers to vertex {index} (0-based), which does not exist", at_line(*.line))]
     FaceIndexOutOfRange {
         /// 0-based face index.
         face: usize,
+        /// 1-based line of its `f` line, when read from OBJ.
+        line: Option<usize>,
         /// The 0-based vertex index asked for (OBJ index − 1, relative indices resolved);
         /// negative when an OBJ index was 0 or a relative index points before the first vertex.
         index: i64,
     },
     /// A face has fewer than 3 vertices.
-    #[error("face {face} has only {arity} vertices")]
+    #[error("face {face}{} has only {arity} vertices", at_line(*.line))]
     DegenerateFace {
         /// 0-based face index.
         face: usize,
+        /// 1-based line of its `f` line, when read from OBJ.
+        line: Option<usize>,
         /// Its number of vertices.
         arity: usize,
     },
     /// A face uses the same vertex more than once.
-    #[error("face {face} uses vertex {vertex} more than once")]
+    #[error("face {face}{} uses vertex {vertex} more than once", at_line(*.line))]
     RepeatedVertex {
         /// 0-based face index.
         face: usize,
+        /// 1-based line of its `f` line, when read from OBJ.
+        line: Option<usize>,
         /// The repeated 0-based vertex index.
         vertex: u32,
     },
@@ -287,7 +293,7 @@ impl Mesh {
         let scanned = scan_obj(text)?;
         let mesh = Mesh::from_parts(
             scanned.positions,
-            Some(&scanned.position_lines),
+            Some((&scanned.position_lines, &scanned.face_lines)),
             &scanned.faces,
             scanned.tags,
         )?;
@@ -372,7 +378,7 @@ impl Mesh {
         check_finite(&self.positions, None)?;
         let mut scratch = Vec::new();
         for f in 0..self.num_faces() {
-            check_face(f, self.face(f), self.positions.len(), &mut scratch)?;
+            check_face(f, None, self.face(f), self.positions.len(), &mut scratch)?;
         }
         self.validate_normals()
     }
@@ -411,15 +417,17 @@ impl Mesh {
     }
 
     /// Common constructor: checks everything, then packs the faces.
+    /// `lines`: the 1-based OBJ lines of the `v` and the `f` lines, for errors.
     fn from_parts(
         positions: Vec<[f32; 3]>,
-        position_lines: Option<&[usize]>,
+        lines: Option<(&[usize], &[usize])>,
         faces: &[Vec<i64>],
         tags: Vec<Tag>,
     ) -> Result<Mesh, MeshError> {
         if positions.is_empty() || faces.is_empty() {
             return Err(MeshError::Empty);
         }
+        let (position_lines, face_lines) = lines.unzip();
         check_finite(&positions, position_lines)?;
         let total: usize = faces.iter().map(Vec::len).sum();
         check_sizes(positions.len(), total)?;
@@ -428,7 +436,8 @@ impl Mesh {
         let mut face_vertices = Vec::with_capacity(total);
         face_offsets.push(0u32);
         for (f, face) in faces.iter().enumerate() {
-            check_face(f, face, positions.len(), &mut scratch)?;
+            let line = face_lines.and_then(|l| l.get(f).copied());
+            check_face(f, line, face, positions.len(), &mut scratch)?;
             // check_face proved 0 <= i < positions.len() <= u32::MAX.
             face_vertices.extend(face.iter().map(|&i| i as u32));
             // check_sizes proved the total fits in u32.
@@ -567,6 +576,7 @@ fn check_finite_normals(normals: &[[f32; 3]], lines: Option<&[usize]>) -> Result
 /// Checks one face: arity, index range, repeated vertices (in that order).
 fn check_face<I: Copy + Into<i64>>(
     face: usize,
+    line: Option<usize>,
     indices: &[I],
     num_vertices: usize,
     scratch: &mut Vec<i64>,
@@ -574,6 +584,7 @@ fn check_face<I: Copy + Into<i64>>(
     if indices.len() < 3 {
         return Err(MeshError::DegenerateFace {
             face,
+            line,
             arity: indices.len(),
         });
     }
@@ -583,7 +594,11 @@ fn check_face<I: Copy + Into<i64>>(
         .map(|&i| i.into())
         .find(|&i| i < 0 || i >= nv)
     {
-        return Err(MeshError::FaceIndexOutOfRange { face, index: bad });
+        return Err(MeshError::FaceIndexOutOfRange {
+            face,
+            line,
+            index: bad,
+        });
     }
     scratch.clear();
     scratch.extend(indices.iter().map(|&i| i.into()));
@@ -591,6 +606,7 @@ fn check_face<I: Copy + Into<i64>>(
     if let Some(w) = scratch.windows(2).find(|w| w[0] == w[1]) {
         return Err(MeshError::RepeatedVertex {
             face,
+            line,
             vertex: w[0] as u32,
         });
     }

@@ -126,8 +126,8 @@ pub enum TagError {
     #[error("tags line {line}: side must be +1 or -1, found {value}")]
     BadSide { line: usize, value: String },
     #[error(
-        "vertex {vertex}: faces {} and {} lie in one sector of its crease (no crease edge \
-         between them) but were given different sides; the edges between them would open",
+        "vertex {vertex} (1-based): faces {} and {} (1-based) lie in one sector of its crease (no \
+         crease edge between them) but were given different sides; the edges between them would open",
         faces[0], faces[1]
     )]
     InconsistentSide { vertex: u64, faces: [u64; 2] },

@@ -222,28 +222,52 @@ fn semantic_errors() {
     ));
     assert!(matches!(
         err(&format!("{TRI}f 1 2 3\nf 1 2 4\n")),
-        MeshError::FaceIndexOutOfRange { face: 1, index: 3 }
+        MeshError::FaceIndexOutOfRange {
+            face: 1,
+            line: Some(5),
+            index: 3
+        }
     ));
     assert!(matches!(
         err(&format!("{TRI}f 0 1 2\n")),
-        MeshError::FaceIndexOutOfRange { face: 0, index: -1 }
+        MeshError::FaceIndexOutOfRange {
+            face: 0,
+            line: Some(4),
+            index: -1
+        }
     ));
     assert!(matches!(
         err(&format!("{TRI}f 1 2 -4\n")),
-        MeshError::FaceIndexOutOfRange { face: 0, index: -1 }
+        MeshError::FaceIndexOutOfRange {
+            face: 0,
+            line: Some(4),
+            index: -1
+        }
     ));
     // tobj would silently drop these as "lines"/"points".
     assert!(matches!(
         err(&format!("{TRI}f 1 2 3\nf 1 2\n")),
-        MeshError::DegenerateFace { face: 1, arity: 2 }
+        MeshError::DegenerateFace {
+            face: 1,
+            line: Some(5),
+            arity: 2
+        }
     ));
     assert!(matches!(
         err(&format!("{TRI}f 1\n")),
-        MeshError::DegenerateFace { face: 0, arity: 1 }
+        MeshError::DegenerateFace {
+            face: 0,
+            line: Some(4),
+            arity: 1
+        }
     ));
     assert!(matches!(
         err(&format!("{TRI}f 1 2 3 2\n")),
-        MeshError::RepeatedVertex { face: 0, vertex: 1 }
+        MeshError::RepeatedVertex {
+            face: 0,
+            line: Some(4),
+            vertex: 1
+        }
     ));
 }
 
@@ -255,15 +279,27 @@ fn from_raw_checks() {
     assert!(m.tags.is_empty());
     assert!(matches!(
         Mesh::from_raw(p.clone(), &[vec![0, 1, 3]]),
-        Err(MeshError::FaceIndexOutOfRange { face: 0, index: 3 })
+        Err(MeshError::FaceIndexOutOfRange {
+            face: 0,
+            line: None,
+            index: 3
+        })
     ));
     assert!(matches!(
         Mesh::from_raw(p.clone(), &[vec![0, 1]]),
-        Err(MeshError::DegenerateFace { face: 0, arity: 2 })
+        Err(MeshError::DegenerateFace {
+            face: 0,
+            line: None,
+            arity: 2
+        })
     ));
     assert!(matches!(
         Mesh::from_raw(p.clone(), &[vec![0, 1, 0]]),
-        Err(MeshError::RepeatedVertex { face: 0, vertex: 0 })
+        Err(MeshError::RepeatedVertex {
+            face: 0,
+            line: None,
+            vertex: 0
+        })
     ));
     assert!(matches!(
         Mesh::from_raw(p.clone(), &[]),
@@ -291,7 +327,11 @@ fn validate_catches_hand_built_layout() {
     m.face_vertices[2] = 7;
     assert!(matches!(
         m.validate(),
-        Err(MeshError::FaceIndexOutOfRange { face: 0, index: 7 })
+        Err(MeshError::FaceIndexOutOfRange {
+            face: 0,
+            line: None,
+            index: 7
+        })
     ));
 }
 

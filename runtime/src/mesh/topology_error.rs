@@ -60,8 +60,8 @@ pub enum TopologyError {
     },
     /// A vertex has more edges than [`TopologyOptions::max_valence`].
     #[error(
-        "vertex {vertex} has valence {valence}, more than the maximum {max} \
-         (--max-valence {valence} accepts it)"
+        "vertex {vertex} has valence {valence}, more than the maximum {max} of the stencil \
+         table (a table generated with `--max-valence {valence}` takes it)"
     )]
     ValenceTooHigh {
         /// The vertex.
@@ -75,7 +75,8 @@ pub enum TopologyError {
     /// ([`max_sector_faces`] of [`TopologyOptions::max_valence`]).
     #[error(
         "vertex {vertex} has a sector of {faces} faces between sharp edges, more than \
-         max_valence / 2 = {max} (--max-valence {needed} accepts it)"
+         max_valence / 2 = {max} (a stencil table generated with `--max-valence {needed}` \
+         takes it)"
     )]
     SectorTooLarge {
         /// The vertex.

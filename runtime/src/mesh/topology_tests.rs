@@ -392,7 +392,11 @@ fn error_mesh_wrapped() {
     assert!(
         matches!(
             e,
-            TopologyError::Mesh(MeshError::FaceIndexOutOfRange { face: 0, index: 99 })
+            TopologyError::Mesh(MeshError::FaceIndexOutOfRange {
+                face: 0,
+                line: None,
+                index: 99
+            })
         ),
         "{e:?}"
     );

@@ -104,7 +104,7 @@ pub enum TriMeshError {
     /// A face is not a triangle (and not a quad that may be split).
     #[error(
         "face {face} has {sides} sides; triangle schemes need triangles{}",
-        if *.sides == 4 { " (quads can be split with the split-quads option)" } else { "" }
+        if *.sides == 4 { " (split quads: --split-quads, `Request::split_quads`)" } else { "" }
     )]
     NotTriangle {
         /// 0-based input face.
@@ -135,7 +135,8 @@ pub enum TriMeshError {
     },
     /// The OBJ has normals, but a face corner has none.
     #[error(
-        "face {face} corner {corner} has no normal but other corners do (use recompute-normals)"
+        "face {face} corner {corner} has no normal but other corners do (drop the `vn` normals \
+         for area-weighted ones, or set `TriOptions::recompute_normals`)"
     )]
     MissingNormal {
         /// 0-based input face.
@@ -145,8 +146,8 @@ pub enum TriMeshError {
     },
     /// A vertex has different normals on different corners (a hard edge / split normals).
     #[error(
-        "vertex {vertex} has different normals in faces {} and {} (split normals; use \
-         recompute-normals)",
+        "vertex {vertex} has different normals in faces {} and {} (split normals; drop \
+         the `vn` normals for area-weighted ones, or set `TriOptions::recompute_normals`)",
         .faces[0],
         .faces[1]
     )]

@@ -204,8 +204,9 @@ impl<'a> Request<'a> {
     /// Check the request against `mesh`, once, and build what every
     /// backend starts from (the quad topology or the triangle mesh, the
     /// resolved adaptive settings). In this order: scheme, level, tags,
-    /// partitioning, the mesh for the scheme (quads vs triangles, split
-    /// quads, tag file, patch classes), texture coordinates.
+    /// partitioning, the largest adaptive factor, the mesh for the scheme
+    /// (quads vs triangles, split quads, tag file, patch classes), texture
+    /// coordinates.
     pub fn validate<'r>(&'r self, mesh: &'r Mesh) -> Result<Validated<'r>, Error> {
         let kernels = crate::kernels::scheme(&self.scheme).ok_or_else(|| Error::UnknownScheme {
             name: self.scheme.clone(),
@@ -230,6 +231,16 @@ impl<'a> Request<'a> {
                     backend: self.backend.name(),
                     partitioning: a.partitioning,
                 });
+            }
+            // Factors are clamped to [1, max_factor]: a NaN, infinite or
+            // sub-1 largest factor is no range (a NaN once reached the
+            // hardware tessellator as level 65536).
+            if !(a.max_factor.is_finite() && a.max_factor >= 1.0) {
+                return Err(adaptive::AdaptiveError::Clamp {
+                    min: 1.0,
+                    max: a.max_factor,
+                }
+                .into());
             }
         }
         // Before anything is evaluated: sizes f32 evaluation cannot take.

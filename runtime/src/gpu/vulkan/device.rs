@@ -123,10 +123,15 @@ impl Vulkan {
         let ci = vk::InstanceCreateInfo::default().application_info(&app);
         let instance =
             unsafe { entry.create_instance(&ci, None) }.map_err(call("vkCreateInstance"))?;
-        match Self::with_instance(entry, instance.clone()) {
+        // `entry` keeps the loader library loaded: it must outlive the
+        // `destroy_instance` below (a moved-in `entry` was dropped, and the
+        // loader unloaded, before it ran: a segfault whenever no device was
+        // chosen, e.g. TESSGEN_VK_DEVICE naming none).
+        match Self::with_instance(entry.clone(), instance.clone()) {
             Ok(v) => Ok(v),
             Err(e) => {
                 unsafe { instance.destroy_instance(None) };
+                drop(entry);
                 Err(e)
             }
         }
