@@ -13,8 +13,7 @@
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
-use super::grid_eval::{quad_border, store_lanes, LevelWeights, HALF, LANES};
-use crate::abi::PARALLEL_SIN2;
+use super::grid_eval::{patch_normal, quad_border, store_lanes, LevelWeights, HALF, LANES};
 use glam::Vec3;
 
 /// One piece's quartic net, by component: `[c][index]` with the generated
@@ -98,6 +97,7 @@ pub(crate) fn cpatch_patch<const V: bool>(
                 degenerate |= if left <= HALF {
                     cpatch_lanes::<HALF, V>(
                         &nets[piece],
+                        w,
                         piece,
                         level,
                         iv as u32,
@@ -109,6 +109,7 @@ pub(crate) fn cpatch_patch<const V: bool>(
                 } else {
                     cpatch_lanes::<LANES, V>(
                         &nets[piece],
+                        w,
                         piece,
                         level,
                         iv as u32,
@@ -134,6 +135,7 @@ pub(crate) fn cpatch_patch<const V: bool>(
 #[inline(always)]
 fn cpatch_lanes<const L: usize, const V: bool>(
     net: &Net,
+    w: &LevelWeights,
     piece: usize,
     level: u32,
     iv: u32,
@@ -142,24 +144,25 @@ fn cpatch_lanes<const L: usize, const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let nf = level as f32;
     let mut la = [0.0f32; L];
     let mut lb = [0.0f32; L];
     let mut lc = [0.0f32; L];
     for k in 0..L {
         let iu = (o + k as u32).min(hi - 1);
         let sum = iu + iv;
-        // The generated integers of each piece (all ≥ 0 inside it), then
-        // `x as f32 / nf`: exact conversions, one division each.
+        // The generated integers of each piece (all in 0 ..= N inside it),
+        // then `x as f32 / nf`: `r[x]` of the level's weights, made with
+        // those operations (scalar divisions per lane cost more here than
+        // the table reads).
         let (a, b, c) = match piece {
             0 => (level - sum, iu - iv, 2 * iv),
             1 => (iu - iv, sum - level, 2 * (level - iu)),
             2 => (sum - level, iv - iu, 2 * (level - iv)),
             _ => (iv - iu, level - sum, 2 * iu),
         };
-        la[k] = (a as i32 as f32) / nf;
-        lb[k] = (b as i32 as f32) / nf;
-        lc[k] = (c as i32 as f32) / nf;
+        la[k] = w.r[a as usize];
+        lb[k] = w.r[b as usize];
+        lc[k] = w.r[c as usize];
     }
     // s1 points (100, 010, 001) and the position, per component.
     let mut s1 = [[[0.0f32; L]; 3]; 3];
@@ -198,29 +201,11 @@ fn cpatch_lanes<const L: usize, const V: bool>(
     }
     let mut degenerate = false;
     for k in 0..L {
-        // a = s1_010 − s1_100, b = s1_001 − s1_100; glam's a × b.
-        let (ax, ay, az) = (
-            s1[1][0][k] - s1[0][0][k],
-            s1[1][1][k] - s1[0][1][k],
-            s1[1][2][k] - s1[0][2][k],
-        );
-        let (bx, by, bz) = (
-            s1[2][0][k] - s1[0][0][k],
-            s1[2][1][k] - s1[0][1][k],
-            s1[2][2][k] - s1[0][2][k],
-        );
-        let cx = (ay * bz) - (by * az);
-        let cy = (az * bx) - (bz * ax);
-        let cz = (ax * by) - (bx * ay);
-        let c2 = ((cx * cx) + (cy * cy)) + (cz * cz);
-        let aa = ((ax * ax) + (ay * ay)) + (az * az);
-        let bb = ((bx * bx) + (by * by)) + (bz * bz);
-        let parallel = c2 <= PARALLEL_SIN2 * (aa * bb);
+        // tessgen_patch_normal(s1_010 − s1_100, s1_001 − s1_100).
+        let d = |p: usize, c: usize| s1[p][c][k] - s1[0][c][k];
+        let (n, parallel) = patch_normal([d(1, 0), d(1, 1), d(1, 2)], [d(2, 0), d(2, 1), d(2, 2)]);
         degenerate |= parallel && o + (k as u32) < hi;
-        let len = c2.sqrt();
-        out[3][k] = if parallel { 0.0 } else { cx / len };
-        out[4][k] = if parallel { 0.0 } else { cy / len };
-        out[5][k] = if parallel { 0.0 } else { cz / len };
+        (out[3][k], out[4][k], out[5][k]) = (n[0], n[1], n[2]);
     }
     store_lanes::<L, V>(&out[0], &out[1], &out[2], pos);
     store_lanes::<L, V>(&out[3], &out[4], &out[5], nrm);

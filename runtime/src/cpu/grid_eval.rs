@@ -514,26 +514,38 @@ fn sample_lanes<const L: usize>(
         let (ux, _) = along(tg, 0);
         let (uy, _) = along(tg, 1);
         let (uz, _) = along(tg, 2);
-        // glam's cross a × b: (a.y·b.z − b.y·a.z, a.z·b.x − b.z·a.x, a.x·b.y − b.x·a.y).
-        let cx = (uy * tvz) - (tvy * uz);
-        let cy = (uz * tvx) - (tvz * ux);
-        let cz = (ux * tvy) - (tvx * uy);
-        // tessgen_patch_normal: c / √(c·c), or zero when
-        // c·c ≤ PARALLEL_SIN2·(a·a)·(b·b).
-        let len2 = ((cx * cx) + (cy * cy)) + (cz * cz);
-        let aa = ((ux * ux) + (uy * uy)) + (uz * uz);
-        let bb = ((tvx * tvx) + (tvy * tvy)) + (tvz * tvz);
-        let parallel = len2 <= PARALLEL_SIN2 * (aa * bb);
+        let ([nx, ny, nz], parallel) = patch_normal([ux, uy, uz], [tvx, tvy, tvz]);
         degenerate |= parallel;
-        let len = len2.sqrt();
         out[0][k] = x;
         out[1][k] = y;
         out[2][k] = z;
-        out[3][k] = if parallel { 0.0 } else { cx / len };
-        out[4][k] = if parallel { 0.0 } else { cy / len };
-        out[5][k] = if parallel { 0.0 } else { cz / len };
+        out[3][k] = nx;
+        out[4][k] = ny;
+        out[5][k] = nz;
     }
     degenerate
+}
+
+/// `tessgen_patch_normal(a, b)` of one lane: glam's `a × b` (`(a.y·b.z −
+/// b.y·a.z, a.z·b.x − b.z·a.x, a.x·b.y − b.x·a.y)`) over `√(c·c)`, or zero
+/// when `c·c ≤ PARALLEL_SIN2·(a·a)·(b·b)` (parallel tangents; reported).
+/// Selects, not branches, so the lanes stay vectorised.
+#[inline(always)]
+pub(crate) fn patch_normal(a: [f32; 3], b: [f32; 3]) -> ([f32; 3], bool) {
+    let cx = (a[1] * b[2]) - (b[1] * a[2]);
+    let cy = (a[2] * b[0]) - (b[2] * a[0]);
+    let cz = (a[0] * b[1]) - (b[0] * a[1]);
+    let c2 = ((cx * cx) + (cy * cy)) + (cz * cz);
+    let aa = ((a[0] * a[0]) + (a[1] * a[1])) + (a[2] * a[2]);
+    let bb = ((b[0] * b[0]) + (b[1] * b[1])) + (b[2] * b[2]);
+    let parallel = c2 <= PARALLEL_SIN2 * (aa * bb);
+    let len = c2.sqrt();
+    let n = [
+        if parallel { 0.0 } else { cx / len },
+        if parallel { 0.0 } else { cy / len },
+        if parallel { 0.0 } else { cz / len },
+    ];
+    (n, parallel)
 }
 
 /// The first `dst.len()` (≤ L) lanes of (x, y, z) into `dst`. With `V`
