@@ -16,7 +16,7 @@ use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Error, Request};
 use tessgen_runtime::trimesh::{TriMesh, TriOptions};
 use tessgen_runtime::upload::{Upload, UploadError};
 use tessgen_runtime::vulkan::{Language, Options, VkError, VkMesh, Vulkan};
-use tessgen_runtime::{kernels, TessError};
+use tessgen_runtime::{kernels, TessError, Topology};
 
 fn cube() -> (tessgen_runtime::Topology, Vec<Vec3>) {
     common::topo_positions(&common::mesh("catmark_cube"))
@@ -131,17 +131,21 @@ fn front_door_adaptive_clamp() {
     }
 }
 
+/// Every edge of `topo` at factor 2, clamped to `[min, max]`.
+fn factor_two(topo: &Topology, min: f32, max: f32) -> Adaptive {
+    Adaptive {
+        metric: Metric::Buffer(vec![2.0; adaptive::edge_ids(topo).1 as usize]),
+        partitioning: Partitioning::Integer,
+        min,
+        max,
+    }
+}
+
 #[test]
 fn adaptive_error_clamp() {
     let (topo, positions) = cube();
     let patches = cpu::construct(&topo, &positions, pccm()).expect("construct");
-    let edges = adaptive::edge_ids(&topo).1;
-    let a = Adaptive {
-        metric: Metric::Buffer(vec![2.0; edges as usize]),
-        partitioning: Partitioning::Integer,
-        min: 4.0,
-        max: 2.0,
-    };
+    let a = factor_two(&topo, 4.0, 2.0);
     let e = adaptive::evaluate_cpu_adaptive(&patches, &topo, &a, 4).expect_err("min > max");
     assert!(
         matches!(e, AdaptiveError::Clamp { min, max } if min == 4.0 && max == 2.0),
@@ -163,13 +167,7 @@ fn adaptive_error_displace_mismatch() {
     let torus_patches = cpu::construct(&torus_topo, &torus_positions, pccm()).expect("torus");
     let d = common::displacement(Ownership::LowestFace, 0.1);
     let data = cpu::displacement_data(&torus, &torus_topo, &torus_patches, &d).expect("torus data");
-    let edges = adaptive::edge_ids(&topo).1;
-    let a = Adaptive {
-        metric: Metric::Buffer(vec![2.0; edges as usize]),
-        partitioning: Partitioning::Integer,
-        min: 1.0,
-        max: 4.0,
-    };
+    let a = factor_two(&topo, 1.0, 4.0);
     let e = adaptive::evaluate_cpu_adaptive_displaced(&patches, &topo, &a, 4, &data)
         .expect_err("data of another mesh");
     match &e {
@@ -320,13 +318,7 @@ fn gpu_error_too_many_chunks() {
         ..gpu().limits
     };
     let m = GpuMesh::with_limits(gpu(), &topo, &positions, "pccm", limits).expect("gpu mesh");
-    let edges = adaptive::edge_ids(&topo).1;
-    let a = Adaptive {
-        metric: Metric::Buffer(vec![2.0; edges as usize]),
-        partitioning: Partitioning::Integer,
-        min: 1.0,
-        max: 4.0,
-    };
+    let a = factor_two(&topo, 1.0, 4.0);
     let e = m
         .evaluate_adaptive_gpu_driven(&topo, &a, 4)
         .expect_err("434 patches need 2 chunks");

@@ -69,12 +69,7 @@ pub(crate) fn cpatch_patch<const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let nets = [
-        piece_net(cp, 0),
-        piece_net(cp, 1),
-        piece_net(cp, 2),
-        piece_net(cp, 3),
-    ];
+    let nets: [Net; 4] = std::array::from_fn(|piece| piece_net(cp, piece));
     let n = level as i64;
     let width = level as usize + 1;
     let mut degenerate = false;
@@ -94,30 +89,19 @@ pub(crate) fn cpatch_patch<const V: bool>(
             while o < hi {
                 let left = (hi - o) as usize;
                 let (p, q) = (row + o as usize, row + o as usize + left.min(LANES));
+                let run = Run {
+                    net: &nets[piece],
+                    piece,
+                    level,
+                    iv: iv as u32,
+                    o: o as u32,
+                    hi: hi as u32,
+                };
+                let (pos, nrm) = (&mut pos[p..q], &mut nrm[p..q]);
                 degenerate |= if left <= HALF {
-                    cpatch_lanes::<HALF, V>(
-                        &nets[piece],
-                        w,
-                        piece,
-                        level,
-                        iv as u32,
-                        o as u32,
-                        hi as u32,
-                        &mut pos[p..q],
-                        &mut nrm[p..q],
-                    )
+                    cpatch_lanes::<HALF, V>(&run, w, pos, nrm)
                 } else {
-                    cpatch_lanes::<LANES, V>(
-                        &nets[piece],
-                        w,
-                        piece,
-                        level,
-                        iv as u32,
-                        o as u32,
-                        hi as u32,
-                        &mut pos[p..q],
-                        &mut nrm[p..q],
-                    )
+                    cpatch_lanes::<LANES, V>(&run, w, pos, nrm)
                 };
                 o += if left <= HALF { HALF } else { LANES } as i64;
             }
@@ -127,23 +111,35 @@ pub(crate) fn cpatch_patch<const V: bool>(
     degenerate
 }
 
-/// Samples `iu = o .. min(o + L, hi)` of row `iv`, all in piece `piece`
-/// (lanes past `hi` repeat `hi − 1` and are not stored): the piece's
-/// barycentric weights, four de Casteljau steps, position and
-/// `tessgen_patch_normal(s1_010 − s1_100, s1_001 − s1_100)`.
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn cpatch_lanes<const L: usize, const V: bool>(
-    net: &Net,
-    w: &LevelWeights,
+/// One lane group of a row: samples `iu = o .. min(o + L, hi)` of row
+/// `iv`, all in piece `piece` (whose net is `net`).
+struct Run<'a> {
+    net: &'a Net,
     piece: usize,
     level: u32,
     iv: u32,
     o: u32,
     hi: u32,
+}
+
+/// The samples of `run` (lanes past `hi` repeat `hi − 1` and are not
+/// stored): the piece's barycentric weights, four de Casteljau steps,
+/// position and `tessgen_patch_normal(s1_010 − s1_100, s1_001 − s1_100)`.
+#[inline(always)]
+fn cpatch_lanes<const L: usize, const V: bool>(
+    run: &Run<'_>,
+    w: &LevelWeights,
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
+    let &Run {
+        net,
+        piece,
+        level,
+        iv,
+        o,
+        hi,
+    } = run;
     let mut la = [0.0f32; L];
     let mut lb = [0.0f32; L];
     let mut lc = [0.0f32; L];
