@@ -1,11 +1,14 @@
 //! Streaming (`Session::run_chunked` + `obj::ObjStream`): the result handed
 //! out chunk by chunk is the whole result, bit for bit and byte for byte of
-//! OBJ, whatever the chunk size: quad and triangle schemes, a mesh with
-//! holes (faces left out mid-chunk), and the requests that do not stream yet
-//! (one chunk: refined, GPU).
+//! OBJ, whatever the chunk size: quad and triangle schemes, displaced or
+//! not, on the CPU, on wgpu and through the Vulkan harness (GLSL, HLSL), a
+//! mesh with holes (faces left out mid-chunk), and the requests that do not
+//! stream (one chunk: refined, adaptive, captured triangles).
 
 mod common;
 
+use common::displacement;
+use tessgen_runtime::displace::Ownership;
 use tessgen_runtime::obj::{to_obj, ObjStream};
 use tessgen_runtime::tessellate::{Backend, Output, Request, Session};
 use tessgen_runtime::Mesh;
@@ -13,10 +16,20 @@ use tessgen_runtime::Mesh;
 /// The OBJ of `request` on `mesh`, streamed in chunks of `max_samples`,
 /// and the number of chunks.
 fn streamed(mesh: &Mesh, request: &Request<'_>, max_samples: usize) -> (String, usize) {
+    streamed_in(&mut Session::new(), mesh, request, max_samples)
+}
+
+/// [`streamed`] with the caller's session (its devices opened once).
+fn streamed_in(
+    session: &mut Session,
+    mesh: &Mesh,
+    request: &Request<'_>,
+    max_samples: usize,
+) -> (String, usize) {
     let v = request.validate(mesh).expect("validate");
     let mut stream = ObjStream::new(Vec::new());
     let mut chunks = 0;
-    Session::new()
+    session
         .run_chunked(&v, max_samples, |out| {
             chunks += 1;
             match out {
@@ -30,8 +43,78 @@ fn streamed(mesh: &Mesh, request: &Request<'_>, max_samples: usize) -> (String, 
 }
 
 fn whole(mesh: &Mesh, request: &Request<'_>) -> String {
+    whole_in(&mut Session::new(), mesh, request)
+}
+
+fn whole_in(session: &mut Session, mesh: &Mesh, request: &Request<'_>) -> String {
     let v = request.validate(mesh).expect("validate");
-    Session::new().run(&v).expect("run").to_obj()
+    session.run(&v).expect("run").to_obj()
+}
+
+/// Every backend streams a uniform grid in windows of faces: the GPU ones
+/// dispatch and read back only each window's patches (class-sorted runs
+/// cut to the window), and the OBJ is the whole run's byte for byte —
+/// chunks of one face, of a few faces straddling the class runs, and one
+/// chunk. Displaced too (the owners' normals and texture coordinates are
+/// read across the window's edge).
+#[test]
+fn every_backend_streams_grids_in_face_windows() {
+    let mut session = Session::new();
+    let uv = common::mesh("catmark_cube_uv");
+    let d = displacement(Ownership::LowestFace, 0.5);
+    let righthanded = common::mesh("catmark_righthanded");
+    for backend in [
+        Backend::Cpu,
+        Backend::Wgpu,
+        Backend::VulkanGlsl,
+        Backend::VulkanHlsl,
+    ] {
+        let cases: Vec<(&str, &Mesh, Request<'_>)> = vec![
+            (
+                "righthanded pccm",
+                &righthanded,
+                Request::uniform("pccm", 3),
+            ),
+            (
+                "righthanded gregory",
+                &righthanded,
+                Request::uniform("gregory", 2),
+            ),
+            (
+                "cube displaced",
+                &uv,
+                Request::uniform("acc", 4).displaced(&d),
+            ),
+        ];
+        for (what, mesh, request) in cases {
+            let request = request.on(backend);
+            let reference = whole_in(&mut session, mesh, &request);
+            // One face a chunk, a few (7 at level 3, 12 at level 2), one chunk.
+            for max_samples in [1, 112, 0] {
+                let (text, chunks) = streamed_in(&mut session, mesh, &request, max_samples);
+                assert!(
+                    text == reference,
+                    "{what} on {backend:?}, chunks of {max_samples}"
+                );
+                if max_samples == 1 {
+                    assert_eq!(chunks, mesh.num_faces(), "{what} on {backend:?}");
+                }
+            }
+        }
+    }
+    // Triangle schemes stream on the CPU and on wgpu (the Vulkan harness
+    // captures their triangles: one chunk, below).
+    let cube = common::mesh("catmark_cube");
+    for backend in [Backend::Cpu, Backend::Wgpu] {
+        let request = Request::uniform("stpn", 5).split_quads(true).on(backend);
+        let reference = whole_in(&mut session, &cube, &request);
+        let (text, chunks) = streamed_in(&mut session, &cube, &request, 1);
+        assert!(text == reference, "stpn on {backend:?}");
+        assert_eq!(
+            chunks, 12,
+            "stpn on {backend:?}: the cube's 12 split triangles"
+        );
+    }
 }
 
 #[test]
@@ -77,7 +160,9 @@ fn holes_are_left_out_per_chunk() {
     }
 }
 
-/// What does not stream yet comes as one chunk, the whole result.
+/// What does not stream comes as one chunk, the whole result: a refined
+/// mesh (triangles and n-gons), and a triangle scheme's triangles captured
+/// from the Vulkan harness.
 #[test]
 fn other_requests_come_whole() {
     let nonquads = common::mesh("catmark_nonquads");
@@ -86,10 +171,13 @@ fn other_requests_come_whole() {
     assert_eq!(chunks, 1);
     assert!(text == whole(&nonquads, &request));
     let cube = common::mesh("catmark_cube");
-    let request = Request::uniform("pccm", 3).on(Backend::Wgpu);
+    let request = Request::uniform("pn", 3)
+        .split_quads(true)
+        .on(Backend::VulkanGlsl);
     let (text, chunks) = streamed(&cube, &request, 1);
     assert_eq!(chunks, 1);
     assert!(text == whole(&cube, &request));
+    let request = Request::uniform("pccm", 3).on(Backend::Wgpu);
     // And the grid writer is `to_obj`'s.
     let v = request.validate(&cube).expect("validate");
     let out = Session::new().run(&v).expect("run");

@@ -533,7 +533,7 @@ pub fn evaluate_faces_into(
 
 /// Room for `total` samples in both buffers, or [`TessError::OutOfMemory`]
 /// (never an allocation that aborts the process).
-fn reserve_samples(
+pub(crate) fn reserve_samples(
     positions: &mut Vec<Vec3>,
     normals: &mut Vec<Vec3>,
     total: usize,
@@ -704,12 +704,15 @@ fn check_outputs(
     Ok(per)
 }
 
-/// Every patch's `grid_len(level)` samples in face order, sample `s` at the
-/// grid point `(grid_iu(s), grid_iv(s))`, from `sample(face, class, iu, iv)`:
-/// the grid walk behind [`evaluate_displaced`].
+/// The `grid_len(level)` samples of the faces `faces` in face order,
+/// sample `s` at the grid point `(grid_iu(s), grid_iv(s))`, from
+/// `sample(face, class, iu, iv)`: the grid walk behind
+/// [`evaluate_displaced`] (`whole`: every face, `face_ids` left empty).
 fn evaluate_grid(
     patches: &Patches,
     level: u32,
+    faces: std::ops::Range<usize>,
+    whole: bool,
     sample: impl Fn(usize, u32, u32, u32) -> Sample + Sync,
 ) -> Result<Tessellation, TessError> {
     if level == 0 || level > MAX_LEVEL {
@@ -717,27 +720,30 @@ fn evaluate_grid(
     }
     let kernels = patches.scheme;
     let per = (kernels.grid_len)(level) as usize;
-    let faces = patches.face_class.len();
+    let all = patches.face_class.len();
+    let faces = faces.start.min(all)..faces.end.min(all);
+    let total = per * faces.len();
     let (mut positions, mut normals) = (Vec::new(), Vec::new());
-    reserve_samples(&mut positions, &mut normals, per * faces)?;
+    reserve_samples(&mut positions, &mut normals, total)?;
     let mut samples: Vec<Sample> = Vec::new();
     samples
-        .try_reserve_exact(per * faces)
+        .try_reserve_exact(total)
         .map_err(|_| TessError::OutOfMemory {
-            samples: per * faces,
-            bytes: 4 * (per * faces) as u128 * std::mem::size_of::<Vec3>() as u128,
+            samples: total,
+            bytes: 4 * total as u128 * std::mem::size_of::<Vec3>() as u128,
         })?;
     samples.resize(
-        per * faces,
+        total,
         Sample {
             position: Vec3::ZERO,
             normal: Vec3::ZERO,
         },
     );
     samples
-        .par_chunks_mut(per)
+        .par_chunks_mut(per.max(1))
         .enumerate()
-        .for_each(|(f, grid)| {
+        .for_each(|(g, grid)| {
+            let f = faces.start + g;
             let class = patches.face_class[f];
             for (s, out) in grid.iter_mut().enumerate() {
                 let s = s as u32;
@@ -747,7 +753,7 @@ fn evaluate_grid(
         });
     Ok(Tessellation {
         level,
-        faces,
+        faces: faces.len(),
         sides: kernels.sides,
         positions: {
             positions.extend(samples.iter().map(|s| s.position));
@@ -757,7 +763,11 @@ fn evaluate_grid(
             normals.extend(samples.iter().map(|s| s.normal));
             normals
         },
-        face_ids: Vec::new(),
+        face_ids: if whole {
+            Vec::new()
+        } else {
+            faces.map(|f| f as u32).collect()
+        },
     })
 }
 
@@ -771,12 +781,34 @@ pub fn evaluate_displaced(
     level: u32,
     data: &DisplaceData,
 ) -> Result<Tessellation, TessError> {
+    displaced_window(patches, level, data, 0..patches.face_class.len(), true)
+}
+
+/// [`evaluate_displaced`] of the faces `faces` only (`face_ids` = the
+/// range), each face's samples bit for bit the same: a streamed chunk
+/// (`tessellate::Session::run_chunked`).
+pub fn evaluate_displaced_faces(
+    patches: &Patches,
+    level: u32,
+    data: &DisplaceData,
+    faces: std::ops::Range<usize>,
+) -> Result<Tessellation, TessError> {
+    displaced_window(patches, level, data, faces, false)
+}
+
+fn displaced_window(
+    patches: &Patches,
+    level: u32,
+    data: &DisplaceData,
+    faces: std::ops::Range<usize>,
+    whole: bool,
+) -> Result<Tessellation, TessError> {
     let kernels = patches.scheme;
     let Some(eval) = kernels.eval_displaced else {
         return Err(facet_error(kernels));
     };
     let inputs = displace_inputs(data);
-    evaluate_grid(patches, level, |f, class, iu, iv| {
+    evaluate_grid(patches, level, faces, whole, |f, class, iu, iv| {
         let cp_base = patches.cp_offsets[f];
         eval(
             &inputs,

@@ -101,6 +101,21 @@ fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
 /// then `eval_main` read back, or the instanced adaptive buckets.
 #[cfg(feature = "gpu")]
 fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Error> {
+    let m = wgpu_mesh(v, gpu)?;
+    Ok(match &v.adaptive {
+        None => Output::Grid(m.evaluate(level(v))?),
+        Some(a) => {
+            Output::Instanced(m.evaluate_adaptive(v.domain.edges(), &a.adaptive, a.max_level)?)
+        }
+    })
+}
+
+/// The request's mesh on the wgpu device, constructed.
+#[cfg(feature = "gpu")]
+fn wgpu_mesh<'g>(
+    v: &Validated<'_>,
+    gpu: &'g crate::gpu::wgpu::Gpu,
+) -> Result<crate::gpu::wgpu::GpuMesh<'g>, Error> {
     use crate::gpu::wgpu::GpuMesh;
     let name = v.kernels.name;
     let displaced = v.request.displacement.map(|d| (v.run_mesh(), d));
@@ -119,12 +134,7 @@ fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Er
             GpuMesh::new_tri_displaced(gpu, v.mesh, tri, name, d)?
         }
     };
-    Ok(match &v.adaptive {
-        None => Output::Grid(m.evaluate(level(v))?),
-        Some(a) => {
-            Output::Instanced(m.evaluate_adaptive(v.domain.edges(), &a.adaptive, a.max_level)?)
-        }
-    })
+    Ok(m)
 }
 
 /// The Vulkan harness: quad schemes at a uniform level read back as grids
@@ -137,6 +147,22 @@ fn run_vulkan(
     language: crate::gpu::vulkan::Language,
     vk: &crate::gpu::vulkan::Vulkan,
 ) -> Result<Output, Error> {
+    let m = vk_mesh(v, language, vk)?;
+    Ok(match (&v.adaptive, &v.domain) {
+        (Some(_), _) => Output::Captured(m.evaluate_adaptive()?),
+        (None, Domain::Quads { .. }) => Output::Grid(m.evaluate(level(v))?),
+        (None, Domain::Triangles(_)) => Output::Captured(m.evaluate_triangles(level(v))?),
+    })
+}
+
+/// The request's mesh in the Vulkan harness, its pipelines built for the
+/// request's options.
+#[cfg(feature = "vulkan")]
+fn vk_mesh<'v>(
+    v: &Validated<'_>,
+    language: crate::gpu::vulkan::Language,
+    vk: &'v crate::gpu::vulkan::Vulkan,
+) -> Result<crate::gpu::vulkan::VkMesh<'v>, Error> {
     use crate::gpu::vulkan::{Options, VkMesh};
     let options = Options {
         adaptive: v.adaptive.as_ref().map(|a| a.adaptive.clone()),
@@ -159,9 +185,110 @@ fn run_vulkan(
             VkMesh::new_tri_displaced(vk, v.mesh, tri, name, d, &options)?
         }
     };
-    Ok(match (&v.adaptive, &v.domain) {
-        (Some(_), _) => Output::Captured(m.evaluate_adaptive()?),
-        (None, Domain::Quads { .. }) => Output::Grid(m.evaluate(level(v))?),
-        (None, Domain::Triangles(_)) => Output::Captured(m.evaluate_triangles(level(v))?),
-    })
+    Ok(m)
+}
+
+/// A uniform grid request, constructed (uploaded) once and then evaluated
+/// window by window of faces: the streamed form of [`run`]
+/// (`Session::run_chunked`). Each window's samples are [`run`]'s.
+pub(crate) enum GridSource<'s> {
+    Cpu {
+        patches: cpu::Patches,
+        displace: Option<DisplaceData>,
+    },
+    #[cfg(feature = "gpu")]
+    Wgpu(crate::gpu::wgpu::GpuMesh<'s>),
+    #[cfg(feature = "vulkan")]
+    Vulkan(crate::gpu::vulkan::VkMesh<'s>),
+    /// Only here so `'s` is used in a build without GPU features.
+    #[allow(dead_code)]
+    None(std::marker::PhantomData<&'s ()>),
+}
+
+impl GridSource<'_> {
+    /// Whether the request's result is one uniform grid per face of the
+    /// request's mesh, i.e. has a grid source: not for adaptive requests,
+    /// refined meshes (assembled from several runs), or triangle schemes on
+    /// the Vulkan harness (captured triangles).
+    pub(crate) fn streams(v: &Validated<'_>) -> bool {
+        // The hardware tessellator (the Vulkan harness) captures a triangle
+        // scheme's triangles: not a grid.
+        let captured =
+            v.request.backend.hardware_tessellator() && matches!(v.domain, Domain::Triangles(_));
+        v.adaptive.is_none() && v.refined().is_none() && !captured
+    }
+
+    /// The request's grid source ([`Self::streams`] must hold).
+    pub(crate) fn new<'s>(
+        v: &Validated<'_>,
+        session: &'s mut Session,
+    ) -> Result<GridSource<'s>, Error> {
+        use super::Backend;
+        let _ = &session;
+        Ok(match v.request.backend {
+            Backend::Cpu => {
+                let patches = cpu_patches(v)?;
+                let displace = match v.request.displacement {
+                    None => None,
+                    Some(d) => Some(match &v.domain {
+                        Domain::Quads { topo, .. } => {
+                            cpu::displacement_data(v.run_mesh(), topo, &patches, d)?
+                        }
+                        Domain::Triangles(tri) => {
+                            cpu::displacement_data_tri(v.mesh, tri, &patches, d)?
+                        }
+                    }),
+                };
+                GridSource::Cpu { patches, displace }
+            }
+            #[cfg(feature = "gpu")]
+            Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
+            #[cfg(feature = "vulkan")]
+            Backend::VulkanGlsl | Backend::VulkanHlsl => {
+                let language = match v.request.backend {
+                    Backend::VulkanHlsl => crate::gpu::vulkan::Language::Hlsl,
+                    _ => crate::gpu::vulkan::Language::Glsl,
+                };
+                GridSource::Vulkan(vk_mesh(v, language, session.vulkan()?)?)
+            }
+        })
+    }
+
+    /// Faces of the mesh evaluated (one grid each, holes included).
+    pub(crate) fn faces(&self) -> usize {
+        match self {
+            GridSource::Cpu { patches, .. } => patches.face_class.len(),
+            #[cfg(feature = "gpu")]
+            GridSource::Wgpu(m) => m.patch_faces.len(),
+            #[cfg(feature = "vulkan")]
+            GridSource::Vulkan(m) => m.patch_faces.len(),
+            GridSource::None(_) => 0,
+        }
+    }
+
+    /// The grids of the faces `faces` into `t` (`face_ids` = the range),
+    /// its buffers reused where the backend writes in place.
+    pub(crate) fn evaluate(
+        &self,
+        level: u32,
+        faces: std::ops::Range<usize>,
+        t: &mut cpu::Tessellation,
+    ) -> Result<(), Error> {
+        match self {
+            GridSource::Cpu {
+                patches,
+                displace: None,
+            } => cpu::evaluate_faces_into(patches, level, faces, t)?,
+            GridSource::Cpu {
+                patches,
+                displace: Some(d),
+            } => *t = cpu::evaluate_displaced_faces(patches, level, d, faces)?,
+            #[cfg(feature = "gpu")]
+            GridSource::Wgpu(m) => *t = m.evaluate_faces(level, faces)?,
+            #[cfg(feature = "vulkan")]
+            GridSource::Vulkan(m) => *t = m.evaluate_faces(level, faces)?,
+            GridSource::None(_) => {}
+        }
+        Ok(())
+    }
 }

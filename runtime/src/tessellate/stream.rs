@@ -4,18 +4,23 @@
 //! mesh size (the reliability issue: `--level 200` on `righthanded_L3` used
 //! to abort allocating 27 GB before writing a byte).
 //!
-//! What streams today: uniform tessellation of quad or triangle schemes on
-//! the CPU without displacement or refinement, the common case: the patches
-//! are constructed once, then [`cpu::evaluate_faces_into`] fills one reused
-//! buffer of at most [`CHUNK_SAMPLES`] samples per chunk. Every other request
-//! (GPU backends, adaptive, displaced, refined) comes as one chunk, the
-//! [`Session::run`] result; their readback is chunked inside, but the whole
-//! result is still held once. Each chunk passes the same non-finite check as
-//! [`Session::run`]; the samples are [`Session::run`]'s bit for bit.
+//! What streams: every uniform grid request — quad and triangle schemes,
+//! with or without displacement, on the CPU, on wgpu, and for quad schemes
+//! through the Vulkan tessellation harness (GLSL, HLSL). The mesh is
+//! constructed (uploaded) once ([`GridSource`]), then each window of whole
+//! faces is evaluated into a buffer of at most [`CHUNK_SAMPLES`] samples
+//! (on a GPU: only the window's patches are dispatched and read back) and
+//! handed on before the next. What comes as one chunk, the [`Session::run`]
+//! result: adaptive requests, refined meshes (triangles and n-gons, assembled
+//! from several runs) and the Vulkan harness's captured triangles (triangle
+//! schemes); their readback is chunked inside, but the whole result is held
+//! once. Each chunk passes the same non-finite check as [`Session::run`];
+//! the samples are [`Session::run`]'s bit for bit.
 
+use super::backend::GridSource;
 use super::request::Validated;
-use super::{Backend, Error, Output, Sampling, Session};
-use crate::cpu::{self, Tessellation};
+use super::{Error, Output, Sampling, Session};
+use crate::cpu::Tessellation;
 
 /// Samples per streamed chunk: 4 Mi samples are 96 MiB of positions and
 /// normals, a whole number of patches (at least one) per chunk.
@@ -37,17 +42,14 @@ impl Session {
         E: std::fmt::Debug,
     {
         let level = match v.request.sampling {
-            Sampling::Uniform(n) => Some(n),
-            Sampling::Adaptive(_) => None,
+            Sampling::Uniform(n) => n,
+            Sampling::Adaptive(_) => 0,
         };
-        let streams = v.request.backend == Backend::Cpu
-            && v.request.displacement.is_none()
-            && v.refined().is_none();
-        let (Some(level), true) = (level, streams) else {
+        if level == 0 || !GridSource::streams(v) {
             let out = self.run(v).map_err(ChunkError::Tess)?;
             return sink(&out).map_err(ChunkError::Sink);
-        };
-        let patches = super::backend::cpu_patches(v).map_err(|e| ChunkError::Tess(e.into()))?;
+        }
+        let source = GridSource::new(v, self).map_err(ChunkError::Tess)?;
         let per = (v.kernels.grid_len)(level) as usize;
         let limit = if max_samples == 0 {
             CHUNK_SAMPLES
@@ -55,22 +57,24 @@ impl Session {
             max_samples
         };
         let step = (limit / per.max(1)).max(1);
-        let keep: Option<Vec<bool>> = v.no_limit().map(|n| n.iter().map(|&x| !x).collect());
-        let faces = patches.face_class.len();
+        let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
+        let faces = source.faces();
         let mut t = Tessellation::default();
-        let mut first = 0;
+        let (mut first, mut written) = (0, 0);
         while first < faces {
             let end = (first + step).min(faces);
-            cpu::evaluate_faces_into(&patches, level, first..end, &mut t)
-                .map_err(|e| ChunkError::Tess(e.into()))?;
+            source
+                .evaluate(level, first..end, &mut t)
+                .map_err(ChunkError::Tess)?;
             if let Some(keep) = &keep {
                 t.retain_faces(keep);
             }
             let out = Output::Grid(std::mem::take(&mut t));
-            super::finite(v, &out, first * per).map_err(ChunkError::Tess)?;
+            super::finite(v, &out, written).map_err(ChunkError::Tess)?;
             sink(&out).map_err(ChunkError::Sink)?;
-            // The next chunk reuses the buffers.
+            // The next chunk reuses the buffers (the CPU writes in place).
             if let Output::Grid(back) = out {
+                written += back.positions.len();
                 t = back;
             }
             first = end;

@@ -5,9 +5,10 @@
 
 use crate::abi::{self, binding};
 use crate::cpu::{self, Tessellation};
-use crate::gpu::readback::GridReadback;
+use crate::gpu::readback::{patch_runs, GridReadback};
 use crate::gpu::upload::ClassRange;
 use ash::vk;
+use std::ops::Range;
 
 use super::device::VkError;
 use super::{Buf, VkMesh};
@@ -112,6 +113,23 @@ impl<'v> VkMesh<'v> {
     /// read the captured samples back in face order: the same layout as
     /// [`cpu::evaluate`].
     pub fn evaluate(&self, level: u32) -> Result<Tessellation, VkError> {
+        self.evaluate_window(level, 0..self.patch_faces.len(), true)
+    }
+
+    /// [`Self::evaluate`] of the faces `faces` only (`face_ids` = the
+    /// range), each face's samples bit for bit the same: what a streaming
+    /// caller reads chunk by chunk (`tessellate::Session::run_chunked`).
+    /// The samples buffer holds at most the window's patches.
+    pub fn evaluate_faces(&self, level: u32, faces: Range<usize>) -> Result<Tessellation, VkError> {
+        self.evaluate_window(level, faces, false)
+    }
+
+    fn evaluate_window(
+        &self,
+        level: u32,
+        faces: Range<usize>,
+        whole: bool,
+    ) -> Result<Tessellation, VkError> {
         if self.options.adaptive.is_some() {
             return Err(VkError::AdaptiveNotGrid);
         }
@@ -121,7 +139,7 @@ impl<'v> VkMesh<'v> {
             });
         }
         self.check_level(level)?;
-        self.with_samples(level, |p0, n| {
+        self.with_samples(level, faces, whole, |p0, n| {
             self.draw_chunk(level, p0, n, GRID_PATCHES_PER_DRAW)
         })
     }
@@ -152,7 +170,7 @@ impl<'v> VkMesh<'v> {
         // level-64 quad patch has 4,225 samples, far below).
         let per_dispatch =
             abi::WORKGROUP * self.vk.limits.max_compute_work_group_count_x.max(1) as u64;
-        self.with_samples(level, |p0, n| {
+        self.with_samples(level, 0..self.patch_faces.len(), true, |p0, n| {
             for c in &self.classes {
                 let mut lo = (c.first as u64).max(p0);
                 let hi = ((c.first + c.count) as u64).min(p0 + n);
@@ -264,11 +282,14 @@ impl<'v> VkMesh<'v> {
     }
 
     /// A samples buffer of as many patches' grids at `level` as fit one
-    /// storage binding (and 256 MiB), bound at [`binding::SAMPLES`]; then
-    /// [`Self::read_samples`] with it.
+    /// storage binding (and 256 MiB, and the window), bound at
+    /// [`binding::SAMPLES`]; then [`Self::read_samples`] with it over the
+    /// patches of the faces `faces` (`whole`: every face of the mesh).
     fn with_samples(
         &self,
         level: u32,
+        faces: Range<usize>,
+        whole: bool,
         run: impl Fn(u64, u64) -> Result<(), VkError>,
     ) -> Result<Tessellation, VkError> {
         let spp = (self.scheme.grid_len)(level) as u64;
@@ -283,48 +304,52 @@ impl<'v> VkMesh<'v> {
                 max: cap,
             });
         }
-        let total = self.patch_faces.len() as u64;
-        let chunk = (cap / per_patch).min(total.max(1));
+        let all = self.patch_faces.len();
+        let faces = faces.start.min(all)..faces.end.min(all);
+        let chunk = (cap / per_patch).min(faces.len().max(1) as u64);
         let samples = self.vk.buffer(
             "samples",
             chunk * per_patch,
             vk::BufferUsageFlags::STORAGE_BUFFER,
         )?;
-        let result = self.read_samples(level, spp, chunk, &samples, run);
+        let result = self.read_samples(level, spp, chunk, &samples, faces, run);
         samples.destroy(&self.vk.device);
-        result
+        Ok(result?.finish(whole))
     }
 
-    /// Bind `samples`, let `run(p0, n)` write patches `p0 .. p0 + n` at
-    /// `(patch − p0)·spp` samples of SAMPLE_FLOATS floats, chunk by chunk, and gather
-    /// them in face order.
+    /// Bind `samples`, let `run(p0, n)` write patches `p0 .. p0 + n` (one
+    /// class's, of the window's [`patch_runs`]) at `(patch − p0)·spp`
+    /// samples of SAMPLE_FLOATS floats, chunk by chunk, and gather them in
+    /// face order.
     fn read_samples(
         &self,
         level: u32,
         spp: u64,
         chunk: u64,
         samples: &Buf,
+        faces: Range<usize>,
         run: impl Fn(u64, u64) -> Result<(), VkError>,
-    ) -> Result<Tessellation, VkError> {
+    ) -> Result<GridReadback, VkError> {
         self.write_buffer(binding::SAMPLES, samples);
-        let faces = self.patch_faces.len();
-        let mut grids = GridReadback::new(level, self.scheme.sides, faces, spp);
+        let mut grids = GridReadback::new(level, self.scheme.sides, faces.clone(), spp)?;
         let nan: Vec<u8> = std::iter::repeat_n(
             f32::NAN.to_le_bytes(),
             (chunk * spp) as usize * abi::SAMPLE_LEN,
         )
         .flatten()
         .collect();
-        let mut p0 = 0u64;
-        while p0 < faces as u64 {
-            let n = chunk.min(faces as u64 - p0);
-            // Unwritten samples stay NaN, so a missed write fails parity.
-            samples.write(&nan);
-            run(p0, n)?;
-            let floats = samples.read_f32((n * spp) as usize * abi::SAMPLE_LEN);
-            grids.scatter(&floats, p0, &self.patch_faces);
-            p0 += n;
+        for (_, patches) in patch_runs(&self.patch_faces, &self.classes, faces) {
+            let mut p0 = patches.start;
+            while p0 < patches.end {
+                let n = chunk.min(patches.end - p0);
+                // Unwritten samples stay NaN, so a missed write fails parity.
+                samples.write(&nan);
+                run(p0, n)?;
+                let floats = samples.read_f32((n * spp) as usize * abi::SAMPLE_LEN);
+                grids.scatter(&floats, p0, &self.patch_faces);
+                p0 += n;
+            }
         }
-        Ok(grids.finish())
+        Ok(grids)
     }
 }
