@@ -290,6 +290,38 @@ fn gpu() -> &'static Gpu {
     GPU.get_or_init(|| Gpu::new().unwrap_or_else(|e| panic!("{e}")))
 }
 
+/// A lost device (here `Device::destroy`, which lavapipe honours like a
+/// driver reset) is a typed error naming the adapter, from evaluation and
+/// from any later use, never a panic or a result of zeros.
+#[test]
+fn gpu_error_device_lost() {
+    let own = Gpu::new().unwrap_or_else(|e| panic!("{e}"));
+    let (topo, positions) = cube();
+    let m = GpuMesh::new(&own, &topo, &positions, "pccm").expect("gpu mesh");
+    m.evaluate(2).expect("a live device evaluates");
+    own.device.destroy();
+    for attempt in 0..2 {
+        let e = m.evaluate(2).expect_err("the device is gone");
+        let GpuError::DeviceLost { adapter, .. } = &e else {
+            panic!("attempt {attempt}: {e:?}");
+        };
+        assert_eq!(adapter, &own.info.name);
+        let text = e.to_string();
+        assert!(
+            text.starts_with(&format!(
+                "the GPU device ({}) was lost: destroyed",
+                own.info.name
+            )),
+            "{text}"
+        );
+        assert!(text.ends_with("nothing was written"), "{text}");
+    }
+    let e = GpuMesh::new(&own, &topo, &positions, "pccm")
+        .err()
+        .expect("no new mesh on a lost device");
+    assert!(matches!(e, GpuError::DeviceLost { .. }), "{e:?}");
+}
+
 #[test]
 fn gpu_error_buffer_too_large() {
     let (topo, positions) = cube();

@@ -254,6 +254,23 @@ impl GridSource<'_> {
         })
     }
 
+    /// Samples per chunk when the caller gives no bound: [`CHUNK_SAMPLES`]
+    /// on the CPU, a quarter of it on a GPU, whose chunk is held up to four
+    /// times on the host at once (the window, the samples and staging
+    /// buffers — host memory on a software adapter —, the decoded
+    /// readback).
+    ///
+    /// [`CHUNK_SAMPLES`]: super::CHUNK_SAMPLES
+    pub(crate) fn chunk_samples(&self) -> usize {
+        match self {
+            GridSource::Cpu { .. } | GridSource::None(_) => super::CHUNK_SAMPLES,
+            #[cfg(feature = "gpu")]
+            GridSource::Wgpu(_) => super::CHUNK_SAMPLES / 4,
+            #[cfg(feature = "vulkan")]
+            GridSource::Vulkan(_) => super::CHUNK_SAMPLES / 4,
+        }
+    }
+
     /// Faces of the mesh evaluated (one grid each, holes included).
     pub(crate) fn faces(&self) -> usize {
         match self {

@@ -30,8 +30,8 @@ impl Session {
     /// [`Session::run`] in chunks: `sink` receives consecutive parts of the
     /// result (for a grid: whole faces in face order, `face_ids` naming
     /// them), each before the next is evaluated. `max_samples` bounds a
-    /// chunk (0: [`CHUNK_SAMPLES`]). Stops at the first error, the sink's
-    /// included.
+    /// chunk (0: [`CHUNK_SAMPLES`] on the CPU, a quarter of it on a GPU).
+    /// Stops at the first error, the sink's included.
     pub fn run_chunked<E>(
         &mut self,
         v: &Validated<'_>,
@@ -52,7 +52,7 @@ impl Session {
         let source = GridSource::new(v, self).map_err(ChunkError::Tess)?;
         let per = (v.kernels.grid_len)(level) as usize;
         let limit = if max_samples == 0 {
-            CHUNK_SAMPLES
+            source.chunk_samples()
         } else {
             max_samples
         };

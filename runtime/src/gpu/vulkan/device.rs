@@ -22,6 +22,15 @@ pub enum VkError {
         call: &'static str,
         result: vk::Result,
     },
+    /// `VK_ERROR_DEVICE_LOST` from any call: the device is unusable.
+    #[error("the Vulkan device was lost in {call} (a driver reset or a removed GPU); nothing was written")]
+    DeviceLost { call: &'static str },
+    /// `VK_ERROR_OUT_OF_DEVICE_MEMORY` / `VK_ERROR_OUT_OF_HOST_MEMORY`.
+    #[error("the Vulkan device ran out of memory in {call}: {result}")]
+    OutOfMemory {
+        call: &'static str,
+        result: vk::Result,
+    },
     #[error("no Vulkan device supports tessellationShader and vertexPipelineStoresAndAtomics with a graphics+compute queue (install mesa-vulkan-drivers for lavapipe)")]
     NoDevice,
     #[error("no Vulkan device matches TESSGEN_VK_DEVICE={0:?}")]
@@ -94,8 +103,50 @@ impl From<UploadError> for VkError {
     }
 }
 
+/// The error of a failed Vulkan call: device loss and exhausted memory
+/// typed, anything else with the call and its result.
 pub(super) fn call(call: &'static str) -> impl FnOnce(vk::Result) -> VkError {
-    move |result| VkError::Call { call, result }
+    move |result| match result {
+        vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost { call },
+        vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
+            VkError::OutOfMemory { call, result }
+        }
+        result => VkError::Call { call, result },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Loss and memory exhaustion, which lavapipe cannot be made to
+    /// produce, are typed wherever a call returns them.
+    #[test]
+    fn failed_calls_are_typed() {
+        let lost = call("vkQueueSubmit")(vk::Result::ERROR_DEVICE_LOST);
+        assert!(matches!(
+            lost,
+            VkError::DeviceLost {
+                call: "vkQueueSubmit"
+            }
+        ));
+        assert_eq!(
+            lost.to_string(),
+            "the Vulkan device was lost in vkQueueSubmit (a driver reset or a removed GPU); nothing was written"
+        );
+        for r in [
+            vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
+            vk::Result::ERROR_OUT_OF_HOST_MEMORY,
+        ] {
+            let e = call("vkAllocateMemory")(r);
+            assert!(matches!(e, VkError::OutOfMemory { .. }), "{e:?}");
+            assert!(e
+                .to_string()
+                .starts_with("the Vulkan device ran out of memory in vkAllocateMemory"));
+        }
+        let other = call("vkCreateInstance")(vk::Result::ERROR_INITIALIZATION_FAILED);
+        assert!(matches!(other, VkError::Call { .. }), "{other:?}");
+    }
 }
 
 /// The device limits the harness checks.

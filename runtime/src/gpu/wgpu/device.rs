@@ -38,6 +38,13 @@ pub enum GpuError {
     TooManyChunks { patches: u64, chunks: u64, max: u32 },
     #[error("wgpu reported an error: {0}")]
     Wgpu(String),
+    /// The device was lost (a driver reset, a removed GPU, or
+    /// `Device::destroy`): every later operation fails with this error.
+    #[error("the GPU device ({adapter}) was lost: {reason}; nothing was written")]
+    DeviceLost { adapter: String, reason: String },
+    /// The device could not allocate a buffer or texture.
+    #[error("the GPU ({adapter}) is out of memory: {message}")]
+    OutOfMemory { adapter: String, message: String },
     #[error("image: {0}")]
     Image(String),
     #[error("readback failed: {0}")]
@@ -81,6 +88,11 @@ pub struct Gpu {
     pub queue: wgpu::Queue,
     pub info: wgpu::AdapterInfo,
     pub limits: Limits,
+    /// Why the device was lost, once it was (set by its lost callback).
+    lost: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+    /// The first error no error scope caught (wgpu's default handler
+    /// would panic), reported by the next [`Gpu::scoped`].
+    uncaptured: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 impl Gpu {
@@ -135,21 +147,93 @@ impl Gpu {
             max_texture_dimension_2d: alimits.max_texture_dimension_2d,
             max_storage_buffer_binding_size: alimits.max_storage_buffer_binding_size as u64,
         };
-        Ok(Gpu {
+        Ok(Gpu::from_parts(device, queue, info, limits))
+    }
+
+    /// A [`Gpu`] around a device the caller opened; its lost callback is
+    /// taken over so that loss becomes [`GpuError::DeviceLost`].
+    pub fn from_parts(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        info: wgpu::AdapterInfo,
+        limits: Limits,
+    ) -> Gpu {
+        let lost = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let flag = lost.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            if let Ok(mut l) = flag.lock() {
+                *l = Some(match reason {
+                    wgpu::DeviceLostReason::Destroyed => format!("destroyed ({message})"),
+                    wgpu::DeviceLostReason::Unknown => format!("lost by the driver ({message})"),
+                });
+            }
+        });
+        let uncaptured = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let slot = uncaptured.clone();
+        device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut s) = slot.lock() {
+                s.get_or_insert(e.to_string());
+            }
+        }));
+        Gpu {
             device,
             queue,
             info,
             limits,
-        })
+            lost,
+            uncaptured,
+        }
     }
 
-    /// Run `f` and turn any wgpu validation error it caused into a `GpuError`.
+    /// The device is neither lost nor has an error outside a scope
+    /// pending (which is taken: reported once).
+    pub(crate) fn healthy(&self) -> Result<(), GpuError> {
+        self.check_lost()?;
+        let pending = self.uncaptured.lock().ok().and_then(|mut s| s.take());
+        match pending {
+            Some(e) => Err(self.or_lost(GpuError::Wgpu(e))),
+            None => Ok(()),
+        }
+    }
+
+    /// [`GpuError::DeviceLost`] once the device is lost.
+    pub fn check_lost(&self) -> Result<(), GpuError> {
+        let reason = self.lost.lock().ok().and_then(|l| l.clone());
+        match reason {
+            Some(reason) => Err(GpuError::DeviceLost {
+                adapter: self.info.name.clone(),
+                reason,
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// `e`, unless the device was lost: then [`GpuError::DeviceLost`]
+    /// (what a lost device's operations fail with is a symptom).
+    pub(crate) fn or_lost(&self, e: GpuError) -> GpuError {
+        // The lost callback runs on the next poll after the loss.
+        let _ = self.device.poll(wgpu::PollType::Poll);
+        self.check_lost().err().unwrap_or(e)
+    }
+
+    /// Run `f` and turn any wgpu validation or out-of-memory error it
+    /// caused into a `GpuError` ([`GpuError::DeviceLost`] on a lost device).
     pub(crate) fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        self.healthy()?;
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let out = f();
-        match pollster::block_on(scope.pop()) {
-            Some(e) => Err(GpuError::Wgpu(e.to_string())),
-            None => Ok(out),
+        let invalid = pollster::block_on(validation.pop());
+        let full = pollster::block_on(oom.pop());
+        if let Some(e) = full {
+            return Err(self.or_lost(GpuError::OutOfMemory {
+                adapter: self.info.name.clone(),
+                message: e.to_string(),
+            }));
+        }
+        match invalid {
+            Some(e) => Err(self.or_lost(GpuError::Wgpu(e.to_string()))),
+            None => self.healthy().map(|()| out),
         }
     }
 }

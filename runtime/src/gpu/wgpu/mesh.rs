@@ -161,6 +161,7 @@ impl<'g> GpuMesh<'g> {
     /// The parts every mesh shares: buffers, the stencil table, pipelines,
     /// then the first construction.
     fn build(gpu: &'g Gpu, limits: Limits, upload: Upload) -> Result<Self, GpuError> {
+        gpu.healthy()?;
         let scheme = upload.scheme;
         for b in &upload.buffers {
             check(&limits, b.label, b.bytes.len() as u64)?;

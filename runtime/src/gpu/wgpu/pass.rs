@@ -186,34 +186,48 @@ impl<'g> GpuMesh<'g> {
         (max_threads / per_item.max(1)).max(1)
     }
 
+    /// Map a MAP_READ buffer and decode its floats (straight from the
+    /// mapping: one host copy of a readback, not two).
     pub(super) fn read(&self, staging: &wgpu::Buffer) -> Result<Vec<f32>, GpuError> {
-        let bytes = self.read_bytes(staging)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .collect())
+        self.with_mapped(staging, |bytes| {
+            bytes
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect()
+        })
     }
 
     /// Map a MAP_READ buffer and copy its bytes out.
     pub(crate) fn read_bytes(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        self.with_mapped(staging, |bytes| bytes.to_vec())
+    }
+
+    /// Map a MAP_READ buffer, hand its bytes to `f`, unmap.
+    fn with_mapped<T>(
+        &self,
+        staging: &wgpu::Buffer,
+        f: impl FnOnce(&[u8]) -> T,
+    ) -> Result<T, GpuError> {
+        let gpu = self.gpu;
+        gpu.check_lost()?;
+        let failed = |e: String| gpu.or_lost(GpuError::Readback(e));
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
         });
-        self.gpu
-            .device
+        gpu.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,
                 timeout: None,
             })
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+            .map_err(|e| failed(e.to_string()))?;
         rx.recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
+            .map_err(|e| failed(e.to_string()))?
+            .map_err(|e| failed(e.to_string()))?;
         let data = staging
             .get_mapped_range(..)
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let out = data.to_vec();
+            .map_err(|e| failed(e.to_string()))?;
+        let out = f(&data);
         drop(data);
         staging.unmap();
         Ok(out)
