@@ -15,6 +15,7 @@ use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::{DisplaceError, DisplaceMap, Displacement, Ownership};
+use tessgen_runtime::obj::ObjStream;
 use tessgen_runtime::stats::{FeatureStats, MeshStats};
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::tessellate::{
@@ -459,13 +460,30 @@ fn table(args: &TableArgs) -> CmdResult {
 
 /// `--adaptive`: per-edge factors through the front door — the hardware
 /// tessellator's triangles (glsl, hlsl) or the instanced path's grids (cpu,
-/// wgpu) as an OBJ triangle soup (`v` per triangle corner, `f` per
-/// triangle), welded exactly with `--check-watertight`.
+/// wgpu) as an OBJ triangle soup per patch (`g patch_<face>`, `v` per
+/// triangle corner, `f` per triangle: [`TessOutput::write_soup`]), streamed
+/// to disk on the CPU, welded exactly with `--check-watertight` (which
+/// holds the whole result).
 fn tessellate_adaptive(
     mesh: &Mesh,
     args: &TessellateArgs,
     validated: &tessellate::Validated<'_>,
 ) -> CmdResult {
+    let summary = |triangles: usize, ms: f64| {
+        eprintln!(
+            "tessgen: {} faces → {triangles} triangles ({} adaptive, {:?}, {} backend) in {ms:.2} ms → {}",
+            mesh.num_faces(),
+            args.scheme,
+            args.partitioning,
+            args.backend.name(),
+            args.out.display()
+        )
+    };
+    if !args.check_watertight {
+        let w = stream::write_streamed(validated, &args.mesh, &args.out, true)?;
+        summary(w.triangles, w.ms);
+        return Ok(ExitCode::SUCCESS);
+    }
     let start = Instant::now();
     let out = tessellate::Session::new()
         .run(validated)
@@ -475,21 +493,12 @@ fn tessellate_adaptive(
     // boundary edge (its own adaptive level, on the instanced path).
     let boundary = validated.expected_open_edges(&out);
     let elapsed = start.elapsed();
-    std::fs::write(&args.out, tessellate::soup_obj(&tris))
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
-    eprintln!(
-        "tessgen: {} faces → {} triangles ({} adaptive, {:?}, {} backend) in {:.2} ms → {}",
-        mesh.num_faces(),
-        tris.len(),
-        args.scheme,
-        args.partitioning,
-        args.backend.name(),
-        elapsed.as_secs_f64() * 1e3,
-        args.out.display()
-    );
-    if !args.check_watertight {
-        return Ok(ExitCode::SUCCESS);
-    }
+    let io = |e: std::io::Error| format!("{}: {e}", args.out.display());
+    let file = std::fs::File::create(&args.out).map_err(io)?;
+    let mut obj = ObjStream::new(std::io::BufWriter::with_capacity(1 << 20, file));
+    out.write_soup(&mut obj).map_err(io)?;
+    obj.finish().map_err(io)?;
+    summary(tris.len(), elapsed.as_secs_f64() * 1e3);
     let soup: Vec<glam::Vec3> = tris.iter().flatten().copied().collect();
     let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);
     println!(
@@ -666,7 +675,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
     }
     if !args.check_watertight {
         // Nothing needs the whole result: stream it to disk.
-        let w = stream::write_streamed(&validated, &args.mesh, &args.out)?;
+        let w = stream::write_streamed(&validated, &args.mesh, &args.out, false)?;
         let summary = match w.other {
             None => format!(
                 "{} faces × {} samples = {} samples",

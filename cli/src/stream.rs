@@ -3,7 +3,8 @@
 //! peak memory is one chunk (about 100 MB of samples) whatever the level, and
 //! into `OUT.partial` renamed to `OUT` at the end, so a failed run leaves no
 //! half-written file (a special file such as `/dev/null` is written
-//! directly). The bytes are the non-streamed OBJ's.
+//! directly). The bytes are the non-streamed OBJ's. `--adaptive` writes a
+//! triangle soup ([`Output::write_soup`]), streamed on the CPU the same way.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -20,14 +21,18 @@ pub(crate) struct Written {
     pub samples: usize,
     /// A non-grid result (captured triangles, polygon grids) came whole.
     pub other: Option<(usize, usize, usize)>,
+    /// Triangles of a soup (`soup`).
+    pub triangles: usize,
     pub ms: f64,
 }
 
-/// Tessellate `validated` into `out` as OBJ, streamed.
+/// Tessellate `validated` into `out` as OBJ, streamed: grids in the grid
+/// layout, or with `soup` every chunk as a triangle soup.
 pub(crate) fn write_streamed(
     validated: &tessellate::Validated<'_>,
     mesh_path: &Path,
     out: &Path,
+    soup: bool,
 ) -> Result<Written, String> {
     let direct = std::fs::metadata(out).is_ok_and(|m| !m.is_file());
     let target: PathBuf = if direct {
@@ -43,6 +48,10 @@ pub(crate) fn write_streamed(
     let mut written = Written::default();
     let start = Instant::now();
     let result = tessellate::Session::new().run_chunked(validated, 0, |chunk| match chunk {
+        soupy if soup => {
+            written.triangles += soupy.write_soup(&mut stream)?;
+            Ok(())
+        }
         Output::Grid(t) => {
             written.faces += t.faces;
             written.samples += t.positions.len();

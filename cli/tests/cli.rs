@@ -360,7 +360,7 @@ fn tessellate_triangle_scheme_on_the_hardware_tessellator() {
 /// `--adaptive`: random per-edge factors and the screen-space metric weld
 /// closed through the GLSL and HLSL tessellation shaders and on the
 /// instanced path (cpu, wgpu); the output is a triangle soup (3 `v` lines
-/// per `f`); bad metrics and fractional partitioning on the instanced path
+/// per `f`), streamed without `--check-watertight` to the same bytes; bad metrics and fractional partitioning on the instanced path
 /// name what is wrong.
 #[test]
 fn tessellate_adaptive() {
@@ -407,6 +407,33 @@ fn tessellate_adaptive() {
         let o = run(backend, metric, "integer");
         assert_ok(&o);
         assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
+        let text = std::fs::read_to_string(&out).unwrap();
+        assert_eq!(count_lines(&text, "v "), 3 * count_lines(&text, "f "));
+        // Without --check-watertight the CPU streams the soup to disk chunk
+        // by chunk (the GPU writes its whole result): the same bytes.
+        let streamed = tmp.path().join("streamed.obj");
+        let o = tessgen([
+            "tessellate".as_ref(),
+            torus.as_os_str(),
+            "--scheme".as_ref(),
+            "pccm".as_ref(),
+            "--backend".as_ref(),
+            backend.as_ref(),
+            "--adaptive".as_ref(),
+            metric.as_ref(),
+            "--out".as_ref(),
+            streamed.as_os_str(),
+        ]);
+        assert_ok(&o);
+        assert!(
+            stderr(&o).contains(" triangles (pccm adaptive"),
+            "{}",
+            all(&o)
+        );
+        assert!(
+            std::fs::read(&streamed).unwrap() == text.as_bytes(),
+            "{backend} {metric}: streamed soup differs"
+        );
     }
     let o = run("wgpu", "random:7", "fractional-odd");
     assert_ne!(o.status.code(), Some(0));

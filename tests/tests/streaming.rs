@@ -2,15 +2,17 @@
 //! out chunk by chunk is the whole result, bit for bit and byte for byte of
 //! OBJ, whatever the chunk size: quad and triangle schemes, displaced or
 //! not, on the CPU, on wgpu and through the Vulkan harness (GLSL, HLSL), a
-//! mesh with holes (faces left out mid-chunk), and the requests that do not
-//! stream (one chunk: refined, adaptive, captured triangles).
+//! mesh with holes (faces left out mid-chunk), adaptive requests on the CPU
+//! (a triangle soup per face window), and the requests that do not stream
+//! (one chunk: refined, adaptive on a GPU, captured triangles).
 
 mod common;
 
 use common::displacement;
+use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::Ownership;
 use tessgen_runtime::obj::{to_obj, ObjStream};
-use tessgen_runtime::tessellate::{Backend, Output, Request, Session};
+use tessgen_runtime::tessellate::{AdaptiveRequest, Backend, EdgeMetric, Output, Request, Session};
 use tessgen_runtime::Mesh;
 
 /// The OBJ of `request` on `mesh`, streamed in chunks of `max_samples`,
@@ -32,10 +34,7 @@ fn streamed_in(
     session
         .run_chunked(&v, max_samples, |out| {
             chunks += 1;
-            match out {
-                Output::Grid(t) => stream.write(t),
-                other => stream.raw(other.to_obj().as_bytes()),
-            }
+            out.write_obj(&mut stream)
         })
         .expect("run_chunked");
     let bytes = stream.finish().expect("flush");
@@ -138,6 +137,117 @@ fn streamed_obj_is_the_whole_obj() {
             }
         }
     }
+}
+
+/// An adaptive request with random factors in `[1, max]` per edge.
+fn adaptive(scheme: &str, max: f32) -> Request<'static> {
+    Request::adaptive(
+        scheme,
+        AdaptiveRequest {
+            metric: EdgeMetric::Random {
+                seed: 7,
+                lo: 1.0,
+                hi: max,
+            },
+            partitioning: Partitioning::Integer,
+            max_factor: max,
+        },
+    )
+}
+
+/// Adaptive requests stream on the CPU: every face classified once, then
+/// windows of whole faces. The chunks' grids are the whole run's bit for
+/// bit (levels, faces, samples) and their triangle soup is its OBJ byte for
+/// byte — quad and triangle schemes, displaced, holes left out mid-chunk,
+/// semi-sharp crease steps (the refined mesh's faces); one face a chunk, a
+/// few, one chunk. On a GPU the result comes whole (one chunk).
+#[test]
+fn cpu_adaptive_streams_in_face_windows() {
+    let uv = common::mesh("catmark_cube_uv");
+    let d = displacement(Ownership::LowestFace, 0.5);
+    let righthanded = common::mesh("catmark_righthanded");
+    let cube = common::mesh("catmark_cube");
+    let mut holed = common::mesh("catmark_cube");
+    holed.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![1, 4],
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    let creased = common::mesh("catmark_single_crease");
+    let tent = common::mesh("catmark_tent");
+    let cases: Vec<(&str, &Mesh, Request<'_>)> = vec![
+        ("righthanded pccm", &righthanded, adaptive("pccm", 16.0)),
+        (
+            "righthanded gregory",
+            &righthanded,
+            adaptive("gregory", 8.0),
+        ),
+        ("holed cube pccm", &holed, adaptive("pccm", 8.0)),
+        ("single crease acc", &creased, adaptive("acc", 4.0)),
+        ("tent pccm (boundary)", &tent, adaptive("pccm", 8.0)),
+        (
+            "cube acc displaced",
+            &uv,
+            adaptive("acc", 8.0).displaced(&d),
+        ),
+        ("cube pn", &cube, adaptive("pn", 8.0).split_quads(true)),
+        (
+            "cube phong displaced",
+            &uv,
+            adaptive("phong", 4.0).split_quads(true).displaced(&d),
+        ),
+    ];
+    for (what, mesh, request) in cases {
+        let v = request.validate(mesh).expect("validate");
+        let whole = Session::new().run(&v).expect("run");
+        let Output::Instanced(a) = &whole else {
+            panic!("{what}: not instanced");
+        };
+        let reference = whole.to_obj();
+        let faces = a.levels.len();
+        // One face a chunk, about a quarter of the samples, one chunk.
+        for max_samples in [1, a.positions.len() / 4, 0] {
+            let mut stream = ObjStream::new(Vec::new());
+            let (mut levels, mut ids, mut positions, mut normals) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+            let mut chunks = 0;
+            Session::new()
+                .run_chunked(&v, max_samples, |out| {
+                    chunks += 1;
+                    let Output::Instanced(c) = out else {
+                        panic!("{what}: a chunk that is not instanced");
+                    };
+                    assert_eq!(c.edge_levels, a.edge_levels, "{what}");
+                    levels.extend_from_slice(&c.levels);
+                    ids.extend((0..c.levels.len()).map(|g| c.face_of(g)));
+                    positions.extend_from_slice(&c.positions);
+                    normals.extend_from_slice(&c.normals);
+                    out.write_obj(&mut stream)
+                })
+                .expect("run_chunked");
+            let text = String::from_utf8(stream.finish().expect("flush")).expect("utf-8");
+            assert!(text == reference, "{what}: chunks of {max_samples}");
+            assert_eq!(levels, a.levels, "{what}: chunks of {max_samples}");
+            let want: Vec<usize> = (0..faces).map(|g| a.face_of(g)).collect();
+            assert_eq!(ids, want, "{what}: chunks of {max_samples}");
+            assert!(positions == a.positions && normals == a.normals, "{what}");
+            // Faces of the mesh run, holes included.
+            let run = a.edge_levels.len() / a.sides as usize;
+            match max_samples {
+                // One face a chunk (a hole's chunk is empty).
+                1 => assert_eq!(chunks, run, "{what}"),
+                0 => assert_eq!(chunks, 1, "{what}"),
+                _ => assert!(chunks > 1 && chunks <= run, "{what}: {chunks} chunks"),
+            }
+        }
+    }
+    // A GPU's adaptive result comes whole.
+    let request = adaptive("pccm", 8.0).on(Backend::Wgpu);
+    let (text, chunks) = streamed(&righthanded, &request, 1);
+    assert_eq!(chunks, 1);
+    assert!(text == whole(&righthanded, &request));
 }
 
 /// Hole faces are left out inside a chunk; the OBJ names every grid after

@@ -261,9 +261,7 @@ pub fn patches_geometric_normal_jump(
     patches: &Patches,
     level: u32,
 ) -> Result<f64, TessError> {
-    if level == 0 || level > cpu::MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
+    cpu::check_level(level)?;
     let k = patches.scheme;
     if k.sides != 4 {
         return Err(cpu::facet_error(k));

@@ -76,6 +76,40 @@ impl<W: std::io::Write> ObjStream<W> {
         Ok(())
     }
 
+    /// Append one patch of a triangle soup (the OBJ of adaptive results,
+    /// `tessellate::Output::write_soup`): `g <name>`, three `v` lines per
+    /// triangle (its own corners: what `--check-watertight` welds), then its
+    /// `f a b c` lines, indices continuing across patches and chunks. The
+    /// header line comes with the first patch, so a soup streamed patch by
+    /// patch is byte for byte the whole one.
+    pub fn write_soup_patch(&mut self, name: &str, tris: &[[Vec3; 3]]) -> std::io::Result<()> {
+        if !self.started {
+            writeln!(
+                self.out,
+                "# tessgen {} triangle soup",
+                env!("CARGO_PKG_VERSION")
+            )?;
+            self.started = true;
+        }
+        let base = self.next;
+        let next = u32::try_from(3 * tris.len())
+            .ok()
+            .and_then(|n| base.checked_add(n))
+            .ok_or_else(|| std::io::Error::other("more than 2^32 - 1 OBJ vertices in one file"))?;
+        let mut s = String::with_capacity(tris.len() * 120 + name.len() + 3);
+        let _ = writeln!(s, "g {name}");
+        for p in tris.iter().flatten() {
+            let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+        }
+        for k in 0..tris.len() as u32 {
+            let a = base + 3 * k;
+            let _ = writeln!(s, "f {} {} {}", a, a + 1, a + 2);
+        }
+        self.out.write_all(s.as_bytes())?;
+        self.next = next;
+        Ok(())
+    }
+
     /// Bytes written as they are (a whole OBJ text of a non-grid result).
     pub fn raw(&mut self, bytes: &[u8]) -> std::io::Result<()> {
         self.started = true;

@@ -367,7 +367,7 @@ pub fn edge_inputs<'m>(
 /// degenerate (skipped by the weld); the rest stitch the levels without
 /// T-junctions. On a GPU each bucket is one instanced draw of its level's
 /// grid.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct AdaptiveTessellation {
     /// Corners per face: 4 (quad grids) or 3 (triangle grids).
     pub sides: u32,
@@ -421,20 +421,32 @@ impl AdaptiveTessellation {
     pub fn triangles(&self) -> Vec<[Vec3; 3]> {
         let mut out = Vec::new();
         let mut local: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
-        for (f, &l) in self.levels.iter().enumerate() {
-            let base = self.offsets[f];
-            let tris = local.entry(l).or_insert_with(|| {
-                if self.sides == 3 {
-                    crate::grid::tri_grid_triangles(l)
-                } else {
-                    crate::grid::grid_triangles(l)
-                }
-            });
-            for t in tris.iter() {
-                out.push(t.map(|k| self.positions[base + k as usize]));
-            }
+        for g in 0..self.levels.len() {
+            self.grid_triangles(g, &mut local, &mut out);
         }
         out
+    }
+
+    /// Append grid `g`'s triangles as world positions to `out`; `local`
+    /// keeps each level's local triangles, built on first use.
+    pub fn grid_triangles(
+        &self,
+        g: usize,
+        local: &mut std::collections::BTreeMap<u32, Vec<[u32; 3]>>,
+        out: &mut Vec<[Vec3; 3]>,
+    ) {
+        let (l, base) = (self.levels[g], self.offsets[g]);
+        let tris = local.entry(l).or_insert_with(|| {
+            if self.sides == 3 {
+                crate::grid::tri_grid_triangles(l)
+            } else {
+                crate::grid::grid_triangles(l)
+            }
+        });
+        out.extend(
+            tris.iter()
+                .map(|t| t.map(|k| self.positions[base + k as usize])),
+        );
     }
 
     /// Faces per bucket level, ascending: one instanced draw each.
@@ -502,11 +514,8 @@ pub fn evaluate_cpu_adaptive_displaced<'m>(
     adaptive_cpu(patches, mesh.into(), a, max_level, Some(data))
 }
 
-/// The CPU adaptive walk, in parallel over faces (rayon, as
-/// `cpu::evaluate`): the four level slots of every face, the buckets and
-/// sample offsets, then every face's variable-size grid into its own slice
-/// of the output. Each sample is a pure function of its face and grid
-/// point, so the result does not depend on the thread count.
+/// The CPU adaptive walk of [`evaluate_cpu_adaptive`]: [`AdaptiveRun::new`]
+/// then every face ([`AdaptiveRun::evaluate`] over all of them).
 fn adaptive_cpu(
     patches: &crate::cpu::Patches,
     mesh: AdaptiveMesh<'_>,
@@ -514,127 +523,239 @@ fn adaptive_cpu(
     max_level: u32,
     displace: Option<&crate::cpu::displace::DisplaceData>,
 ) -> Result<AdaptiveTessellation, AdaptiveError> {
-    use crate::kernels::common::Sample;
-    use rayon::prelude::*;
-    let kernels = patches.scheme;
-    let ak = kernels.adaptive;
-    check_mesh(kernels, &mesh, patches.face_class.len())?;
-    let inp = edge_inputs(mesh, a, max_level)?;
-    let corner_vertex = mesh.corner_vertex();
-    let sides = kernels.sides as usize;
-    let faces = patches.face_class.len();
-    let off = crate::cpu::displace::DisplaceData::off();
-    let data = displace.unwrap_or(&off);
-    if data.info[0] != 0.0 {
-        let stride = 8 * sides;
-        for (what, len) in [
-            ("texture coordinates", data.texcoords.len()),
-            ("owner records", data.owners.len()),
-        ] {
-            if len != stride * faces {
-                return Err(AdaptiveError::DisplaceMismatch {
-                    what,
-                    got: len / stride,
-                    patches: faces,
-                });
+    let run = AdaptiveRun::new(patches, mesh, a, max_level, displace)?;
+    let mut t = AdaptiveTessellation::default();
+    run.evaluate(0..run.faces(), &mut t)?;
+    t.face_ids.clear();
+    Ok(t)
+}
+
+/// A CPU adaptive run, classified: every face's four level slots (the
+/// metric of each edge through the generated `patch_edge_level`), its
+/// bucket and the sample offset of its grid, computed once for the whole
+/// mesh (a few words per face) — after which any window of faces is
+/// evaluated on its own ([`AdaptiveRun::evaluate`]), so a streaming caller
+/// (`tessellate::Session::run_chunked`) holds one window's samples at a
+/// time. Each sample is a pure function of its face and grid point: a
+/// window's samples are the whole run's, bit for bit.
+pub struct AdaptiveRun<'p> {
+    patches: &'p crate::cpu::Patches,
+    displace: Option<&'p crate::cpu::displace::DisplaceData>,
+    corner_vertex: Vec<u32>,
+    inputs: EdgeInputs,
+    /// Four level slots per face, as the WGSL classify pass writes them (a
+    /// triangle's slot 3 is 1 and unread).
+    slots: Vec<[u32; 4]>,
+    /// Bucket level per face (the largest of its edges').
+    levels: Vec<u32>,
+    /// `sides` real edge levels per face.
+    edge_levels: Vec<u32>,
+    /// Where each face's grid starts in the whole result (`faces + 1`).
+    offsets: Vec<usize>,
+    /// What the kernels read when there is no displacement.
+    off: crate::cpu::displace::DisplaceData,
+}
+
+impl<'p> AdaptiveRun<'p> {
+    /// Check the run (the mesh is the patches' and of their domain, the
+    /// factors and clamp finite, `max_level` a power of two, displacement
+    /// data built for these patches) and classify every face.
+    pub fn new(
+        patches: &'p crate::cpu::Patches,
+        mesh: AdaptiveMesh<'_>,
+        a: &Adaptive,
+        max_level: u32,
+        displace: Option<&'p crate::cpu::displace::DisplaceData>,
+    ) -> Result<Self, AdaptiveError> {
+        use rayon::prelude::*;
+        let kernels = patches.scheme;
+        check_mesh(kernels, &mesh, patches.face_class.len())?;
+        let inputs = edge_inputs(mesh, a, max_level)?;
+        let corner_vertex = mesh.corner_vertex();
+        let sides = kernels.sides as usize;
+        let faces = patches.face_class.len();
+        if let Some(data) = displace.filter(|d| d.info[0] != 0.0) {
+            let stride = 8 * sides;
+            for (what, len) in [
+                ("texture coordinates", data.texcoords.len()),
+                ("owner records", data.owners.len()),
+            ] {
+                if len != stride * faces {
+                    return Err(AdaptiveError::DisplaceMismatch {
+                        what,
+                        got: len / stride,
+                        patches: faces,
+                    });
+                }
             }
         }
-    }
-    let inputs = crate::kernels::common::Inputs {
-        corner_vertex: &corner_vertex,
-        face_edges: &inp.face_edges,
-        edge_factors: &inp.edge_factors,
-        adaptive: &inp.params,
-        texcoords: &data.texcoords,
-        owners: &data.owners,
-        displace_info: &data.info,
-        displace_map: &data.map.texels,
-        displace_width: data.map.width,
-        ..Default::default()
-    };
-    let cp_of = |f: usize| {
-        &patches.control_points[patches.cp_offsets[f] as usize..patches.cp_offsets[f + 1] as usize]
-    };
-    // Four level slots per patch, as the WGSL classify pass writes them (a
-    // triangle's slot 3 is 1 and unread); `edge_levels` keeps the real ones.
-    let slots: Vec<[u32; 4]> = (0..faces)
-        .into_par_iter()
-        .map(|f| {
-            [0, 1, 2, 3].map(|k| {
-                (ak.edge_level)(
-                    &inputs,
-                    cp_of(f),
-                    f as u32,
-                    patches.face_class[f],
-                    0,
-                    k,
-                    max_level,
-                )
-            })
-        })
-        .collect();
-    let levels: Vec<u32> = slots
-        .iter()
-        .map(|e| crate::kernels::common::tessgen_bucket_level(e[0], e[1], e[2], e[3]))
-        .collect();
-    let edge_levels: Vec<u32> = slots
-        .iter()
-        .flat_map(|e| e[..sides].iter().copied())
-        .collect();
-    let mut offsets = Vec::with_capacity(faces + 1);
-    let mut total = 0usize;
-    for &l in &levels {
-        offsets.push(total);
-        total += (kernels.grid_len)(l) as usize;
-    }
-    offsets.push(total);
-    let mut positions = vec![Vec3::ZERO; total];
-    let mut normals = vec![Vec3::ZERO; total];
-    // One disjoint pair of slices per face (grids of different sizes),
-    // written in place: no intermediate sample buffer.
-    let mut grids: Vec<(usize, &mut [Vec3], &mut [Vec3])> = Vec::with_capacity(faces);
-    let (mut pos, mut nrm) = (positions.as_mut_slice(), normals.as_mut_slice());
-    for f in 0..faces {
-        let len = offsets[f + 1] - offsets[f];
-        let (p, p_tail) = pos.split_at_mut(len);
-        let (n, n_tail) = nrm.split_at_mut(len);
-        grids.push((f, p, n));
-        (pos, nrm) = (p_tail, n_tail);
-    }
-    grids.into_par_iter().for_each(|(f, pos, nrm)| {
-        let (class, l, e) = (patches.face_class[f], levels[f], slots[f]);
-        for (s, (p, n)) in pos.iter_mut().zip(nrm.iter_mut()).enumerate() {
-            let s = s as u32;
-            let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
-            let r: Sample = match displace {
-                None => (ak.eval)(cp_of(f), class, 0, iu, iv, l, e[0], e[1], e[2], e[3]),
-                Some(_) => (ak.eval_displaced)(
-                    &inputs,
-                    &patches.control_points,
-                    f as u32,
-                    class,
-                    patches.cp_offsets[f],
-                    iu,
-                    iv,
-                    l,
-                    e[0],
-                    e[1],
-                    e[2],
-                    e[3],
-                ),
-            };
-            (*p, *n) = (r.position, r.normal);
+        let mut run = AdaptiveRun {
+            patches,
+            displace,
+            corner_vertex,
+            inputs,
+            slots: Vec::new(),
+            levels: Vec::new(),
+            edge_levels: Vec::new(),
+            offsets: Vec::with_capacity(faces + 1),
+            off: crate::cpu::displace::DisplaceData::off(),
+        };
+        let ak = kernels.adaptive;
+        let slots: Vec<[u32; 4]> = {
+            let inputs = run.kernel_inputs();
+            (0..faces)
+                .into_par_iter()
+                .map(|f| {
+                    [0, 1, 2, 3].map(|k| {
+                        (ak.edge_level)(
+                            &inputs,
+                            run.control_points(f),
+                            f as u32,
+                            patches.face_class[f],
+                            0,
+                            k,
+                            max_level,
+                        )
+                    })
+                })
+                .collect()
+        };
+        run.levels = slots
+            .iter()
+            .map(|e| crate::kernels::common::tessgen_bucket_level(e[0], e[1], e[2], e[3]))
+            .collect();
+        run.edge_levels = slots
+            .iter()
+            .flat_map(|e| e[..sides].iter().copied())
+            .collect();
+        run.slots = slots;
+        let mut total = 0usize;
+        for &l in &run.levels {
+            run.offsets.push(total);
+            total += (kernels.grid_len)(l) as usize;
         }
-    });
-    Ok(AdaptiveTessellation {
-        sides: kernels.sides,
-        levels,
-        edge_levels,
-        offsets,
-        positions,
-        normals,
-        face_ids: Vec::new(),
-    })
+        run.offsets.push(total);
+        Ok(run)
+    }
+
+    /// Faces of the run (one grid each, holes included).
+    pub fn faces(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// Where each face's grid starts in the whole result (`faces + 1`
+    /// entries, the last the total): a streaming caller cuts its windows
+    /// by these.
+    pub fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+
+    /// The grids of `faces` (clamped to the run's faces) into `t`, its
+    /// buffers reused when large enough: `levels` and `offsets` of just
+    /// those faces (`face_ids` = the range), `edge_levels` of every face
+    /// (a hole's edges still decide its neighbours' samples), in parallel
+    /// over faces (rayon, as `cpu::evaluate`). Room for the samples is
+    /// reserved first: [`crate::cpu::TessError::OutOfMemory`], never an
+    /// abort.
+    pub fn evaluate(
+        &self,
+        faces: std::ops::Range<usize>,
+        t: &mut AdaptiveTessellation,
+    ) -> Result<(), AdaptiveError> {
+        use crate::kernels::common::Sample;
+        use rayon::prelude::*;
+        let faces = crate::cpu::clamp_window(faces, self.faces());
+        let base = self.offsets[faces.start];
+        let total = self.offsets[faces.end] - base;
+        crate::cpu::reserve_samples(&mut t.positions, &mut t.normals, total)?;
+        t.positions.resize(total, Vec3::ZERO);
+        t.normals.resize(total, Vec3::ZERO);
+        t.sides = self.patches.scheme.sides;
+        t.levels.clear();
+        t.levels.extend_from_slice(&self.levels[faces.clone()]);
+        t.offsets.clear();
+        t.offsets.extend(
+            self.offsets[faces.start..=faces.end]
+                .iter()
+                .map(|&o| o - base),
+        );
+        t.edge_levels.clone_from(&self.edge_levels);
+        t.face_ids.clear();
+        t.face_ids.extend(faces.clone().map(|f| f as u32));
+        let (patches, kernels) = (self.patches, self.patches.scheme);
+        let ak = kernels.adaptive;
+        let inputs = self.kernel_inputs();
+        // One disjoint pair of slices per face (grids of different sizes),
+        // written in place: no intermediate sample buffer.
+        let mut grids: Vec<(usize, &mut [Vec3], &mut [Vec3])> = Vec::with_capacity(faces.len());
+        let (mut pos, mut nrm) = (t.positions.as_mut_slice(), t.normals.as_mut_slice());
+        for f in faces {
+            let len = self.offsets[f + 1] - self.offsets[f];
+            let (p, p_tail) = pos.split_at_mut(len);
+            let (n, n_tail) = nrm.split_at_mut(len);
+            grids.push((f, p, n));
+            (pos, nrm) = (p_tail, n_tail);
+        }
+        grids.into_par_iter().for_each(|(f, pos, nrm)| {
+            let (class, l, e) = (patches.face_class[f], self.levels[f], self.slots[f]);
+            for (s, (p, n)) in pos.iter_mut().zip(nrm.iter_mut()).enumerate() {
+                let s = s as u32;
+                let (iu, iv) = ((kernels.grid_iu)(s, l), (kernels.grid_iv)(s, l));
+                let r: Sample = match self.displace {
+                    None => (ak.eval)(
+                        self.control_points(f),
+                        class,
+                        0,
+                        iu,
+                        iv,
+                        l,
+                        e[0],
+                        e[1],
+                        e[2],
+                        e[3],
+                    ),
+                    Some(_) => (ak.eval_displaced)(
+                        &inputs,
+                        &patches.control_points,
+                        f as u32,
+                        class,
+                        patches.cp_offsets[f],
+                        iu,
+                        iv,
+                        l,
+                        e[0],
+                        e[1],
+                        e[2],
+                        e[3],
+                    ),
+                };
+                (*p, *n) = (r.position, r.normal);
+            }
+        });
+        Ok(())
+    }
+
+    fn control_points(&self, f: usize) -> &[Vec3] {
+        let p = self.patches;
+        &p.control_points[p.cp_offsets[f] as usize..p.cp_offsets[f + 1] as usize]
+    }
+
+    /// What the generated adaptive functions read.
+    fn kernel_inputs(&self) -> crate::kernels::common::Inputs<'_> {
+        let data = self.displace.unwrap_or(&self.off);
+        crate::kernels::common::Inputs {
+            corner_vertex: &self.corner_vertex,
+            face_edges: &self.inputs.face_edges,
+            edge_factors: &self.inputs.edge_factors,
+            adaptive: &self.inputs.params,
+            texcoords: &data.texcoords,
+            owners: &data.owners,
+            displace_info: &data.info,
+            displace_map: &data.map.texels,
+            displace_width: data.map.width,
+            ..Default::default()
+        }
+    }
 }
 
 /// The mesh given for the edges must be the one the patches were built

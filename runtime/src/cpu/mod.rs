@@ -440,9 +440,7 @@ pub fn evaluate(patches: &Patches, level: u32) -> Result<Tessellation, TessError
 /// re-evaluating at the same level allocates and first-touches nothing.
 /// The result is [`evaluate`]'s, bit for bit.
 pub fn evaluate_into(patches: &Patches, level: u32, t: &mut Tessellation) -> Result<(), TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
+    check_level(level)?;
     let total = (patches.scheme.grid_len)(level) as usize * patches.face_class.len();
     reserve_samples(&mut t.positions, &mut t.normals, total)?;
     t.level = level;
@@ -507,10 +505,8 @@ pub fn evaluate_faces_into(
     faces: std::ops::Range<usize>,
     t: &mut Tessellation,
 ) -> Result<(), TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
-    let faces = faces.start.min(patches.face_class.len())..faces.end.min(patches.face_class.len());
+    check_level(level)?;
+    let faces = clamp_window(faces, patches.face_class.len());
     let per = (patches.scheme.grid_len)(level) as usize;
     let total = per * faces.len();
     reserve_samples(&mut t.positions, &mut t.normals, total)?;
@@ -529,6 +525,23 @@ pub fn evaluate_faces_into(
         &mut t.normals,
         grid_eval::Isa::detect(),
     )
+}
+
+/// A grid level every evaluator takes: `1..=MAX_LEVEL`, else
+/// [`TessError::Level`] (one check for the CPU, the GPU backends and the
+/// accuracy check).
+pub(crate) fn check_level(level: u32) -> Result<(), TessError> {
+    if level == 0 || level > MAX_LEVEL {
+        return Err(TessError::Level(level));
+    }
+    Ok(())
+}
+
+/// A window of faces cut to the `all` faces there are: what every
+/// windowed evaluator (CPU, adaptive, wgpu, the Vulkan harness) evaluates
+/// of the window it is given.
+pub(crate) fn clamp_window(faces: std::ops::Range<usize>, all: usize) -> std::ops::Range<usize> {
+    faces.start.min(all)..faces.end.min(all)
 }
 
 /// Room for `total` samples in both buffers, or [`TessError::OutOfMemory`]
@@ -572,9 +585,7 @@ pub fn evaluate_emitting(
     level: u32,
     emits: &[bool],
 ) -> Result<Tessellation, TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
+    check_level(level)?;
     let faces: Vec<u32> = (0..patches.face_class.len())
         .filter(|&f| emits.get(f).copied().unwrap_or(true))
         .map(|f| f as u32)
@@ -691,9 +702,7 @@ fn check_outputs(
     positions: &[Vec3],
     normals: &[Vec3],
 ) -> Result<usize, TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
+    check_level(level)?;
     let per = (patches.scheme.grid_len)(level) as usize;
     let want = per * patches.face_class.len();
     for got in [positions.len(), normals.len()] {
@@ -715,13 +724,11 @@ fn evaluate_grid(
     whole: bool,
     sample: impl Fn(usize, u32, u32, u32) -> Sample + Sync,
 ) -> Result<Tessellation, TessError> {
-    if level == 0 || level > MAX_LEVEL {
-        return Err(TessError::Level(level));
-    }
+    check_level(level)?;
     let kernels = patches.scheme;
     let per = (kernels.grid_len)(level) as usize;
     let all = patches.face_class.len();
-    let faces = faces.start.min(all)..faces.end.min(all);
+    let faces = clamp_window(faces, all);
     let total = per * faces.len();
     let (mut positions, mut normals) = (Vec::new(), Vec::new());
     reserve_samples(&mut positions, &mut normals, total)?;

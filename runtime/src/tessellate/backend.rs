@@ -58,16 +58,25 @@ pub(crate) fn cpu_patches(v: &Validated<'_>) -> Result<cpu::Patches, cpu::TessEr
     }
 }
 
+/// The displacement data of a displaced request for its CPU `patches`
+/// (owners, texture coordinates and the map in the CPU layout).
+pub(crate) fn cpu_displacement(
+    v: &Validated<'_>,
+    patches: &cpu::Patches,
+) -> Result<Option<DisplaceData>, Error> {
+    let Some(d) = v.request.displacement else {
+        return Ok(None);
+    };
+    Ok(Some(match &v.domain {
+        Domain::Quads { topo, .. } => cpu::displacement_data(v.run_mesh(), topo, patches, d)?,
+        Domain::Triangles(tri) => cpu::displacement_data_tri(v.mesh, tri, patches, d)?,
+    }))
+}
+
 /// The CPU: construct in face order, then the grid walk or the adaptive walk.
 fn run_cpu(v: &Validated<'_>) -> Result<Output, Error> {
     let patches = cpu_patches(v)?;
-    let data: Option<DisplaceData> = match v.request.displacement {
-        None => None,
-        Some(d) => Some(match &v.domain {
-            Domain::Quads { topo, .. } => cpu::displacement_data(v.run_mesh(), topo, &patches, d)?,
-            Domain::Triangles(tri) => cpu::displacement_data_tri(v.mesh, tri, &patches, d)?,
-        }),
-    };
+    let data = cpu_displacement(v, &patches)?;
     let edges = v.domain.edges();
     Ok(match (&v.adaptive, &data) {
         // Faces that emit nothing (holes; a feature-adaptive depth's
@@ -195,14 +204,14 @@ pub(crate) enum GridSource<'s> {
     Cpu {
         patches: cpu::Patches,
         displace: Option<DisplaceData>,
+        /// The GPU variants borrow the session's device for `'s`; the CPU
+        /// holds nothing of it (this keeps `'s` used without GPU features).
+        device: std::marker::PhantomData<&'s ()>,
     },
     #[cfg(feature = "gpu")]
     Wgpu(crate::gpu::wgpu::GpuMesh<'s>),
     #[cfg(feature = "vulkan")]
     Vulkan(crate::gpu::vulkan::VkMesh<'s>),
-    /// Only here so `'s` is used in a build without GPU features.
-    #[allow(dead_code)]
-    None(std::marker::PhantomData<&'s ()>),
 }
 
 impl GridSource<'_> {
@@ -228,18 +237,12 @@ impl GridSource<'_> {
         Ok(match v.request.backend {
             Backend::Cpu => {
                 let patches = cpu_patches(v)?;
-                let displace = match v.request.displacement {
-                    None => None,
-                    Some(d) => Some(match &v.domain {
-                        Domain::Quads { topo, .. } => {
-                            cpu::displacement_data(v.run_mesh(), topo, &patches, d)?
-                        }
-                        Domain::Triangles(tri) => {
-                            cpu::displacement_data_tri(v.mesh, tri, &patches, d)?
-                        }
-                    }),
-                };
-                GridSource::Cpu { patches, displace }
+                let displace = cpu_displacement(v, &patches)?;
+                GridSource::Cpu {
+                    patches,
+                    displace,
+                    device: std::marker::PhantomData,
+                }
             }
             #[cfg(feature = "gpu")]
             Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
@@ -263,7 +266,7 @@ impl GridSource<'_> {
     /// [`CHUNK_SAMPLES`]: super::CHUNK_SAMPLES
     pub(crate) fn chunk_samples(&self) -> usize {
         match self {
-            GridSource::Cpu { .. } | GridSource::None(_) => super::CHUNK_SAMPLES,
+            GridSource::Cpu { .. } => super::CHUNK_SAMPLES,
             #[cfg(feature = "gpu")]
             GridSource::Wgpu(_) => super::CHUNK_SAMPLES / 4,
             #[cfg(feature = "vulkan")]
@@ -279,7 +282,6 @@ impl GridSource<'_> {
             GridSource::Wgpu(m) => m.patch_faces.len(),
             #[cfg(feature = "vulkan")]
             GridSource::Vulkan(m) => m.patch_faces.len(),
-            GridSource::None(_) => 0,
         }
     }
 
@@ -295,16 +297,17 @@ impl GridSource<'_> {
             GridSource::Cpu {
                 patches,
                 displace: None,
+                ..
             } => cpu::evaluate_faces_into(patches, level, faces, t)?,
             GridSource::Cpu {
                 patches,
                 displace: Some(d),
+                ..
             } => *t = cpu::evaluate_displaced_faces(patches, level, d, faces)?,
             #[cfg(feature = "gpu")]
             GridSource::Wgpu(m) => *t = m.evaluate_faces(level, faces)?,
             #[cfg(feature = "vulkan")]
             GridSource::Vulkan(m) => *t = m.evaluate_faces(level, faces)?,
-            GridSource::None(_) => {}
         }
         Ok(())
     }

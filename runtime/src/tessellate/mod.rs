@@ -31,6 +31,7 @@ pub use request::{
     power_of_two_level, AdaptiveRequest, Backend, EdgeMetric, Error, Request, Sampling, Validated,
 };
 
+use crate::check::obj::ObjStream;
 use crate::check::weld::WeldReport;
 use crate::cpu::adaptive::AdaptiveTessellation;
 use crate::cpu::Tessellation;
@@ -85,14 +86,93 @@ impl Output {
 
     /// OBJ text: grids and captures in their own group layout
     /// ([`crate::check::obj::to_obj`], [`TriangleCapture::to_obj`]), the instanced
-    /// adaptive grids as a triangle soup (`v` per triangle corner).
+    /// adaptive grids as a triangle soup ([`Output::write_soup`]).
     pub fn to_obj(&self) -> String {
         match self {
             Output::Grid(t) => crate::check::obj::to_obj(t),
             Output::Captured(c) => c.to_obj(),
-            Output::Instanced(_) => soup_obj(&self.triangles()),
+            Output::Instanced(_) => {
+                let mut stream = ObjStream::new(Vec::new());
+                // Writing into a Vec cannot fail.
+                let _ = self.write_soup(&mut stream);
+                String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+            }
             Output::Polygons(p) => p.to_obj(),
         }
+    }
+
+    /// Append this result to an OBJ stream: grids through
+    /// [`ObjStream::write`], instanced adaptive grids as a triangle soup
+    /// ([`Output::write_soup`]), the rest as their whole [`Output::to_obj`]
+    /// text. Chunks of [`Session::run_chunked`] written one after the other
+    /// give the whole result's [`Output::to_obj`], byte for byte.
+    pub fn write_obj<W: std::io::Write>(&self, stream: &mut ObjStream<W>) -> std::io::Result<()> {
+        match self {
+            Output::Grid(t) => stream.write(t),
+            Output::Instanced(_) => self.write_soup(stream).map(|_| ()),
+            other => stream.raw(other.to_obj().as_bytes()),
+        }
+    }
+
+    /// Append every triangle as a triangle soup, patch by patch
+    /// ([`ObjStream::write_soup_patch`]: `g patch_<face>`, `v` per triangle
+    /// corner, `f` per triangle), what `tessellate --adaptive` writes:
+    /// instanced grids and grids named after their base face, captured
+    /// patches after their index, polygon sub-faces as
+    /// `patch_<face>_<corner>`. Returns the triangles written.
+    pub fn write_soup<W: std::io::Write>(
+        &self,
+        stream: &mut ObjStream<W>,
+    ) -> std::io::Result<usize> {
+        let mut tris = Vec::new();
+        let mut written = 0;
+        let mut put = |name: String, tris: &mut Vec<[Vec3; 3]>| {
+            written += tris.len();
+            let r = stream.write_soup_patch(&name, tris);
+            tris.clear();
+            r
+        };
+        let mut grid = |t: &Tessellation, name: &dyn Fn(usize) -> String| {
+            let (per, local) = (t.grid_len(), t.local_triangles());
+            for g in 0..t.faces {
+                tris.extend(
+                    local
+                        .iter()
+                        .map(|tri| tri.map(|k| t.positions[g * per + k as usize])),
+                );
+                put(name(g), &mut tris)?;
+            }
+            Ok::<(), std::io::Error>(())
+        };
+        match self {
+            Output::Grid(t) => grid(t, &|g| format!("patch_{}", t.face_of(g)))?,
+            Output::Polygons(p) => {
+                grid(&p.quads, &|g| format!("patch_{}", p.quads.face_of(g)))?;
+                grid(&p.subfaces, &|g| {
+                    let corner = p.corners.get(g).copied().unwrap_or(0);
+                    format!("patch_{}_{corner}", p.subfaces.face_of(g))
+                })?;
+            }
+            Output::Instanced(a) => {
+                let mut local = Default::default();
+                for g in 0..a.levels.len() {
+                    a.grid_triangles(g, &mut local, &mut tris);
+                    put(format!("patch_{}", a.face_of(g)), &mut tris)?;
+                }
+            }
+            Output::Captured(c) => {
+                for (k, patch) in c.patches.iter().enumerate() {
+                    tris.extend(
+                        patch
+                            .triangles
+                            .iter()
+                            .map(|t| t.map(|i| patch.positions[i as usize])),
+                    );
+                    put(format!("patch_{k}"), &mut tris)?;
+                }
+            }
+        }
+        Ok(written)
     }
 
     /// The first sample with a NaN or infinite position or normal, as
@@ -224,20 +304,6 @@ fn grid_triangles(t: &Tessellation) -> Vec<[Vec3; 3]> {
                 .map(move |tri| tri.map(|k| t.positions[f * per + k as usize]))
         })
         .collect()
-}
-
-/// A triangle soup as OBJ: `v` per triangle corner, `f` per triangle.
-pub fn soup_obj(tris: &[[Vec3; 3]]) -> String {
-    let mut text = String::new();
-    for t in tris {
-        for p in t {
-            text.push_str(&format!("v {} {} {}\n", p.x, p.y, p.z));
-        }
-    }
-    for k in 0..tris.len() {
-        text.push_str(&format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3));
-    }
-    text
 }
 
 /// The devices a caller reuses across requests: each opened on first use.

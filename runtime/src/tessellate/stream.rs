@@ -4,22 +4,30 @@
 //! mesh size (the reliability issue: `--level 200` on `righthanded_L3` used
 //! to abort allocating 27 GB before writing a byte).
 //!
-//! What streams: every uniform grid request — quad and triangle schemes,
-//! with or without displacement, on the CPU, on wgpu, and for quad schemes
-//! through the Vulkan tessellation harness (GLSL, HLSL). The mesh is
-//! constructed (uploaded) once ([`GridSource`]), then each window of whole
-//! faces is evaluated into a buffer of at most [`CHUNK_SAMPLES`] samples
-//! (on a GPU: only the window's patches are dispatched and read back) and
-//! handed on before the next. What comes as one chunk, the [`Session::run`]
-//! result: adaptive requests, refined meshes (triangles and n-gons, assembled
-//! from several runs) and the Vulkan harness's captured triangles (triangle
-//! schemes); their readback is chunked inside, but the whole result is held
-//! once. Each chunk passes the same non-finite check as [`Session::run`];
-//! the samples are [`Session::run`]'s bit for bit.
+//! What streams:
+//! - every uniform grid request — quad and triangle schemes, with or
+//!   without displacement, on the CPU, on wgpu, and for quad schemes
+//!   through the Vulkan tessellation harness (GLSL, HLSL). The mesh is
+//!   constructed (uploaded) once ([`GridSource`]), then each window of
+//!   whole faces is evaluated into a buffer of at most [`CHUNK_SAMPLES`]
+//!   samples (on a GPU: only the window's patches are dispatched and read
+//!   back) and handed on before the next;
+//! - adaptive requests on the CPU: every face classified once
+//!   ([`AdaptiveRun`]: its edge levels, bucket and sample offset), then
+//!   windows of whole faces of at most [`CHUNK_SAMPLES`] samples, each an
+//!   [`Output::Instanced`] naming its faces.
+//!
+//! What comes as one chunk, the [`Session::run`] result: adaptive requests
+//! on a GPU, refined meshes (triangles and n-gons, assembled from several
+//! runs) and the Vulkan harness's captured triangles (triangle schemes);
+//! their readback is chunked inside, but the whole result is held once.
+//! Each chunk passes the same non-finite check as [`Session::run`]; the
+//! samples are [`Session::run`]'s bit for bit.
 
-use super::backend::GridSource;
-use super::request::Validated;
-use super::{Error, Output, Sampling, Session};
+use super::backend::{self, GridSource};
+use super::request::{Resolved, Validated};
+use super::{Backend, Error, Output, Sampling, Session};
+use crate::cpu::adaptive::{AdaptiveRun, AdaptiveTessellation};
 use crate::cpu::Tessellation;
 
 /// Samples per streamed chunk: 4 Mi samples are 96 MiB of positions and
@@ -41,14 +49,21 @@ impl Session {
     where
         E: std::fmt::Debug,
     {
-        let level = match v.request.sampling {
-            Sampling::Uniform(n) => n,
-            Sampling::Adaptive(_) => 0,
+        let level = match (&v.request.sampling, &v.adaptive, v.request.backend) {
+            (Sampling::Uniform(n), _, _) if GridSource::streams(v) => *n,
+            (Sampling::Adaptive(_), Some(a), Backend::Cpu) => {
+                let limit = if max_samples == 0 {
+                    CHUNK_SAMPLES
+                } else {
+                    max_samples
+                };
+                return adaptive_chunked(v, a, limit, &mut sink);
+            }
+            _ => {
+                let out = self.run(v).map_err(ChunkError::Tess)?;
+                return sink(&out).map_err(ChunkError::Sink);
+            }
         };
-        if level == 0 || !GridSource::streams(v) {
-            let out = self.run(v).map_err(ChunkError::Tess)?;
-            return sink(&out).map_err(ChunkError::Sink);
-        }
         let source = GridSource::new(v, self).map_err(ChunkError::Tess)?;
         let per = (v.kernels.grid_len)(level) as usize;
         let limit = if max_samples == 0 {
@@ -81,6 +96,57 @@ impl Session {
         }
         Ok(())
     }
+}
+
+/// An adaptive request on the CPU, streamed: classified once
+/// ([`AdaptiveRun::new`]: a few words per face), then evaluated window
+/// by window of whole faces, each window at most `limit` samples (at
+/// least one face).
+fn adaptive_chunked<E>(
+    v: &Validated<'_>,
+    a: &Resolved,
+    limit: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let tess = |e: Error| ChunkError::Tess(e);
+    let patches = backend::cpu_patches(v).map_err(|e| tess(e.into()))?;
+    let displace = backend::cpu_displacement(v, &patches).map_err(tess)?;
+    let run = AdaptiveRun::new(
+        &patches,
+        v.domain.edges(),
+        &a.adaptive,
+        a.max_level,
+        displace.as_ref(),
+    )
+    .map_err(|e| tess(e.into()))?;
+    let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
+    let offsets = run.offsets();
+    let mut t = AdaptiveTessellation::default();
+    let (mut first, mut written) = (0, 0);
+    while first < run.faces() {
+        // The faces whose grids end within `limit` samples of `first`'s
+        // start, at least one.
+        let base = offsets[first];
+        let fit = offsets[first..].partition_point(|&o| o - base <= limit);
+        let end = (first + fit.saturating_sub(1)).clamp(first + 1, run.faces());
+        run.evaluate(first..end, &mut t)
+            .map_err(|e| tess(e.into()))?;
+        if let Some(keep) = &keep {
+            t.retain_faces(keep);
+        }
+        let out = Output::Instanced(std::mem::take(&mut t));
+        super::finite(v, &out, written).map_err(tess)?;
+        sink(&out).map_err(ChunkError::Sink)?;
+        if let Output::Instanced(back) = out {
+            written += back.positions.len();
+            t = back;
+        }
+        first = end;
+    }
+    Ok(())
 }
 
 /// Why [`Session::run_chunked`] stopped.

@@ -154,9 +154,7 @@ impl<'v> VkMesh<'v> {
     /// [`Self::new_tri_displaced`]) displaces (`eval_displaced_global`).
     /// Builds the two compute pipelines on first use.
     pub fn evaluate_compute(&mut self, level: u32) -> Result<Tessellation, VkError> {
-        if level == 0 || level > cpu::MAX_LEVEL {
-            return Err(cpu::TessError::Level(level).into());
-        }
+        cpu::check_level(level)?;
         if self.patch_pipeline == vk::Pipeline::null() {
             self.patch_pipeline = self.compute_pipeline("patch")?;
         }
@@ -206,9 +204,7 @@ impl<'v> VkMesh<'v> {
     }
 
     pub(super) fn check_level(&self, level: u32) -> Result<(), VkError> {
-        if level == 0 || level > cpu::MAX_LEVEL {
-            return Err(cpu::TessError::Level(level).into());
-        }
+        cpu::check_level(level)?;
         let max_level = self.vk.limits.max_tessellation_generation_level;
         if level > max_level {
             return Err(VkError::Limit {
@@ -305,7 +301,7 @@ impl<'v> VkMesh<'v> {
             });
         }
         let all = self.patch_faces.len();
-        let faces = faces.start.min(all)..faces.end.min(all);
+        let faces = cpu::clamp_window(faces, all);
         let chunk = (cap / per_patch).min(faces.len().max(1) as u64);
         let samples = self.vk.buffer(
             "samples",

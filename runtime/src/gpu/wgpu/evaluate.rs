@@ -31,7 +31,7 @@ impl<'g> GpuMesh<'g> {
         faces: Range<usize>,
     ) -> Result<Tessellation, GpuError> {
         let all = self.patch_faces.len();
-        let faces = faces.start.min(all)..faces.end.min(all);
+        let faces = cpu::clamp_window(faces, all);
         self.evaluate_window(level, faces, false)
     }
 
@@ -41,9 +41,7 @@ impl<'g> GpuMesh<'g> {
         faces: Range<usize>,
         whole: bool,
     ) -> Result<Tessellation, GpuError> {
-        if level == 0 || level > cpu::MAX_LEVEL {
-            return Err(cpu::TessError::Level(level).into());
-        }
+        cpu::check_level(level)?;
         let spp = (self.scheme.grid_len)(level) as u64;
         if spp * abi::SAMPLE_BYTES > self.limits.max_storage_buffer_binding_size {
             return Err(GpuError::BufferTooLarge {
