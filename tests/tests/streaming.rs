@@ -3,8 +3,9 @@
 //! OBJ, whatever the chunk size: quad and triangle schemes, displaced or
 //! not, on the CPU, on wgpu and through the Vulkan harness (GLSL, HLSL), a
 //! mesh with holes (faces left out mid-chunk), adaptive requests on the CPU
-//! (a triangle soup per face window), and the requests that do not stream
-//! (one chunk: refined, adaptive on a GPU, captured triangles).
+//! and on wgpu (a triangle soup per face window), and the requests that do
+//! not stream (one chunk: refined, captured triangles, adaptive draws on the
+//! Vulkan harness).
 
 mod common;
 
@@ -155,14 +156,17 @@ fn adaptive(scheme: &str, max: f32) -> Request<'static> {
     )
 }
 
-/// Adaptive requests stream on the CPU: every face classified once, then
-/// windows of whole faces. The chunks' grids are the whole run's bit for
+/// Adaptive requests stream on the CPU and on wgpu: every face classified
+/// once, then windows of whole faces (on wgpu only the window's buckets
+/// dispatched and read back). The chunks' grids are the whole run's bit for
 /// bit (levels, faces, samples) and their triangle soup is its OBJ byte for
 /// byte — quad and triangle schemes, displaced, holes left out mid-chunk,
-/// semi-sharp crease steps (the refined mesh's faces); one face a chunk, a
-/// few, one chunk. On a GPU the result comes whole (one chunk).
+/// semi-sharp crease steps (the refined mesh's faces), an open boundary;
+/// one face a chunk, about a quarter of the samples, one chunk. The Vulkan
+/// harness's adaptive draws come whole (captured triangles, one chunk).
 #[test]
-fn cpu_adaptive_streams_in_face_windows() {
+fn adaptive_streams_in_face_windows() {
+    let mut session = Session::new();
     let uv = common::mesh("catmark_cube_uv");
     let d = displacement(Ownership::LowestFace, 0.5);
     let righthanded = common::mesh("catmark_righthanded");
@@ -199,9 +203,14 @@ fn cpu_adaptive_streams_in_face_windows() {
             adaptive("phong", 4.0).split_quads(true).displaced(&d),
         ),
     ];
-    for (what, mesh, request) in cases {
+    for (backend, (what, mesh, request)) in [Backend::Cpu, Backend::Wgpu]
+        .into_iter()
+        .flat_map(|b| cases.iter().map(move |c| (b, c)))
+    {
+        let request = request.clone().on(backend);
+        let what = format!("{what} on {backend:?}");
         let v = request.validate(mesh).expect("validate");
-        let whole = Session::new().run(&v).expect("run");
+        let whole = session.run(&v).expect("run");
         let Output::Instanced(a) = &whole else {
             panic!("{what}: not instanced");
         };
@@ -213,7 +222,7 @@ fn cpu_adaptive_streams_in_face_windows() {
             let (mut levels, mut ids, mut positions, mut normals) =
                 (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             let mut chunks = 0;
-            Session::new()
+            session
                 .run_chunked(&v, max_samples, |out| {
                     chunks += 1;
                     let Output::Instanced(c) = out else {
@@ -243,11 +252,11 @@ fn cpu_adaptive_streams_in_face_windows() {
             }
         }
     }
-    // A GPU's adaptive result comes whole.
-    let request = adaptive("pccm", 8.0).on(Backend::Wgpu);
-    let (text, chunks) = streamed(&righthanded, &request, 1);
+    // The hardware tessellator's adaptive draws come whole.
+    let request = adaptive("pccm", 8.0).on(Backend::VulkanGlsl);
+    let (text, chunks) = streamed_in(&mut session, &righthanded, &request, 1);
     assert_eq!(chunks, 1);
-    assert!(text == whole(&righthanded, &request));
+    assert!(text == whole_in(&mut session, &righthanded, &request));
 }
 
 /// Hole faces are left out inside a chunk; the OBJ names every grid after

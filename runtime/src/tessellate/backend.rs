@@ -121,7 +121,7 @@ fn run_wgpu(v: &Validated<'_>, gpu: &crate::gpu::wgpu::Gpu) -> Result<Output, Er
 
 /// The request's mesh on the wgpu device, constructed.
 #[cfg(feature = "gpu")]
-fn wgpu_mesh<'g>(
+pub(crate) fn wgpu_mesh<'g>(
     v: &Validated<'_>,
     gpu: &'g crate::gpu::wgpu::Gpu,
 ) -> Result<crate::gpu::wgpu::GpuMesh<'g>, Error> {

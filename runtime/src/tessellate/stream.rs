@@ -12,13 +12,14 @@
 //!   whole faces is evaluated into a buffer of at most [`CHUNK_SAMPLES`]
 //!   samples (on a GPU: only the window's patches are dispatched and read
 //!   back) and handed on before the next;
-//! - adaptive requests on the CPU: every face classified once
-//!   ([`AdaptiveRun`]: its edge levels, bucket and sample offset), then
-//!   windows of whole faces of at most [`CHUNK_SAMPLES`] samples, each an
-//!   [`Output::Instanced`] naming its faces.
+//! - adaptive requests on the CPU and on wgpu: every face classified once
+//!   ([`AdaptiveRun`]; on wgpu the classify pass, its levels read back:
+//!   each face's edge levels, bucket and sample offset), then windows of
+//!   whole faces of at most [`CHUNK_SAMPLES`] samples (a quarter on wgpu),
+//!   each an [`Output::Instanced`] naming its faces.
 //!
-//! What comes as one chunk, the [`Session::run`] result: adaptive requests
-//! on a GPU, refined meshes (triangles and n-gons, assembled from several
+//! What comes as one chunk, the [`Session::run`] result: adaptive draws on
+//! the Vulkan harness (captured triangles), refined meshes (triangles and n-gons, assembled from several
 //! runs) and the Vulkan harness's captured triangles (triangle schemes);
 //! their readback is chunked inside, but the whole result is held once.
 //! Each chunk passes the same non-finite check as [`Session::run`]; the
@@ -52,12 +53,11 @@ impl Session {
         let level = match (&v.request.sampling, &v.adaptive, v.request.backend) {
             (Sampling::Uniform(n), _, _) if GridSource::streams(v) => *n,
             (Sampling::Adaptive(_), Some(a), Backend::Cpu) => {
-                let limit = if max_samples == 0 {
-                    CHUNK_SAMPLES
-                } else {
-                    max_samples
-                };
-                return adaptive_chunked(v, a, limit, &mut sink);
+                return adaptive_cpu(v, a, max_samples, &mut sink);
+            }
+            #[cfg(feature = "gpu")]
+            (Sampling::Adaptive(_), Some(a), Backend::Wgpu) => {
+                return adaptive_wgpu(self, v, a, max_samples, &mut sink);
             }
             _ => {
                 let out = self.run(v).map_err(ChunkError::Tess)?;
@@ -99,10 +99,9 @@ impl Session {
 }
 
 /// An adaptive request on the CPU, streamed: classified once
-/// ([`AdaptiveRun::new`]: a few words per face), then evaluated window
-/// by window of whole faces, each window at most `limit` samples (at
-/// least one face).
-fn adaptive_chunked<E>(
+/// ([`AdaptiveRun::new`]: a few words per face), then evaluated window by
+/// window ([`windows`]).
+fn adaptive_cpu<E>(
     v: &Validated<'_>,
     a: &Resolved,
     limit: usize,
@@ -122,24 +121,74 @@ where
         displace.as_ref(),
     )
     .map_err(|e| tess(e.into()))?;
+    let limit = if limit == 0 { CHUNK_SAMPLES } else { limit };
+    windows(v, run.offsets(), limit, sink, |faces, t| {
+        Ok(run.evaluate(faces, t)?)
+    })
+}
+
+/// An adaptive request on wgpu, streamed: uploaded and classified once
+/// (`GpuMesh::classify_adaptive`: the levels read back, 5 words a patch),
+/// then each window's buckets dispatched and read back
+/// (`GpuMesh::evaluate_classified`), a quarter of the CPU's window (as
+/// for grids: [`GridSource::chunk_samples`]).
+#[cfg(feature = "gpu")]
+fn adaptive_wgpu<E>(
+    session: &mut Session,
+    v: &Validated<'_>,
+    a: &Resolved,
+    limit: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let tess = |e: Error| ChunkError::Tess(e);
+    let gpu = session.gpu().map_err(tess)?;
+    let mesh = backend::wgpu_mesh(v, gpu).map_err(tess)?;
+    let classified = mesh
+        .classify_adaptive(v.domain.edges(), &a.adaptive, a.max_level)
+        .map_err(|e| tess(e.into()))?;
+    let limit = if limit == 0 { CHUNK_SAMPLES / 4 } else { limit };
+    windows(v, classified.offsets(), limit, sink, |faces, t| {
+        *t = mesh.evaluate_classified(&classified, faces)?;
+        Ok(())
+    })
+}
+
+/// The window loop of a classified adaptive run whose face `f`'s grid
+/// starts at sample `offsets[f]`: windows of whole faces of at most `limit`
+/// samples (at least one face), each evaluated into the reused
+/// tessellation, its holes left out, checked for non-finite samples and
+/// handed on as an [`Output::Instanced`] naming its faces.
+fn windows<E>(
+    v: &Validated<'_>,
+    offsets: &[usize],
+    limit: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+    mut evaluate: impl FnMut(std::ops::Range<usize>, &mut AdaptiveTessellation) -> Result<(), Error>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let faces = offsets.len().saturating_sub(1);
     let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
-    let offsets = run.offsets();
     let mut t = AdaptiveTessellation::default();
     let (mut first, mut written) = (0, 0);
-    while first < run.faces() {
+    while first < faces {
         // The faces whose grids end within `limit` samples of `first`'s
         // start, at least one.
         let base = offsets[first];
         let fit = offsets[first..].partition_point(|&o| o - base <= limit);
-        let end = (first + fit.saturating_sub(1)).clamp(first + 1, run.faces());
-        run.evaluate(first..end, &mut t)
-            .map_err(|e| tess(e.into()))?;
+        let end = (first + fit.saturating_sub(1)).clamp(first + 1, faces);
+        evaluate(first..end, &mut t).map_err(ChunkError::Tess)?;
         if let Some(keep) = &keep {
             t.retain_faces(keep);
         }
         let out = Output::Instanced(std::mem::take(&mut t));
-        super::finite(v, &out, written).map_err(tess)?;
+        super::finite(v, &out, written).map_err(ChunkError::Tess)?;
         sink(&out).map_err(ChunkError::Sink)?;
+        // The next window reuses the buffers (the CPU writes in place).
         if let Output::Instanced(back) = out {
             written += back.positions.len();
             t = back;

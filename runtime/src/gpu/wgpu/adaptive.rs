@@ -12,6 +12,29 @@ use glam::{Mat4, Vec3};
 use super::device::check;
 use super::{GpuError, GpuMesh};
 
+/// An adaptive run classified on the GPU ([`GpuMesh::classify_adaptive`]):
+/// the levels read back and laid out per face, from which any window of
+/// faces is evaluated ([`GpuMesh::evaluate_classified`]).
+pub struct Classified {
+    /// `abi::LEVELS_LEN` words per class-sorted patch (its edge levels,
+    /// then its bucket).
+    words: Vec<u32>,
+    /// Bucket level per face.
+    levels: Vec<u32>,
+    /// `sides` edge levels per face.
+    edge_levels: Vec<u32>,
+    /// Where each face's grid starts in the whole result (`faces + 1`).
+    offsets: Vec<usize>,
+}
+
+impl Classified {
+    /// Where each face's grid starts in the whole result (`faces + 1`
+    /// entries, the last the total).
+    pub fn offsets(&self) -> &[usize] {
+        &self.offsets
+    }
+}
+
 impl<'g> GpuMesh<'g> {
     /// The checks both adaptive paths make before any GPU work — the mesh
     /// is of the scheme's domain (`Domain`) and the uploaded one
@@ -88,8 +111,24 @@ impl<'g> GpuMesh<'g> {
         a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<crate::cpu::adaptive::AdaptiveTessellation, GpuError> {
+        let classified = self.classify_adaptive(mesh, a, max_level)?;
+        let mut t = self.evaluate_classified(&classified, 0..self.patch_faces.len())?;
+        t.face_ids.clear();
+        Ok(t)
+    }
+
+    /// Step 1 of the host-list path, for the whole mesh: the classify
+    /// dispatches, then the levels read back (5 words a patch) and laid out
+    /// per face. [`GpuMesh::evaluate_classified`] then evaluates any window
+    /// of faces from it: the streamed form (`tessellate::Session::run_chunked`)
+    /// classifies once and reads back one window's samples at a time.
+    pub fn classify_adaptive<'m>(
+        &self,
+        mesh: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
+        max_level: u32,
+    ) -> Result<Classified, GpuError> {
         let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
-        let faces = self.patch_faces.len();
         let dev = &self.gpu.device;
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         use crate::gpu::upload::{f32_bytes, u32_bytes};
@@ -121,9 +160,7 @@ impl<'g> GpuMesh<'g> {
             (binding::ADAPTIVE, &params_buf),
             (binding::PATCH_LEVELS, &levels_buf),
         ];
-        let pipe = |entry: &str| self.compute_pipeline(entry);
-        let classify = pipe("adaptive_classify_main")?;
-        let eval = pipe("eval_adaptive_main")?;
+        let classify = self.compute_pipeline("adaptive_classify_main")?;
 
         // 1. classify, then read the levels back.
         let staging = dev.create_buffer(&wgpu::BufferDescriptor {
@@ -174,14 +211,49 @@ impl<'g> GpuMesh<'g> {
             self.gpu.queue.submit([enc.finish()]);
         })?;
         let words = self.read_words(&staging)?;
-
-        // 2. per face levels, and one entry list per (class, bucket).
         let (levels, edge_levels, offsets) = self.face_levels(&words);
-        let total = offsets[faces];
+        Ok(Classified {
+            words,
+            levels,
+            edge_levels,
+            offsets,
+        })
+    }
+
+    /// Steps 2 and 3 of the host-list path for the faces `faces` (clamped
+    /// to the mesh's) of a classified run: one entry list per (class,
+    /// bucket) of just those faces' patches, one dispatch per list (split
+    /// at the device limits), read back into a result holding just those
+    /// faces (`face_ids` = the range, `edge_levels` of every face, as
+    /// [`crate::cpu::adaptive::AdaptiveRun::evaluate`] gives them). Each
+    /// sample is the whole run's, bit for bit.
+    pub fn evaluate_classified(
+        &self,
+        classified: &Classified,
+        faces: std::ops::Range<usize>,
+    ) -> Result<crate::cpu::adaptive::AdaptiveTessellation, GpuError> {
+        let dev = &self.gpu.device;
+        let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
+        use crate::gpu::upload::u32_bytes;
+        let eval = self.compute_pipeline("eval_adaptive_main")?;
+        let Classified {
+            words,
+            levels,
+            edge_levels,
+            offsets,
+        } = classified;
+        let faces = cpu::clamp_window(faces, self.patch_faces.len());
+        let base = offsets[faces.start];
+        let total = offsets[faces.end] - base;
+
+        // 2. one entry list per (class, bucket) of the window's patches.
         let mut lists: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
         for c in &self.classes {
             for k in 0..c.count {
                 let p = (c.first + k) as usize;
+                if !faces.contains(&(self.patch_faces[p] as usize)) {
+                    continue;
+                }
                 let w = &words[abi::LEVELS_LEN * p..][..abi::LEVELS_LEN];
                 lists
                     .entry((c.class, w[abi::LEVELS_BUCKET]))
@@ -202,8 +274,10 @@ impl<'g> GpuMesh<'g> {
         );
 
         // 3. one dispatch per (class, bucket), split at the limits.
-        let mut positions = vec![Vec3::ZERO; total];
-        let mut normals = vec![Vec3::ZERO; total];
+        let (mut positions, mut normals) = (Vec::new(), Vec::new());
+        cpu::reserve_samples(&mut positions, &mut normals, total)?;
+        positions.resize(total, Vec3::ZERO);
+        normals.resize(total, Vec3::ZERO);
         let mut start = 0u32;
         for (&(class, level), list) in &lists {
             let n = (list.len() / abi::ENTRY_LEN) as u32;
@@ -264,7 +338,7 @@ impl<'g> GpuMesh<'g> {
                 for (i, s) in floats.chunks_exact(abi::SAMPLE_LEN).enumerate() {
                     let entry = (k as u64 + i as u64 / spp) as usize;
                     let face = self.patch_faces[list[abi::ENTRY_LEN * entry] as usize] as usize;
-                    let at = offsets[face] + (i as u64 % spp) as usize;
+                    let at = offsets[face] - base + (i as u64 % spp) as usize;
                     positions[at] = Vec3::new(s[0], s[1], s[2]);
                     normals[at] = Vec3::new(s[3], s[4], s[5]);
                 }
@@ -274,12 +348,15 @@ impl<'g> GpuMesh<'g> {
         }
         Ok(crate::cpu::adaptive::AdaptiveTessellation {
             sides: self.scheme.sides,
-            levels,
-            edge_levels,
-            offsets,
+            levels: levels[faces.clone()].to_vec(),
+            edge_levels: edge_levels.clone(),
+            offsets: offsets[faces.start..=faces.end]
+                .iter()
+                .map(|&o| o - base)
+                .collect(),
             positions,
             normals,
-            face_ids: Vec::new(),
+            face_ids: faces.map(|f| f as u32).collect(),
         })
     }
 

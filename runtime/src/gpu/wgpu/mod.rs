@@ -20,6 +20,7 @@ mod evaluate;
 mod mesh;
 mod pass;
 
+pub use adaptive::Classified;
 pub(crate) use buckets::{CHUNK, SLOTS};
 pub use device::{Gpu, GpuError, Limits};
 
