@@ -336,8 +336,11 @@ fn gpu_error_buffer_too_large() {
     assert!(matches!(e, GpuError::BufferTooLarge { .. }), "{e:?}");
     assert_eq!(
         e.to_string(),
-        "samples of one patch needs 399384 bytes in one binding, more than \
-         max_storage_buffer_binding_size = 131072"
+        format!(
+            "samples of one patch needs 399384 bytes in one binding, more than \
+             max_storage_buffer_binding_size = 131072 of {}",
+            gpu().info.name
+        )
     );
 }
 
@@ -360,15 +363,19 @@ fn gpu_error_too_many_chunks() {
             GpuError::TooManyChunks {
                 patches: 434,
                 chunks: 2,
-                max: 1
+                max: 1,
+                ..
             }
         ),
         "{e:?}"
     );
     assert_eq!(
         e.to_string(),
-        "434 patches need 2 workgroups of 256 in one dispatch of the GPU-driven buckets, more \
-         than max_workgroups_per_dimension = 1"
+        format!(
+            "434 patches need 2 workgroups of 256 in one dispatch of the GPU-driven buckets, \
+             more than max_workgroups_per_dimension = 1 of {}",
+            gpu().info.name
+        )
     );
 }
 

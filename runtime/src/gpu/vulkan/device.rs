@@ -49,12 +49,15 @@ pub enum VkError {
         scheme: String,
         file: String,
     },
-    #[error("scheme `{scheme}`: {what} needs {needed}, the device allows {max}")]
+    /// A device limit the request exceeds, named as Vulkan spells it,
+    /// with the device (the same request may fit another).
+    #[error("scheme `{scheme}`: {what} needs {needed}, {device} allows {max}")]
     Limit {
         scheme: String,
         what: &'static str,
         needed: u64,
         max: u64,
+        device: String,
     },
     #[error("no Vulkan memory type for {0}")]
     NoMemoryType(&'static str),
@@ -406,7 +409,7 @@ pub fn per_patch_locations(scheme: &SchemeKernels) -> u32 {
 }
 
 /// Check that a scheme's tessellation pipeline fits the device.
-pub fn check_limits(scheme: &SchemeKernels, l: &DeviceLimits) -> Result<(), VkError> {
+pub fn check_limits(scheme: &SchemeKernels, l: &DeviceLimits, device: &str) -> Result<(), VkError> {
     let locations = per_patch_locations(scheme) as u64;
     let limit = |what, needed: u64, max: u64| {
         if needed > max {
@@ -415,6 +418,7 @@ pub fn check_limits(scheme: &SchemeKernels, l: &DeviceLimits) -> Result<(), VkEr
                 what,
                 needed,
                 max,
+                device: device.to_string(),
             })
         } else {
             Ok(())

@@ -212,6 +212,7 @@ impl<'v> VkMesh<'v> {
                 what: "tessellation level (maxTessellationGenerationLevel)",
                 needed: level as u64,
                 max: max_level as u64,
+                device: self.vk.name.clone(),
             });
         }
         Ok(())
@@ -298,6 +299,7 @@ impl<'v> VkMesh<'v> {
                 what: "bytes of samples of one patch (maxStorageBufferRange)",
                 needed: per_patch,
                 max: cap,
+                device: self.vk.name.clone(),
             });
         }
         let all = self.patch_faces.len();

@@ -161,6 +161,7 @@ impl<'v> VkMesh<'v> {
                 what: "image texels along one side (maxImageDimension2D)",
                 needed: width.max(height) as u64,
                 max: max as u64,
+                device: vk.name.clone(),
             });
         }
         let extent = vk::Extent3D {

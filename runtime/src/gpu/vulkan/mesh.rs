@@ -174,7 +174,7 @@ impl<'v> VkMesh<'v> {
     }
 
     fn build(vk: &'v Vulkan, upload: Upload, options: &Options) -> Result<Self, VkError> {
-        check_limits(upload.scheme, &vk.limits)?;
+        check_limits(upload.scheme, &vk.limits, &vk.name)?;
         let max = vk.limits.max_storage_buffer_range as u64;
         for b in &upload.buffers {
             if b.bytes.len() as u64 > max {
@@ -183,6 +183,7 @@ impl<'v> VkMesh<'v> {
                     what: "bytes in one storage buffer (maxStorageBufferRange)",
                     needed: b.bytes.len() as u64,
                     max,
+                    device: vk.name.clone(),
                 });
             }
         }

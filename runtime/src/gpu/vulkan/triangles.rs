@@ -112,6 +112,7 @@ impl<'v> VkMesh<'v> {
                 what: "bytes of captured triangles of one patch (maxStorageBufferRange)",
                 needed: per_patch,
                 max: cap,
+                device: self.vk.name.clone(),
             });
         }
         let total = self.patch_faces.len() as u64;

@@ -133,7 +133,12 @@ impl<'g> GpuMesh<'g> {
         let storage = |label, bytes: &[u8], extra| self.storage_init(label, bytes, extra);
         use crate::gpu::upload::{f32_bytes, u32_bytes};
         let patches = self.patch_faces.len() as u64;
-        check(&self.limits, "patch_levels", patches * abi::LEVELS_BYTES)?;
+        check(
+            &self.gpu.info.name,
+            &self.limits,
+            "patch_levels",
+            patches * abi::LEVELS_BYTES,
+        )?;
         let face_edges = storage(
             "face_edges",
             &u32_bytes(&inp.face_edges),
@@ -263,6 +268,7 @@ impl<'g> GpuMesh<'g> {
         }
         let all: Vec<u32> = lists.values().flatten().copied().collect();
         check(
+            &self.gpu.info.name,
             &self.limits,
             "bucket_patches",
             all.len() as u64 * abi::WORD_BYTES,
@@ -287,6 +293,7 @@ impl<'g> GpuMesh<'g> {
                     what: "samples of one patch",
                     needed: spp * abi::SAMPLE_BYTES,
                     max: self.limits.max_storage_buffer_binding_size,
+                    adapter: self.gpu.info.name.clone(),
                 });
             }
             let by_binding =

@@ -101,6 +101,7 @@ impl<'g> GpuMesh<'g> {
         let max_spp = (self.scheme.grid_len)(max_level) as u64;
         let sample_bytes = (patches * max_spp * abi::SAMPLE_BYTES).max(abi::SAMPLE_BYTES);
         check(
+            &self.gpu.info.name,
             &self.limits,
             "samples (every patch at the largest level)",
             sample_bytes,
@@ -218,18 +219,34 @@ impl<'g> GpuMesh<'g> {
         let slots = SLOTS * self.classes.len() as u32;
         let list_words = abi::BUCKET_HEADER_WORDS as u64 * slots as u64
             + abi::BUCKET_ENTRY_WORDS as u64 * patches;
-        check(&self.limits, "patch_levels", patches * abi::LEVELS_BYTES)?;
-        check(&self.limits, "bucket_list", list_words * abi::WORD_BYTES)?;
+        check(
+            &self.gpu.info.name,
+            &self.limits,
+            "patch_levels",
+            patches * abi::LEVELS_BYTES,
+        )?;
+        check(
+            &self.gpu.info.name,
+            &self.limits,
+            "bucket_list",
+            list_words * abi::WORD_BYTES,
+        )?;
         let chunk_rows = self.chunk_rows();
         if chunk_rows > self.limits.max_workgroups_per_dimension as u64 {
             return Err(GpuError::TooManyChunks {
                 patches,
                 chunks: chunk_rows,
                 max: self.limits.max_workgroups_per_dimension,
+                adapter: self.gpu.info.name.clone(),
             });
         }
         let chunk_words = 2 * chunk_rows * slots as u64;
-        check(&self.limits, "bucket_chunks", chunk_words * abi::WORD_BYTES)?;
+        check(
+            &self.gpu.info.name,
+            &self.limits,
+            "bucket_chunks",
+            chunk_words * abi::WORD_BYTES,
+        )?;
         let zeros = |words: u64| vec![0u8; (words * abi::WORD_BYTES) as usize];
         Ok(Buckets {
             face_edges: storage(

@@ -24,18 +24,36 @@ pub enum GpuError {
     NoShader(String),
     #[error("generated WGSL does not parse/validate: {0}")]
     Shader(String),
-    #[error("the displacement map ({width}x{height}) exceeds max_texture_dimension_2d = {max}")]
-    MapTooLarge { width: u32, height: u32, max: u32 },
-    #[error("the stencil table ({width}x{height}) exceeds max_texture_dimension_2d = {max}")]
-    TableTooLarge { width: u32, height: u32, max: u32 },
-    #[error("{what} needs {needed} bytes in one binding, more than max_storage_buffer_binding_size = {max}")]
+    // The limit errors name the adapter whose limit was exceeded (the same
+    // request fits another device) and the limit, as wgpu spells it.
+    #[error("the displacement map ({width}x{height}) exceeds max_texture_dimension_2d = {max} of {adapter}")]
+    MapTooLarge {
+        width: u32,
+        height: u32,
+        max: u32,
+        adapter: String,
+    },
+    #[error("the stencil table ({width}x{height}) exceeds max_texture_dimension_2d = {max} of {adapter}")]
+    TableTooLarge {
+        width: u32,
+        height: u32,
+        max: u32,
+        adapter: String,
+    },
+    #[error("{what} needs {needed} bytes in one binding, more than max_storage_buffer_binding_size = {max} of {adapter}")]
     BufferTooLarge {
         what: &'static str,
         needed: u64,
         max: u64,
+        adapter: String,
     },
-    #[error("{patches} patches need {chunks} workgroups of {CHUNK} in one dispatch of the GPU-driven buckets, more than max_workgroups_per_dimension = {max}")]
-    TooManyChunks { patches: u64, chunks: u64, max: u32 },
+    #[error("{patches} patches need {chunks} workgroups of {CHUNK} in one dispatch of the GPU-driven buckets, more than max_workgroups_per_dimension = {max} of {adapter}")]
+    TooManyChunks {
+        patches: u64,
+        chunks: u64,
+        max: u32,
+        adapter: String,
+    },
     #[error("wgpu reported an error: {0}")]
     Wgpu(String),
     /// The device was lost (a driver reset, a removed GPU, or
@@ -265,12 +283,18 @@ pub(super) fn entry_bindings(scheme: &str) -> Result<HashMap<String, Vec<u32>>, 
 
 /// A buffer larger than one storage binding is a typed error, never a
 /// truncation.
-pub(super) fn check(limits: &Limits, what: &'static str, bytes: u64) -> Result<(), GpuError> {
+pub(super) fn check(
+    adapter: &str,
+    limits: &Limits,
+    what: &'static str,
+    bytes: u64,
+) -> Result<(), GpuError> {
     if bytes > limits.max_storage_buffer_binding_size {
         Err(GpuError::BufferTooLarge {
             what,
             needed: bytes,
             max: limits.max_storage_buffer_binding_size,
+            adapter: adapter.to_string(),
         })
     } else {
         Ok(())

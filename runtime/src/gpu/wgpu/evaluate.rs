@@ -48,6 +48,7 @@ impl<'g> GpuMesh<'g> {
                 what: "samples of one patch",
                 needed: spp * abi::SAMPLE_BYTES,
                 max: self.limits.max_storage_buffer_binding_size,
+                adapter: self.gpu.info.name.clone(),
             });
         }
         let mut grids = GridReadback::new(level, self.scheme.sides, faces.clone(), spp)?;

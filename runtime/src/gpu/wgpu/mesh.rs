@@ -164,7 +164,7 @@ impl<'g> GpuMesh<'g> {
         gpu.healthy()?;
         let scheme = upload.scheme;
         for b in &upload.buffers {
-            check(&limits, b.label, b.bytes.len() as u64)?;
+            check(&gpu.info.name, &limits, b.label, b.bytes.len() as u64)?;
         }
         let source =
             kernels::wgsl(scheme.name).ok_or_else(|| GpuError::NoShader(scheme.name.into()))?;
@@ -198,6 +198,7 @@ impl<'g> GpuMesh<'g> {
                 width,
                 height,
                 max: limits.max_texture_dimension_2d,
+                adapter: gpu.info.name.clone(),
             });
         }
         let table_view = r32_texture(gpu, "stencil_table", width, height, table);
@@ -209,6 +210,7 @@ impl<'g> GpuMesh<'g> {
                 width: map.width,
                 height: map.height,
                 max: limits.max_texture_dimension_2d,
+                adapter: gpu.info.name.clone(),
             });
         }
         let displace_view = r32_texture(gpu, "displace_map", map.width, map.height, &map.texels);
