@@ -279,16 +279,83 @@ fn holes_are_left_out_per_chunk() {
     }
 }
 
-/// What does not stream comes as one chunk, the whole result: a refined
-/// mesh (triangles and n-gons), and a triangle scheme's triangles captured
-/// from the Vulkan harness.
+/// Refined meshes of one depth stream in windows of base blocks (a base
+/// quad, or one sub-face of an n-gon) on every backend: the refined mesh
+/// constructed once, each window's refined faces evaluated and assembled
+/// into the base layout; the OBJ is the whole run's byte for byte — n-gons,
+/// triangles, semi-sharp creases refined uniformly (the regular scheme),
+/// holes. A feature-adaptive refinement (several depths) comes whole.
+#[test]
+fn refined_meshes_stream_in_block_windows() {
+    let mut session = Session::new();
+    let nonquads = common::mesh("catmark_nonquads");
+    let tris = common::mesh("catmark_smoothtris0");
+    let crease = common::mesh("catmark_single_crease");
+    let mut holed = common::mesh("catmark_nonquads");
+    holed.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![0, 3],
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    let cases: Vec<(&str, &Mesh, Request<'_>, Vec<Backend>)> = vec![
+        (
+            "nonquads pccm",
+            &nonquads,
+            Request::uniform("pccm", 4),
+            vec![Backend::Cpu, Backend::Wgpu, Backend::VulkanHlsl],
+        ),
+        (
+            "smoothtris acc",
+            &tris,
+            Request::uniform("acc", 6),
+            vec![Backend::Cpu, Backend::Wgpu],
+        ),
+        (
+            "single crease regular",
+            &crease,
+            Request::uniform("regular", 4),
+            vec![Backend::Cpu, Backend::VulkanGlsl],
+        ),
+        (
+            "holed nonquads gregory",
+            &holed,
+            Request::uniform("gregory", 2),
+            vec![Backend::Cpu, Backend::Wgpu],
+        ),
+    ];
+    for (what, mesh, request, backends) in cases {
+        for backend in backends {
+            let request = request.clone().on(backend);
+            let v = request.validate(mesh).expect("validate");
+            let blocks = v.refined().expect("refined").refinement.blocks.len();
+            let reference = whole_in(&mut session, mesh, &request);
+            for max_samples in [1, 200, 0] {
+                let (text, chunks) = streamed_in(&mut session, mesh, &request, max_samples);
+                assert!(
+                    text == reference,
+                    "{what} on {backend:?}, chunks of {max_samples}"
+                );
+                match max_samples {
+                    1 => assert_eq!(chunks, blocks, "{what} on {backend:?}"),
+                    0 => assert_eq!(chunks, 1, "{what} on {backend:?}"),
+                    _ => assert!(chunks > 1 && chunks < blocks, "{what}: {chunks}"),
+                }
+            }
+        }
+    }
+    // Feature-adaptive depths (pccm isolates the crease): one chunk.
+    let request = Request::uniform("pccm", 4);
+    let (text, chunks) = streamed_in(&mut session, &crease, &request, 1);
+    assert_eq!(chunks, 1);
+    assert!(text == whole_in(&mut session, &crease, &request));
+}
+
+/// What does not stream comes as one chunk, the whole result: a triangle
+/// scheme's triangles captured from the Vulkan harness.
 #[test]
 fn other_requests_come_whole() {
-    let nonquads = common::mesh("catmark_nonquads");
-    let request = Request::uniform("pccm", 4);
-    let (text, chunks) = streamed(&nonquads, &request, 1);
-    assert_eq!(chunks, 1);
-    assert!(text == whole(&nonquads, &request));
     let cube = common::mesh("catmark_cube");
     let request = Request::uniform("pn", 3)
         .split_quads(true)

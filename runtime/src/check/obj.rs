@@ -48,25 +48,39 @@ impl<W: std::io::Write> ObjStream<W> {
     /// Append the grids of `t` (one level and layout for the whole stream).
     pub fn write(&mut self, t: &Tessellation) -> std::io::Result<()> {
         let (header, tris) = layout(t.sides, t.level);
+        let per = t.grid_len();
+        self.write_patches(
+            &header,
+            (0..t.faces).map(|g| {
+                (
+                    format!("patch_{}", t.face_of(g)),
+                    &t.positions[g * per..(g + 1) * per],
+                    &t.normals[g * per..(g + 1) * per],
+                    &tris[..],
+                )
+            }),
+        )
+    }
+
+    /// Append patches in the grid layout ([`write_patch`]: `g <name>`, its
+    /// `v`/`vn` lines and local triangles), `header` first if nothing was
+    /// written yet. Peak memory is one patch's text.
+    pub(crate) fn write_patches<'a>(
+        &mut self,
+        header: &str,
+        patches: impl Iterator<Item = (String, &'a [Vec3], &'a [Vec3], &'a [[u32; 3]])>,
+    ) -> std::io::Result<()> {
         if !self.started {
             writeln!(self.out, "{header}")?;
             self.started = true;
         }
-        let per = t.grid_len();
         let mut s = String::new();
-        for g in 0..t.faces {
+        for (name, positions, normals, tris) in patches {
             s.clear();
-            write_patch(
-                &mut s,
-                &format!("patch_{}", t.face_of(g)),
-                &t.positions[g * per..(g + 1) * per],
-                &t.normals[g * per..(g + 1) * per],
-                &tris,
-                self.next,
-            );
+            write_patch(&mut s, &name, positions, normals, tris, self.next);
             self.out.write_all(s.as_bytes())?;
             // OBJ indices here are u32: refuse to wrap past 2³² − 1 vertices.
-            self.next = u32::try_from(per)
+            self.next = u32::try_from(positions.len())
                 .ok()
                 .and_then(|p| self.next.checked_add(p))
                 .ok_or_else(|| {

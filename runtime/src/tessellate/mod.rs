@@ -110,7 +110,8 @@ impl Output {
         match self {
             Output::Grid(t) => stream.write(t),
             Output::Instanced(_) => self.write_soup(stream).map(|_| ()),
-            other => stream.raw(other.to_obj().as_bytes()),
+            Output::Polygons(p) => p.write_obj(stream),
+            Output::Captured(c) => stream.raw(c.to_obj().as_bytes()),
         }
     }
 

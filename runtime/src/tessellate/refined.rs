@@ -377,11 +377,69 @@ fn edge_sample(a: u32, b: u32, k: usize, n: usize) -> Border {
 /// bit. Borders between leaves of one depth are left as evaluated — the
 /// backends' shared-edge contract makes them equal, and the weld checks it.
 pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
+    assemble_window(parts, None)
+}
+
+/// [`assemble`] of the blocks `blocks` only, for a one-depth refinement
+/// streamed block window by block window (`Session::run_chunked`): each
+/// part's `t` need hold only the grids of those blocks' leaves (through
+/// its `face_ids`). With no transitions between depths, each block's
+/// samples are [`assemble`]'s bit for bit; the result is
+/// [`super::Output::Polygons`] whenever the whole would be (the mesh has a
+/// non-quad block), its levels those of the whole (`N`, `N/2`), so the
+/// chunks' OBJ written one after the other is the whole's.
+pub fn assemble_blocks(
+    parts: &[Part<'_>],
+    blocks: std::ops::Range<usize>,
+) -> Result<super::Output, RefineError> {
+    assemble_window(parts, Some(blocks))
+}
+
+/// The refined face range of every block (`None` unless each block's
+/// leaves are consecutive refined faces, in block order, as the
+/// refinement numbers them): how a streaming caller maps a block window
+/// to the refined faces it evaluates.
+pub fn block_faces(domain: &RefinedDomain) -> Option<Vec<std::ops::Range<usize>>> {
+    let r = &domain.refinement;
+    let mut ranges = vec![0..0; r.blocks.len()];
+    let mut next = 0usize;
+    for (f, l) in r.leaves.iter().enumerate() {
+        let b = l.block as usize;
+        let range = ranges.get_mut(b)?;
+        if range.start == range.end {
+            // A block's first leaf: blocks in order, none seen before.
+            if b < next {
+                return None;
+            }
+            *range = f..f + 1;
+            next = b + 1;
+        } else if range.end == f {
+            range.end = f + 1;
+        } else {
+            return None;
+        }
+    }
+    // Blocks without leaves start where the next block does.
+    let mut at = r.leaves.len();
+    for range in ranges.iter_mut().rev() {
+        if range.start == range.end {
+            *range = at..at;
+        }
+        at = range.start;
+    }
+    Some(ranges)
+}
+
+fn assemble_window(
+    parts: &[Part<'_>],
+    window: Option<std::ops::Range<usize>>,
+) -> Result<super::Output, RefineError> {
     let Some(first) = parts.first() else {
         return Ok(super::Output::Grid(Tessellation::default()));
     };
     let blocks = &first.domain.refinement.blocks;
     let n = first.domain.level as usize;
+    let in_window = |b: usize| window.as_ref().is_none_or(|w| w.contains(&b));
     // Per part and block: the emitting leaf face of every cell, row-major.
     let cells: Vec<Vec<Option<Vec<u32>>>> = parts
         .iter()
@@ -389,7 +447,10 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
             let r = &p.domain.refinement;
             let mut c: Vec<Option<Vec<u32>>> = vec![None; blocks.len()];
             for (f, l) in r.leaves.iter().enumerate() {
-                if !p.domain.emits(f) || p.no_limit.get(f).copied().unwrap_or(true) {
+                if !in_window(l.block as usize)
+                    || !p.domain.emits(f)
+                    || p.no_limit.get(f).copied().unwrap_or(true)
+                {
                     continue;
                 }
                 let b = &blocks[l.block as usize];
@@ -427,8 +488,12 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
         &d.base_face_vertices
             [d.base_face_offsets[f as usize] as usize..d.base_face_offsets[f as usize + 1] as usize]
     };
+    if window.is_some() {
+        // A window's grids have the whole's levels, whatever it holds.
+        (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
+    }
     for (b, block) in blocks.iter().enumerate() {
-        if cells.iter().all(|c| c[b].is_none()) {
+        if !in_window(b) || cells.iter().all(|c| c[b].is_none()) {
             continue;
         }
         let sub = block.corner.is_some();
@@ -541,7 +606,11 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
         }
     }
     let quads = quads.finish();
-    if corners.is_empty() {
+    let polygons = match window {
+        None => !corners.is_empty(),
+        Some(_) => blocks.iter().any(|b| b.corner.is_some()),
+    };
+    if !polygons {
         return Ok(super::Output::Grid(quads));
     }
     Ok(super::Output::Polygons(PolygonGrids {
@@ -612,8 +681,21 @@ impl PolygonGrids {
     /// order, each with its `v`/`vn` lines and triangles
     /// ([`crate::check::obj`]'s layout).
     pub fn to_obj(&self) -> String {
-        let mut s = format!(
-            "# tessgen {} level {} (n-gon sub-faces at level {})\n",
+        let mut stream = crate::check::obj::ObjStream::new(Vec::new());
+        // Writing into a Vec cannot fail.
+        let _ = self.write_obj(&mut stream);
+        String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+    }
+
+    /// [`PolygonGrids::to_obj`] appended to an OBJ stream (the header with
+    /// the stream's first chunk, vertex indices continuing across chunks),
+    /// so a streamed refined result is byte for byte the whole one.
+    pub fn write_obj<W: std::io::Write>(
+        &self,
+        stream: &mut crate::check::obj::ObjStream<W>,
+    ) -> std::io::Result<()> {
+        let header = format!(
+            "# tessgen {} level {} (n-gon sub-faces at level {})",
             env!("CARGO_PKG_VERSION"),
             self.quads.level.max(2 * self.subfaces.level),
             self.subfaces.level
@@ -626,25 +708,28 @@ impl PolygonGrids {
             )
             .collect();
         order.sort_unstable();
-        let mut base = 1u32;
-        for (face, corner, sub, g) in order {
-            let t = if sub { &self.subfaces } else { &self.quads };
-            let per = t.grid_len();
-            let name = if sub {
-                format!("patch_{face}_{corner}")
-            } else {
-                format!("patch_{face}")
-            };
-            crate::check::obj::write_patch(
-                &mut s,
-                &name,
-                &t.positions[g * per..(g + 1) * per],
-                &t.normals[g * per..(g + 1) * per],
-                &t.local_triangles(),
-                base,
-            );
-            base += per as u32;
-        }
-        s
+        let (quad_tris, sub_tris) = (
+            self.quads.local_triangles(),
+            self.subfaces.local_triangles(),
+        );
+        stream.write_patches(
+            &header,
+            order.into_iter().map(|(face, corner, sub, g)| {
+                let t = if sub { &self.subfaces } else { &self.quads };
+                let per = t.grid_len();
+                let name = if sub {
+                    format!("patch_{face}_{corner}")
+                } else {
+                    format!("patch_{face}")
+                };
+                let tris = if sub { &sub_tris[..] } else { &quad_tris[..] };
+                (
+                    name,
+                    &t.positions[g * per..(g + 1) * per],
+                    &t.normals[g * per..(g + 1) * per],
+                    tris,
+                )
+            }),
+        )
     }
 }

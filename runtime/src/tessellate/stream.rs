@@ -16,16 +16,23 @@
 //!   ([`AdaptiveRun`]; on wgpu the classify pass, its levels read back:
 //!   each face's edge levels, bucket and sample offset), then windows of
 //!   whole faces of at most [`CHUNK_SAMPLES`] samples (a quarter on wgpu),
-//!   each an [`Output::Instanced`] naming its faces.
+//!   each an [`Output::Instanced`] naming its faces;
+//! - refined meshes of one depth (triangles and n-gons; semi-sharp creases
+//!   refined uniformly): the refined mesh constructed once, then windows of
+//!   whole base blocks (a quad, or an n-gon's sub-face), their refined
+//!   faces evaluated and assembled into the base layout.
 //!
-//! What comes as one chunk, the [`Session::run`] result: adaptive draws on
-//! the Vulkan harness (captured triangles), refined meshes (triangles and n-gons, assembled from several
-//! runs) and the Vulkan harness's captured triangles (triangle schemes);
-//! their readback is chunked inside, but the whole result is held once.
+//! What comes as one chunk, the [`Session::run`] result: feature-adaptive
+//! refinements (several depths: a transition takes the deepest side's
+//! sample across blocks) and the Vulkan harness's captured triangles
+//! (triangle schemes, adaptive draws); their readback is chunked inside,
+//! but the whole result is held once.
+//!
 //! Each chunk passes the same non-finite check as [`Session::run`]; the
 //! samples are [`Session::run`]'s bit for bit.
 
 use super::backend::{self, GridSource};
+use super::refined;
 use super::request::{Resolved, Validated};
 use super::{Backend, Error, Output, Sampling, Session};
 use crate::cpu::adaptive::{AdaptiveRun, AdaptiveTessellation};
@@ -52,6 +59,9 @@ impl Session {
     {
         let level = match (&v.request.sampling, &v.adaptive, v.request.backend) {
             (Sampling::Uniform(n), _, _) if GridSource::streams(v) => *n,
+            (Sampling::Uniform(_), None, _) if v.refined().is_some() && v.deeper.is_empty() => {
+                return refined_chunked(self, v, max_samples, &mut sink);
+            }
             (Sampling::Adaptive(_), Some(a), Backend::Cpu) => {
                 return adaptive_cpu(v, a, max_samples, &mut sink);
             }
@@ -154,6 +164,69 @@ where
         *t = mesh.evaluate_classified(&classified, faces)?;
         Ok(())
     })
+}
+
+/// A refined request of one depth (a mesh with triangles or n-gons; creases
+/// refined uniformly), streamed: the refined mesh constructed (uploaded)
+/// once ([`GridSource`]), then windows of whole base blocks — a base quad,
+/// or one sub-face of an n-gon — whose refined faces' grids fit the chunk,
+/// each evaluated, assembled into the base layout
+/// ([`refined::assemble_blocks`]) and handed on. A feature-adaptive
+/// refinement (several depths, whose transitions are taken from the
+/// deepest side across blocks), or leaves not numbered block by block,
+/// come whole.
+fn refined_chunked<E>(
+    session: &mut Session,
+    v: &Validated<'_>,
+    max_samples: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let tess = |e: Error| ChunkError::Tess(e);
+    let (Some(r), Some(block_faces)) = (v.refined(), v.refined().and_then(refined::block_faces))
+    else {
+        let out = session.run(v).map_err(tess)?;
+        return sink(&out).map_err(ChunkError::Sink);
+    };
+    let source = GridSource::new(v, session).map_err(tess)?;
+    let level = r.leaf_level;
+    let per = (v.kernels.grid_len)(level) as usize;
+    let limit = if max_samples == 0 {
+        source.chunk_samples()
+    } else {
+        max_samples
+    };
+    let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
+    let blocks = block_faces.len();
+    let mut t = Tessellation::default();
+    let (mut first, mut written) = (0, 0);
+    while first < blocks {
+        // The blocks whose refined faces' grids fit `limit` samples, at
+        // least one.
+        let start = block_faces[first].start;
+        let mut end = first + 1;
+        while end < blocks && (block_faces[end].end - start) * per <= limit {
+            end += 1;
+        }
+        let faces = start..block_faces[end - 1].end;
+        source.evaluate(level, faces, &mut t).map_err(tess)?;
+        let part = refined::Part {
+            domain: r,
+            t: &t,
+            no_limit,
+        };
+        let mut out = refined::assemble_blocks(&[part], first..end).map_err(|e| tess(e.into()))?;
+        if let Output::Polygons(p) = &mut out {
+            p.boundary_open_edges = v.refined_open_edges();
+        }
+        super::finite(v, &out, written).map_err(tess)?;
+        sink(&out).map_err(ChunkError::Sink)?;
+        written += out.counts().1;
+        first = end;
+    }
+    Ok(())
 }
 
 /// The window loop of a classified adaptive run whose face `f`'s grid
