@@ -19,7 +19,8 @@ use tessgen_runtime::tessellate::{self, ChunkError, Output};
 pub(crate) struct Written {
     pub faces: usize,
     pub samples: usize,
-    /// A non-grid result (captured triangles, polygon grids) came whole.
+    /// `(patches, vertices, triangles)` of a non-grid result (polygon
+    /// grids, captured triangles), summed over its chunks.
     pub other: Option<(usize, usize, usize)>,
     /// Triangles of a soup (`soup`).
     pub triangles: usize,
@@ -57,9 +58,13 @@ pub(crate) fn write_streamed(
             written.samples += t.positions.len();
             stream.write(t)
         }
+        // Polygon grids come window by window, captured triangles whole:
+        // counted over every chunk, written patch by patch.
         other => {
-            written.other = Some(other.counts());
-            stream.raw(other.to_obj().as_bytes())
+            let (patches, vertices, triangles) = other.counts();
+            let sum = written.other.get_or_insert((0, 0, 0));
+            (sum.0, sum.1, sum.2) = (sum.0 + patches, sum.1 + vertices, sum.2 + triangles);
+            other.write_obj(&mut stream)
         }
     });
     written.ms = start.elapsed().as_secs_f64() * 1e3;

@@ -537,7 +537,8 @@ fn assemble_window(
                 let at = out.positions.len();
                 out.positions.push(p.t.positions[s]);
                 out.normals.push(p.t.normals[s]);
-                if i == 0 || j == 0 || i == l || j == l {
+                // Transitions are between depths: one depth has none.
+                if parts.len() > 1 && (i == 0 || j == 0 || i == l || j == l) {
                     let depth = p.domain.refinement.levels;
                     let mut keys: Vec<Border> = Vec::with_capacity(2);
                     match block.corner {
