@@ -376,7 +376,7 @@ fn edge_sample(a: u32, b: u32, k: usize, n: usize) -> Border {
 /// side's sample is taken on both, so the result stays watertight bit for
 /// bit. Borders between leaves of one depth are left as evaluated — the
 /// backends' shared-edge contract makes them equal, and the weld checks it.
-pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
+pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, super::Error> {
     assemble_window(parts, None)
 }
 
@@ -391,7 +391,7 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, RefineError> {
 pub fn assemble_blocks(
     parts: &[Part<'_>],
     blocks: std::ops::Range<usize>,
-) -> Result<super::Output, RefineError> {
+) -> Result<super::Output, super::Error> {
     assemble_window(parts, Some(blocks))
 }
 
@@ -433,7 +433,7 @@ pub fn block_faces(domain: &RefinedDomain) -> Option<Vec<std::ops::Range<usize>>
 fn assemble_window(
     parts: &[Part<'_>],
     window: Option<std::ops::Range<usize>>,
-) -> Result<super::Output, RefineError> {
+) -> Result<super::Output, super::Error> {
     let Some(first) = parts.first() else {
         return Ok(super::Output::Grid(Tessellation::default()));
     };
@@ -492,6 +492,28 @@ fn assemble_window(
         // A window's grids have the whole's levels, whatever it holds.
         (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
     }
+    // Room for every emitting block's grid, or TessError::OutOfMemory
+    // (never an allocation that aborts).
+    let (mut quad_blocks, mut sub_blocks) = (0usize, 0usize);
+    for (b, block) in blocks.iter().enumerate() {
+        if in_window(b) && cells.iter().any(|c| c[b].is_some()) {
+            match block.corner {
+                None => quad_blocks += 1,
+                Some(_) => sub_blocks += 1,
+            }
+        }
+    }
+    let samples = |l: usize, count: usize| count.saturating_mul((l + 1) * (l + 1));
+    crate::cpu::reserve_samples(
+        &mut quads.positions,
+        &mut quads.normals,
+        samples(n, quad_blocks),
+    )?;
+    crate::cpu::reserve_samples(
+        &mut subfaces.positions,
+        &mut subfaces.normals,
+        samples(n / 2, sub_blocks),
+    )?;
     for (b, block) in blocks.iter().enumerate() {
         if !in_window(b) || cells.iter().all(|c| c[b].is_none()) {
             continue;
@@ -532,7 +554,8 @@ fn assemble_window(
                         face: block.face,
                         i,
                         j,
-                    });
+                    }
+                    .into());
                 };
                 let at = out.positions.len();
                 out.positions.push(p.t.positions[s]);

@@ -217,7 +217,7 @@ where
             t: &t,
             no_limit,
         };
-        let mut out = refined::assemble_blocks(&[part], first..end).map_err(|e| tess(e.into()))?;
+        let mut out = refined::assemble_blocks(&[part], first..end).map_err(tess)?;
         if let Output::Polygons(p) = &mut out {
             p.boundary_open_edges = v.refined_open_edges();
         }
