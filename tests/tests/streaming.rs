@@ -3,9 +3,9 @@
 //! OBJ, whatever the chunk size: quad and triangle schemes, displaced or
 //! not, on the CPU, on wgpu and through the Vulkan harness (GLSL, HLSL), a
 //! mesh with holes (faces left out mid-chunk), adaptive requests on the CPU
-//! and on wgpu (a triangle soup per face window), and the requests that do
-//! not stream (one chunk: refined, captured triangles, adaptive draws on the
-//! Vulkan harness).
+//! and on wgpu (a triangle soup per face window), refined meshes (windows of
+//! base blocks), the Vulkan harness's captured triangles, and what does not
+//! stream (one chunk: feature-adaptive refinements).
 
 mod common;
 
@@ -252,11 +252,89 @@ fn adaptive_streams_in_face_windows() {
             }
         }
     }
-    // The hardware tessellator's adaptive draws come whole.
-    let request = adaptive("pccm", 8.0).on(Backend::VulkanGlsl);
-    let (text, chunks) = streamed_in(&mut session, &righthanded, &request, 1);
-    assert_eq!(chunks, 1);
-    assert!(text == whole_in(&mut session, &righthanded, &request));
+}
+
+/// The Vulkan harness's captured triangles stream in windows of faces, only
+/// their patches drawn: adaptive draws (quad and triangle schemes, a hole)
+/// and triangle schemes at a uniform level, GLSL and HLSL; the OBJ is the
+/// whole capture's byte for byte, and so is the adaptive soup.
+#[test]
+fn captured_triangles_stream_in_face_windows() {
+    let mut session = Session::new();
+    let righthanded = common::mesh("catmark_righthanded");
+    let cube = common::mesh("catmark_cube");
+    let mut holed = common::mesh("catmark_cube");
+    holed.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![2],
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    let cases: Vec<(&str, &Mesh, Request<'_>, Backend, usize)> = vec![
+        (
+            "righthanded pccm adaptive",
+            &righthanded,
+            adaptive("pccm", 8.0),
+            Backend::VulkanGlsl,
+            300,
+        ),
+        (
+            "holed cube gregory adaptive",
+            &holed,
+            adaptive("gregory", 6.0),
+            Backend::VulkanHlsl,
+            300,
+        ),
+        (
+            "cube pn adaptive",
+            &cube,
+            adaptive("pn", 5.0).split_quads(true),
+            Backend::VulkanGlsl,
+            300,
+        ),
+        (
+            "cube stpn level 4",
+            &cube,
+            Request::uniform("stpn", 4).split_quads(true),
+            Backend::VulkanHlsl,
+            60,
+        ),
+    ];
+    // Chunks of one face, of a few (by the capture's bound per patch), all.
+    for (what, mesh, request, backend, few) in cases {
+        let request = request.on(backend);
+        let v = request.validate(mesh).expect("validate");
+        let whole = session.run(&v).expect("run");
+        let Output::Captured(c) = &whole else {
+            panic!("{what}: not captured");
+        };
+        let faces = c.patches.len();
+        let (reference, soup) = (whole.to_obj(), soup_of(&whole));
+        for max_samples in [1, few, 0] {
+            let (text, chunks) = streamed_in(&mut session, mesh, &request, max_samples);
+            assert!(text == reference, "{what}: chunks of {max_samples}");
+            let mut stream = ObjStream::new(Vec::new());
+            session
+                .run_chunked(&v, max_samples, |out| {
+                    out.write_soup(&mut stream).map(|_| ())
+                })
+                .expect("run_chunked");
+            assert!(stream.finish().expect("flush") == soup, "{what}: soup");
+            match max_samples {
+                1 => assert_eq!(chunks, faces, "{what}"),
+                0 => assert_eq!(chunks, 1, "{what}"),
+                _ => assert!(chunks > 1 && chunks < faces, "{what}: {chunks} chunks"),
+            }
+        }
+    }
+}
+
+/// The triangle soup of a whole result.
+fn soup_of(out: &Output) -> Vec<u8> {
+    let mut stream = ObjStream::new(Vec::new());
+    out.write_soup(&mut stream).expect("soup");
+    stream.finish().expect("flush")
 }
 
 /// Hole faces are left out inside a chunk; the OBJ names every grid after
@@ -352,19 +430,11 @@ fn refined_meshes_stream_in_block_windows() {
     assert!(text == whole_in(&mut session, &crease, &request));
 }
 
-/// What does not stream comes as one chunk, the whole result: a triangle
-/// scheme's triangles captured from the Vulkan harness.
+/// The grid writer of a whole result is `to_obj`'s.
 #[test]
-fn other_requests_come_whole() {
+fn the_grid_writer_is_to_obj() {
     let cube = common::mesh("catmark_cube");
-    let request = Request::uniform("pn", 3)
-        .split_quads(true)
-        .on(Backend::VulkanGlsl);
-    let (text, chunks) = streamed(&cube, &request, 1);
-    assert_eq!(chunks, 1);
-    assert!(text == whole(&cube, &request));
     let request = Request::uniform("pccm", 3).on(Backend::Wgpu);
-    // And the grid writer is `to_obj`'s.
     let v = request.validate(&cube).expect("validate");
     let out = Session::new().run(&v).expect("run");
     assert!(to_obj(out.grid().expect("grid")) == out.to_obj());

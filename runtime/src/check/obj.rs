@@ -70,6 +70,16 @@ impl<W: std::io::Write> ObjStream<W> {
         header: &str,
         patches: impl Iterator<Item = (String, &'a [Vec3], &'a [Vec3], &'a [[u32; 3]])>,
     ) -> std::io::Result<()> {
+        self.write_patches_as(Floats::Shortest, header, patches)
+    }
+
+    /// [`ObjStream::write_patches`] with the coordinates spelled `floats`.
+    pub(crate) fn write_patches_as<'a>(
+        &mut self,
+        floats: Floats,
+        header: &str,
+        patches: impl Iterator<Item = (String, &'a [Vec3], &'a [Vec3], &'a [[u32; 3]])>,
+    ) -> std::io::Result<()> {
         if !self.started {
             writeln!(self.out, "{header}")?;
             self.started = true;
@@ -77,7 +87,7 @@ impl<W: std::io::Write> ObjStream<W> {
         let mut s = String::new();
         for (name, positions, normals, tris) in patches {
             s.clear();
-            write_patch(&mut s, &name, positions, normals, tris, self.next);
+            write_patch_as(floats, &mut s, &name, positions, normals, tris, self.next);
             self.out.write_all(s.as_bytes())?;
             // OBJ indices here are u32: refuse to wrap past 2³² − 1 vertices.
             self.next = u32::try_from(positions.len())
@@ -194,12 +204,36 @@ pub(crate) fn write_patch(
     tris: &[[u32; 3]],
     base: u32,
 ) {
+    write_patch_as(Floats::Shortest, s, name, positions, normals, tris, base)
+}
+
+/// How a patch's coordinates are spelled: Rust's shortest round-trip
+/// `Display` (`1`, `0.5`: the grids), or `Debug` (`1.0`: the hardware
+/// captures, as they always were). Both round-trip exactly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Floats {
+    Shortest,
+    Debug,
+}
+
+/// [`write_patch`] with the coordinates spelled `floats`.
+fn write_patch_as(
+    floats: Floats,
+    s: &mut String,
+    name: &str,
+    positions: &[Vec3],
+    normals: &[Vec3],
+    tris: &[[u32; 3]],
+    base: u32,
+) {
     let _ = writeln!(s, "g {name}");
-    for p in positions {
-        let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
-    }
-    for n in normals {
-        let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
+    for (tag, values) in [("v", positions), ("vn", normals)] {
+        for p in values {
+            let _ = match floats {
+                Floats::Shortest => writeln!(s, "{tag} {} {} {}", p.x, p.y, p.z),
+                Floats::Debug => writeln!(s, "{tag} {:?} {:?} {:?}", p.x, p.y, p.z),
+            };
+        }
     }
     for tri in tris {
         let [a, b, c] = tri.map(|k| k + base);

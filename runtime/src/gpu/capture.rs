@@ -14,7 +14,6 @@
 use crate::check::weld::{weld_triangles, WeldReport};
 use glam::Vec3;
 use std::collections::HashMap;
-use std::fmt::Write;
 
 /// The fixed-point denominator of adaptive evaluation (`2^16`, from the
 /// generated ABI, codegen's `plan::ADAPTIVE_LEVEL`): the hardware tessellator's domain coordinates
@@ -44,6 +43,10 @@ pub struct CapturedPatch {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleCapture {
     pub level: u32,
+    /// Patch `k` is face `first_face + k`: 0 for a whole capture, the
+    /// window's first face for one chunk of a streamed capture
+    /// (`VkMesh::evaluate_triangles_faces`).
+    pub first_face: usize,
     pub patches: Vec<CapturedPatch>,
 }
 
@@ -85,12 +88,25 @@ impl TriangleCapture {
         patch_faces: &[u32],
         faces: usize,
     ) -> Result<TriangleCapture, CaptureError> {
+        Self::from_raw_window(level, raw, patch_faces, 0..faces)
+    }
+
+    /// [`TriangleCapture::from_raw`] of the patches of the faces `faces`
+    /// only (a streamed window: `first_face` = its start; a triangle of a
+    /// patch outside it is [`CaptureError::Patch`]).
+    pub fn from_raw_window(
+        level: u32,
+        raw: &[f32],
+        patch_faces: &[u32],
+        faces: std::ops::Range<usize>,
+    ) -> Result<TriangleCapture, CaptureError> {
+        let first_face = faces.start;
         // Per face: domain bits → (domain, position, normal), triangles.
         type Acc = (
             HashMap<[u32; 3], ([f32; 3], Vec3, Vec3)>,
             Vec<[[u32; 3]; 3]>,
         );
-        let mut acc: Vec<Acc> = vec![Default::default(); faces];
+        let mut acc: Vec<Acc> = vec![Default::default(); faces.len()];
         for (t, tri) in raw.chunks_exact(3 * VERTEX_FLOATS).enumerate() {
             let vs: Vec<&[f32]> = tri.chunks_exact(VERTEX_FLOATS).collect();
             let patch = vs[0][9].to_bits();
@@ -109,11 +125,14 @@ impl TriangleCapture {
                 patch,
                 patches: patch_faces.len(),
             })? as usize;
-            let (verts, tris) = acc.get_mut(face).ok_or(CaptureError::Patch {
-                triangle: t,
-                patch,
-                patches: patch_faces.len(),
-            })?;
+            let (verts, tris) = face
+                .checked_sub(first_face)
+                .and_then(|k| acc.get_mut(k))
+                .ok_or(CaptureError::Patch {
+                    triangle: t,
+                    patch,
+                    patches: patch_faces.len(),
+                })?;
             let mut key = [[0u32; 3]; 3];
             for (k, v) in vs.iter().enumerate() {
                 let domain = [v[6], v[7], v[8]];
@@ -132,10 +151,12 @@ impl TriangleCapture {
             }
             tris.push(key);
         }
-        let mut patches = Vec::with_capacity(faces);
-        for (face, (verts, tris)) in acc.into_iter().enumerate() {
+        let mut patches = Vec::with_capacity(faces.len());
+        for (k, (verts, tris)) in acc.into_iter().enumerate() {
             if tris.is_empty() {
-                return Err(CaptureError::Empty { face });
+                return Err(CaptureError::Empty {
+                    face: first_face + k,
+                });
             }
             // Deterministic order: by (z, y, x) of the domain point (the
             // coordinates are non-negative, so their bits sort like them).
@@ -157,7 +178,11 @@ impl TriangleCapture {
             p.triangles.sort();
             patches.push(p);
         }
-        Ok(TriangleCapture { level, patches })
+        Ok(TriangleCapture {
+            level,
+            first_face,
+            patches,
+        })
     }
 
     /// Parity with the CPU: evaluate the generated Rust at every captured
@@ -220,7 +245,8 @@ impl TriangleCapture {
         cpu: impl Fn(usize, [f32; 3]) -> Option<crate::kernels::common::Sample>,
     ) -> Result<f32, usize> {
         let mut worst = 0.0f32;
-        for (face, p) in self.patches.iter().enumerate() {
+        for (k, p) in self.patches.iter().enumerate() {
+            let face = self.first_face + k;
             for (d, pos) in p.domain.iter().zip(&p.positions) {
                 let s = cpu(face, *d).ok_or(face)?;
                 let dev = (s.position - *pos).length();
@@ -239,6 +265,7 @@ impl TriangleCapture {
     /// the `k`-th face so the layout and the boundary count stay indexed
     /// by face.
     pub fn clear_patches(&mut self, drop: &[bool]) {
+        let drop = drop.get(self.first_face..).unwrap_or_default();
         for (p, _) in self.patches.iter_mut().zip(drop).filter(|(_, &d)| d) {
             *p = CapturedPatch::default();
         }
@@ -278,29 +305,36 @@ impl TriangleCapture {
     /// (the captured vertices, sorted by domain point) and its triangles
     /// `f a//a b//b c//c` as the tessellator emitted them.
     pub fn to_obj(&self) -> String {
-        let mut s = String::with_capacity(self.vertex_count() * 64);
-        let _ = writeln!(
-            s,
+        let mut stream = crate::check::obj::ObjStream::new(Vec::new());
+        // Writing into a Vec cannot fail.
+        let _ = self.write_obj(&mut stream);
+        String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+    }
+
+    /// [`TriangleCapture::to_obj`] appended to an OBJ stream (the header
+    /// with the stream's first chunk, patches named by face, vertex indices
+    /// continuing), so a streamed capture is byte for byte the whole one.
+    pub fn write_obj<W: std::io::Write>(
+        &self,
+        stream: &mut crate::check::obj::ObjStream<W>,
+    ) -> std::io::Result<()> {
+        let header = format!(
             "# tessgen {} level {} triangle patches (hardware tessellator pattern)",
             env!("CARGO_PKG_VERSION"),
             self.level
         );
-        let mut base = 1usize;
-        for (f, p) in self.patches.iter().enumerate() {
-            let _ = writeln!(s, "g patch_{f}");
-            for v in &p.positions {
-                let _ = writeln!(s, "v {:?} {:?} {:?}", v.x, v.y, v.z);
-            }
-            for n in &p.normals {
-                let _ = writeln!(s, "vn {:?} {:?} {:?}", n.x, n.y, n.z);
-            }
-            for t in &p.triangles {
-                let [a, b, c] = t.map(|k| base + k as usize);
-                let _ = writeln!(s, "f {a}//{a} {b}//{b} {c}//{c}");
-            }
-            base += p.positions.len();
-        }
-        s
+        stream.write_patches_as(
+            crate::check::obj::Floats::Debug,
+            &header,
+            self.patches.iter().enumerate().map(|(k, p)| {
+                (
+                    format!("patch_{}", self.first_face + k),
+                    &p.positions[..],
+                    &p.normals[..],
+                    &p.triangles[..],
+                )
+            }),
+        )
     }
 }
 

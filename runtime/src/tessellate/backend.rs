@@ -164,10 +164,19 @@ fn run_vulkan(
     })
 }
 
+/// The shading language of a Vulkan harness backend (HLSL or GLSL).
+#[cfg(feature = "vulkan")]
+pub(crate) fn vk_language(backend: super::Backend) -> crate::gpu::vulkan::Language {
+    match backend {
+        super::Backend::VulkanHlsl => crate::gpu::vulkan::Language::Hlsl,
+        _ => crate::gpu::vulkan::Language::Glsl,
+    }
+}
+
 /// The request's mesh in the Vulkan harness, its pipelines built for the
 /// request's options.
 #[cfg(feature = "vulkan")]
-fn vk_mesh<'v>(
+pub(crate) fn vk_mesh<'v>(
     v: &Validated<'_>,
     language: crate::gpu::vulkan::Language,
     vk: &'v crate::gpu::vulkan::Vulkan,
@@ -248,10 +257,7 @@ impl GridSource<'_> {
             Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
             #[cfg(feature = "vulkan")]
             Backend::VulkanGlsl | Backend::VulkanHlsl => {
-                let language = match v.request.backend {
-                    Backend::VulkanHlsl => crate::gpu::vulkan::Language::Hlsl,
-                    _ => crate::gpu::vulkan::Language::Glsl,
-                };
+                let language = vk_language(v.request.backend);
                 GridSource::Vulkan(vk_mesh(v, language, session.vulkan()?)?)
             }
         })

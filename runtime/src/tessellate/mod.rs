@@ -103,15 +103,17 @@ impl Output {
 
     /// Append this result to an OBJ stream: grids through
     /// [`ObjStream::write`], instanced adaptive grids as a triangle soup
-    /// ([`Output::write_soup`]), the rest as their whole [`Output::to_obj`]
-    /// text. Chunks of [`Session::run_chunked`] written one after the other
+    /// ([`Output::write_soup`]), polygon grids and captures in their own
+    /// layouts ([`refined::PolygonGrids::write_obj`],
+    /// [`TriangleCapture::write_obj`]), the header with the stream's first
+    /// chunk. Chunks of [`Session::run_chunked`] written one after the other
     /// give the whole result's [`Output::to_obj`], byte for byte.
     pub fn write_obj<W: std::io::Write>(&self, stream: &mut ObjStream<W>) -> std::io::Result<()> {
         match self {
             Output::Grid(t) => stream.write(t),
             Output::Instanced(_) => self.write_soup(stream).map(|_| ()),
             Output::Polygons(p) => p.write_obj(stream),
-            Output::Captured(c) => stream.raw(c.to_obj().as_bytes()),
+            Output::Captured(c) => c.write_obj(stream),
         }
     }
 
@@ -169,7 +171,7 @@ impl Output {
                             .iter()
                             .map(|t| t.map(|i| patch.positions[i as usize])),
                     );
-                    put(format!("patch_{k}"), &mut tris)?;
+                    put(format!("patch_{}", c.first_face + k), &mut tris)?;
                 }
             }
         }
@@ -206,7 +208,7 @@ impl Output {
                     if let Some(i) = (0..patch.positions.len())
                         .find(|&i| bad(&patch.positions[i], &patch.normals[i]))
                     {
-                        return Some((k, base + i));
+                        return Some((c.first_face + k, base + i));
                     }
                     base += patch.positions.len();
                 }
@@ -248,7 +250,8 @@ impl Output {
                         topo.face[h] as usize,
                         h - topo.face_offsets[topo.face[h] as usize] as usize,
                     );
-                    c.patches.get(f).map_or(0, |p| {
+                    let patch = f.checked_sub(c.first_face).and_then(|k| c.patches.get(k));
+                    patch.map_or(0, |p| {
                         // Captured vertices on local edge k (v = 0, u = 1, v = 1, u = 0).
                         let on = |d: &[f32; 3]| match k {
                             0 => d[1] == 0.0,

@@ -20,13 +20,14 @@
 //! - refined meshes of one depth (triangles and n-gons; semi-sharp creases
 //!   refined uniformly): the refined mesh constructed once, then windows of
 //!   whole base blocks (a quad, or an n-gon's sub-face), their refined
-//!   faces evaluated and assembled into the base layout.
+//!   faces evaluated and assembled into the base layout;
+//! - the Vulkan harness's captured triangles (triangle schemes, adaptive
+//!   draws): windows of whole faces, only their patches drawn.
 //!
 //! What comes as one chunk, the [`Session::run`] result: feature-adaptive
 //! refinements (several depths: a transition takes the deepest side's
-//! sample across blocks) and the Vulkan harness's captured triangles
-//! (triangle schemes, adaptive draws); their readback is chunked inside,
-//! but the whole result is held once.
+//! sample across blocks); its readback is chunked inside, but the whole
+//! result is held once.
 //!
 //! Each chunk passes the same non-finite check as [`Session::run`]; the
 //! samples are [`Session::run`]'s bit for bit.
@@ -68,6 +69,10 @@ impl Session {
             #[cfg(feature = "gpu")]
             (Sampling::Adaptive(_), Some(a), Backend::Wgpu) => {
                 return adaptive_wgpu(self, v, a, max_samples, &mut sink);
+            }
+            #[cfg(feature = "vulkan")]
+            (_, _, Backend::VulkanGlsl | Backend::VulkanHlsl) if captured(v) => {
+                return captured_chunked(self, v, max_samples, &mut sink);
             }
             _ => {
                 let out = self.run(v).map_err(ChunkError::Tess)?;
@@ -221,6 +226,65 @@ where
         if let Output::Polygons(p) = &mut out {
             p.boundary_open_edges = v.refined_open_edges();
         }
+        super::finite(v, &out, written).map_err(tess)?;
+        sink(&out).map_err(ChunkError::Sink)?;
+        written += out.counts().1;
+        first = end;
+    }
+    Ok(())
+}
+
+/// Whether the Vulkan harness captures the request's triangles (triangle
+/// schemes, every adaptive draw) rather than reading back grids.
+#[cfg(feature = "vulkan")]
+fn captured(v: &Validated<'_>) -> bool {
+    v.adaptive.is_some() || matches!(v.domain, super::request::Domain::Triangles(_))
+}
+
+/// The Vulkan harness's captured triangles, streamed: the mesh uploaded
+/// and its pipelines built once, then windows of whole faces, only their
+/// patches drawn and their triangles read back
+/// (`VkMesh::evaluate_triangles_faces`, `VkMesh::evaluate_adaptive_faces`),
+/// each window at most a quarter of [`CHUNK_SAMPLES`] captured vertices
+/// by the capture's own bound per patch.
+#[cfg(feature = "vulkan")]
+fn captured_chunked<E>(
+    session: &mut Session,
+    v: &Validated<'_>,
+    max_samples: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let tess = |e: Error| ChunkError::Tess(e);
+    let language = backend::vk_language(v.request.backend);
+    let vk = session.vulkan().map_err(tess)?;
+    let m = backend::vk_mesh(v, language, vk).map_err(tess)?;
+    let level = match v.request.sampling {
+        Sampling::Uniform(n) => n,
+        Sampling::Adaptive(_) => 1,
+    };
+    let limit = if max_samples == 0 {
+        CHUNK_SAMPLES / 4
+    } else {
+        max_samples
+    };
+    let per = m.captured_vertices_per_patch(level).max(1) as usize;
+    let step = (limit / per).max(1);
+    let faces = m.patch_faces.len();
+    let (mut first, mut written) = (0, 0);
+    while first < faces {
+        let end = (first + step).min(faces);
+        let mut c = match v.adaptive {
+            Some(_) => m.evaluate_adaptive_faces(first..end),
+            None => m.evaluate_triangles_faces(level, first..end),
+        }
+        .map_err(|e| tess(e.into()))?;
+        if let Some(no_limit) = v.no_limit() {
+            c.clear_patches(no_limit);
+        }
+        let out = Output::Captured(c);
         super::finite(v, &out, written).map_err(tess)?;
         sink(&out).map_err(ChunkError::Sink)?;
         written += out.counts().1;

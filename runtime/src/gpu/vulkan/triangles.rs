@@ -10,6 +10,8 @@ use ash::vk;
 
 use super::device::VkError;
 use super::VkMesh;
+use crate::gpu::readback::patch_runs;
+use std::ops::Range;
 
 /// Bytes before the captured vertices in the capture buffer (counter,
 /// capacity, padding).
@@ -54,6 +56,18 @@ impl<'v> VkMesh<'v> {
     /// tessellator's inner vertices are not the barycentric lattice, so this
     /// is not a grid like [`Self::evaluate`]'s.
     pub fn evaluate_triangles(&self, level: u32) -> Result<TriangleCapture, VkError> {
+        self.evaluate_triangles_faces(level, 0..self.patch_faces.len())
+    }
+
+    /// [`Self::evaluate_triangles`] of the faces `faces` only (clamped to
+    /// the mesh's; `first_face` = its start), each patch's capture the
+    /// same: only the window's patches are drawn, so a streaming caller
+    /// (`tessellate::Session::run_chunked`) holds one window's triangles.
+    pub fn evaluate_triangles_faces(
+        &self,
+        level: u32,
+        faces: Range<usize>,
+    ) -> Result<TriangleCapture, VkError> {
         if self.options.adaptive.is_some() {
             return Err(VkError::AdaptiveNotGrid);
         }
@@ -68,6 +82,7 @@ impl<'v> VkMesh<'v> {
             level,
             triangles_per_patch(level),
             patches_per_draw(level),
+            faces,
         )
     }
 
@@ -80,6 +95,14 @@ impl<'v> VkMesh<'v> {
     /// [`TriangleCapture::max_deviation`] can evaluate the CPU at the same
     /// points. Weld with [`TriangleCapture::weld`].
     pub fn evaluate_adaptive(&self) -> Result<TriangleCapture, VkError> {
+        self.evaluate_adaptive_faces(0..self.patch_faces.len())
+    }
+
+    /// [`Self::evaluate_adaptive`] of the faces `faces` only (clamped to
+    /// the mesh's; `first_face` = its start): only the window's patches
+    /// are drawn. The factors are functions of the edge alone, so each
+    /// patch's capture is the whole draw's.
+    pub fn evaluate_adaptive_faces(&self, faces: Range<usize>) -> Result<TriangleCapture, VkError> {
         let Some(a) = &self.options.adaptive else {
             return Err(VkError::AdaptiveNotGrid);
         };
@@ -90,19 +113,35 @@ impl<'v> VkMesh<'v> {
         // vertex numbering with a geometry shader (see patches_per_draw).
         let m = a.max.max(1.0).ceil() as u64 + 2;
         let per_draw = (u16::MAX as u64 / ((m + 1) * (m + 1))).max(1);
-        self.capture(1, ADAPTIVE_LEVEL, 2 * m * m, per_draw)
+        self.capture(1, ADAPTIVE_LEVEL, 2 * m * m, per_draw, faces)
     }
 
-    /// Draw every patch (`Params.level = level`; adaptive builds ignore it)
-    /// with the capture geometry shader bound to `binding::TRIANGLES`, in
-    /// readback chunks of at most `tris_per_patch` triangles per patch and
-    /// draws of at most `per_draw` patches; the capture records `record_level`.
+    /// An upper bound on the vertices one patch's capture holds at `level`
+    /// (adaptive draws: at their largest factor): how a streaming caller
+    /// sizes its windows of faces.
+    pub fn captured_vertices_per_patch(&self, level: u32) -> u64 {
+        match &self.options.adaptive {
+            Some(a) => {
+                let m = a.max.max(1.0).ceil() as u64 + 2;
+                (m + 1) * (m + 1)
+            }
+            None => vertices_per_patch(level),
+        }
+    }
+
+    /// Draw the patches of the faces `faces` (`Params.level = level`;
+    /// adaptive builds ignore it) with the capture geometry shader bound to
+    /// `binding::TRIANGLES`, in readback chunks of at most `tris_per_patch`
+    /// triangles per patch (within one class-sorted run of the window,
+    /// [`patch_runs`]) and draws of at most `per_draw` patches; the capture
+    /// records `record_level`.
     fn capture(
         &self,
         level: u32,
         record_level: u32,
         tris_per_patch: u64,
         per_draw: u64,
+        faces: Range<usize>,
     ) -> Result<TriangleCapture, VkError> {
         let per_patch = tris_per_patch * 3 * VERTEX_FLOATS as u64 * 4;
         let cap = (self.vk.limits.max_storage_buffer_range as u64).min(256 << 20) - CAPTURE_HEADER;
@@ -115,8 +154,8 @@ impl<'v> VkMesh<'v> {
                 device: self.vk.name.clone(),
             });
         }
-        let total = self.patch_faces.len() as u64;
-        let chunk = (cap / per_patch).min(total.max(1));
+        let faces = crate::cpu::clamp_window(faces, self.patch_faces.len());
+        let chunk = (cap / per_patch).min(faces.len().max(1) as u64);
         let buf = self.vk.buffer(
             "captured triangles",
             CAPTURE_HEADER + chunk * per_patch,
@@ -129,31 +168,33 @@ impl<'v> VkMesh<'v> {
                 self.write_buffer(binding::SAMPLES, d);
             }
             let mut raw = Vec::new();
-            let mut p0 = 0u64;
-            while p0 < total {
-                let n = chunk.min(total - p0);
-                let capacity = n * tris_per_patch;
-                buf.write(&u32_bytes(&[0, capacity as u32, 0, 0]));
-                self.draw_chunk(level, p0, n, per_draw)?;
-                let head = buf.read_f32(4);
-                let emitted = head[0].to_bits() as u64;
-                if emitted > capacity {
-                    return Err(VkError::CaptureOverflow {
-                        level: record_level,
-                        patches: n,
-                        emitted,
-                        capacity,
-                    });
+            for (_, patches) in patch_runs(&self.patch_faces, &self.classes, faces.clone()) {
+                let mut p0 = patches.start;
+                while p0 < patches.end {
+                    let n = chunk.min(patches.end - p0);
+                    let capacity = n * tris_per_patch;
+                    buf.write(&u32_bytes(&[0, capacity as u32, 0, 0]));
+                    self.draw_chunk(level, p0, n, per_draw)?;
+                    let head = buf.read_f32(4);
+                    let emitted = head[0].to_bits() as u64;
+                    if emitted > capacity {
+                        return Err(VkError::CaptureOverflow {
+                            level: record_level,
+                            patches: n,
+                            emitted,
+                            capacity,
+                        });
+                    }
+                    let floats = buf.read_f32(4 + emitted as usize * 3 * VERTEX_FLOATS);
+                    raw.extend_from_slice(&floats[4..]);
+                    p0 += n;
                 }
-                let floats = buf.read_f32(4 + emitted as usize * 3 * VERTEX_FLOATS);
-                raw.extend_from_slice(&floats[4..]);
-                p0 += n;
             }
-            Ok(TriangleCapture::from_raw(
+            Ok(TriangleCapture::from_raw_window(
                 record_level,
                 &raw,
                 &self.patch_faces,
-                self.patch_faces.len(),
+                faces,
             )?)
         })();
         buf.destroy(&self.vk.device);
