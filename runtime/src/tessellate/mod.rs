@@ -276,6 +276,17 @@ impl Output {
         }
     }
 
+    /// Samples (vertices) of the result: where the next chunk of a stream
+    /// starts in the whole result.
+    pub fn samples(&self) -> usize {
+        match self {
+            Output::Grid(t) => t.positions.len(),
+            Output::Captured(c) => c.vertex_count(),
+            Output::Instanced(a) => a.positions.len(),
+            Output::Polygons(p) => p.quads.positions.len() + p.subfaces.positions.len(),
+        }
+    }
+
     /// `(patches, vertices, triangles)` for a summary line.
     pub fn counts(&self) -> (usize, usize, usize) {
         match self {

@@ -38,6 +38,7 @@ use super::request::{Resolved, Validated};
 use super::{Backend, Error, Output, Sampling, Session};
 use crate::cpu::adaptive::{AdaptiveRun, AdaptiveTessellation};
 use crate::cpu::Tessellation;
+use std::ops::Range;
 
 /// Samples per streamed chunk: 4 Mi samples are 96 MiB of positions and
 /// normals, a whole number of patches (at least one) per chunk.
@@ -58,68 +59,118 @@ impl Session {
     where
         E: std::fmt::Debug,
     {
-        let level = match (&v.request.sampling, &v.adaptive, v.request.backend) {
-            (Sampling::Uniform(n), _, _) if GridSource::streams(v) => *n,
+        let sink = &mut sink;
+        match (&v.request.sampling, &v.adaptive, v.request.backend) {
+            (Sampling::Uniform(n), _, _) if GridSource::streams(v) => {
+                grid_chunked(self, v, *n, max_samples, sink)
+            }
             (Sampling::Uniform(_), None, _) if v.refined().is_some() && v.deeper.is_empty() => {
-                return refined_chunked(self, v, max_samples, &mut sink);
+                refined_chunked(self, v, max_samples, sink)
             }
-            (Sampling::Adaptive(_), Some(a), Backend::Cpu) => {
-                return adaptive_cpu(v, a, max_samples, &mut sink);
-            }
+            (Sampling::Adaptive(_), Some(a), Backend::Cpu) => adaptive_cpu(v, a, max_samples, sink),
             #[cfg(feature = "gpu")]
             (Sampling::Adaptive(_), Some(a), Backend::Wgpu) => {
-                return adaptive_wgpu(self, v, a, max_samples, &mut sink);
+                adaptive_wgpu(self, v, a, max_samples, sink)
             }
             #[cfg(feature = "vulkan")]
             (_, _, Backend::VulkanGlsl | Backend::VulkanHlsl) if captured(v) => {
-                return captured_chunked(self, v, max_samples, &mut sink);
+                captured_chunked(self, v, max_samples, sink)
             }
             _ => {
                 let out = self.run(v).map_err(ChunkError::Tess)?;
-                return sink(&out).map_err(ChunkError::Sink);
+                sink(&out).map_err(ChunkError::Sink)
             }
-        };
-        let source = GridSource::new(v, self).map_err(ChunkError::Tess)?;
-        let per = (v.kernels.grid_len)(level) as usize;
-        let limit = if max_samples == 0 {
-            source.chunk_samples()
-        } else {
-            max_samples
-        };
-        let step = (limit / per.max(1)).max(1);
-        let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
-        let faces = source.faces();
-        let mut t = Tessellation::default();
-        let (mut first, mut written) = (0, 0);
-        while first < faces {
-            let end = (first + step).min(faces);
-            source
-                .evaluate(level, first..end, &mut t)
-                .map_err(ChunkError::Tess)?;
-            if let Some(keep) = &keep {
-                t.retain_faces(keep);
-            }
-            let out = Output::Grid(std::mem::take(&mut t));
-            super::finite(v, &out, written).map_err(ChunkError::Tess)?;
-            sink(&out).map_err(ChunkError::Sink)?;
-            // The next chunk reuses the buffers (the CPU writes in place).
-            if let Output::Grid(back) = out {
-                written += back.positions.len();
-                t = back;
-            }
-            first = end;
         }
-        Ok(())
     }
 }
 
-/// An adaptive request on the CPU, streamed: classified once
-/// ([`AdaptiveRun::new`]: a few words per face), then evaluated window by
-/// window ([`windows`]).
+/// The loop every stream runs: windows `first..end` of `count` units (faces,
+/// or a refined mesh's base blocks), `end = next(first)` (at least one unit),
+/// each made by `chunk(window, recycled)` — `recycled` is the previous
+/// chunk, whose buffers a backend that writes in place reuses —, checked
+/// for non-finite samples (named by their place in the whole result) and
+/// handed to `sink` before the next window is evaluated.
+fn stream<E>(
+    v: &Validated<'_>,
+    count: usize,
+    mut next: impl FnMut(usize) -> usize,
+    mut chunk: impl FnMut(Range<usize>, Output) -> Result<Output, Error>,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let (mut first, mut written) = (0, 0);
+    let mut recycled = Output::Grid(Tessellation::default());
+    while first < count {
+        let end = next(first).clamp(first + 1, count);
+        let out = chunk(first..end, recycled).map_err(ChunkError::Tess)?;
+        super::finite(v, &out, written).map_err(ChunkError::Tess)?;
+        sink(&out).map_err(ChunkError::Sink)?;
+        written += out.samples();
+        recycled = out;
+        first = end;
+    }
+    Ok(())
+}
+
+/// `next` for [`stream`] when unit `u`'s samples start at `offsets[u]`
+/// (`units + 1` entries): the units whose samples end within `limit` of
+/// the window's start.
+fn fitting(offsets: &[usize], limit: usize) -> impl Fn(usize) -> usize + '_ {
+    move |first| {
+        let base = offsets[first];
+        first
+            + offsets[first..]
+                .partition_point(|&o| o - base <= limit)
+                .saturating_sub(1)
+    }
+}
+
+/// `max_samples`, or `default` when it is 0.
+fn or_default(max_samples: usize, default: usize) -> usize {
+    if max_samples == 0 {
+        default
+    } else {
+        max_samples
+    }
+}
+
+/// A uniform grid request: constructed (uploaded) once ([`GridSource`]),
+/// then windows of whole faces of at most the chunk's samples, their holes
+/// left out, into the recycled tessellation (the CPU writes in place).
+fn grid_chunked<E>(
+    session: &mut Session,
+    v: &Validated<'_>,
+    level: u32,
+    max_samples: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let source = GridSource::new(v, session).map_err(ChunkError::Tess)?;
+    let per = (v.kernels.grid_len)(level) as usize;
+    let step = (or_default(max_samples, source.chunk_samples()) / per.max(1)).max(1);
+    let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
+    let chunk = |faces, recycled: Output| {
+        let mut t = recycled.into_grid().unwrap_or_default();
+        source.evaluate(level, faces, &mut t)?;
+        if let Some(keep) = &keep {
+            t.retain_faces(keep);
+        }
+        Ok(Output::Grid(t))
+    };
+    stream(v, source.faces(), |first| first + step, chunk, sink)
+}
+
+/// An adaptive request on the CPU: classified once ([`AdaptiveRun::new`]:
+/// a few words per face), then evaluated window by window
+/// ([`adaptive_windows`]).
 fn adaptive_cpu<E>(
     v: &Validated<'_>,
     a: &Resolved,
-    limit: usize,
+    max_samples: usize,
     sink: &mut impl FnMut(&Output) -> Result<(), E>,
 ) -> Result<(), ChunkError<E>>
 where
@@ -136,13 +187,13 @@ where
         displace.as_ref(),
     )
     .map_err(|e| tess(e.into()))?;
-    let limit = if limit == 0 { CHUNK_SAMPLES } else { limit };
-    windows(v, run.offsets(), limit, sink, |faces, t| {
+    let limit = or_default(max_samples, CHUNK_SAMPLES);
+    adaptive_windows(v, run.offsets(), limit, sink, |faces, t| {
         Ok(run.evaluate(faces, t)?)
     })
 }
 
-/// An adaptive request on wgpu, streamed: uploaded and classified once
+/// An adaptive request on wgpu: uploaded and classified once
 /// (`GpuMesh::classify_adaptive`: the levels read back, 5 words a patch),
 /// then each window's buckets dispatched and read back
 /// (`GpuMesh::evaluate_classified`), a quarter of the CPU's window (as
@@ -152,7 +203,7 @@ fn adaptive_wgpu<E>(
     session: &mut Session,
     v: &Validated<'_>,
     a: &Resolved,
-    limit: usize,
+    max_samples: usize,
     sink: &mut impl FnMut(&Output) -> Result<(), E>,
 ) -> Result<(), ChunkError<E>>
 where
@@ -164,17 +215,47 @@ where
     let classified = mesh
         .classify_adaptive(v.domain.edges(), &a.adaptive, a.max_level)
         .map_err(|e| tess(e.into()))?;
-    let limit = if limit == 0 { CHUNK_SAMPLES / 4 } else { limit };
-    windows(v, classified.offsets(), limit, sink, |faces, t| {
+    let limit = or_default(max_samples, CHUNK_SAMPLES / 4);
+    adaptive_windows(v, classified.offsets(), limit, sink, |faces, t| {
         *t = mesh.evaluate_classified(&classified, faces)?;
         Ok(())
     })
 }
 
+/// The windows of a classified adaptive run whose face `f`'s grid starts at
+/// sample `offsets[f]`: whole faces of at most `limit` samples, each
+/// evaluated into the recycled tessellation, its holes left out, handed on
+/// as an [`Output::Instanced`] naming its faces.
+fn adaptive_windows<E>(
+    v: &Validated<'_>,
+    offsets: &[usize],
+    limit: usize,
+    sink: &mut impl FnMut(&Output) -> Result<(), E>,
+    mut evaluate: impl FnMut(Range<usize>, &mut AdaptiveTessellation) -> Result<(), Error>,
+) -> Result<(), ChunkError<E>>
+where
+    E: std::fmt::Debug,
+{
+    let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
+    let chunk = |faces, recycled: Output| {
+        let mut t = match recycled {
+            Output::Instanced(t) => t,
+            _ => AdaptiveTessellation::default(),
+        };
+        evaluate(faces, &mut t)?;
+        if let Some(keep) = &keep {
+            t.retain_faces(keep);
+        }
+        Ok(Output::Instanced(t))
+    };
+    let faces = offsets.len().saturating_sub(1);
+    stream(v, faces, fitting(offsets, limit), chunk, sink)
+}
+
 /// A refined request of one depth (a mesh with triangles or n-gons; creases
-/// refined uniformly), streamed: the refined mesh constructed (uploaded)
-/// once ([`GridSource`]), then windows of whole base blocks — a base quad,
-/// or one sub-face of an n-gon — whose refined faces' grids fit the chunk,
+/// refined uniformly): the refined mesh constructed (uploaded) once
+/// ([`GridSource`]), then windows of whole base blocks — a base quad, or
+/// one sub-face of an n-gon — whose refined faces' grids fit the chunk,
 /// each evaluated, assembled into the base layout
 /// ([`refined::assemble_blocks`]) and handed on. A feature-adaptive
 /// refinement (several depths, whose transitions are taken from the
@@ -189,49 +270,38 @@ fn refined_chunked<E>(
 where
     E: std::fmt::Debug,
 {
-    let tess = |e: Error| ChunkError::Tess(e);
     let (Some(r), Some(block_faces)) = (v.refined(), v.refined().and_then(refined::block_faces))
     else {
-        let out = session.run(v).map_err(tess)?;
+        let out = session.run(v).map_err(ChunkError::Tess)?;
         return sink(&out).map_err(ChunkError::Sink);
     };
-    let source = GridSource::new(v, session).map_err(tess)?;
+    let source = GridSource::new(v, session).map_err(ChunkError::Tess)?;
     let level = r.leaf_level;
     let per = (v.kernels.grid_len)(level) as usize;
-    let limit = if max_samples == 0 {
-        source.chunk_samples()
-    } else {
-        max_samples
-    };
+    let limit = or_default(max_samples, source.chunk_samples());
+    // Block b's refined faces start at block_faces[b].start, block by block.
+    let offsets: Vec<usize> = block_faces
+        .iter()
+        .map(|f| f.start * per)
+        .chain(std::iter::once(source.faces() * per))
+        .collect();
     let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
-    let blocks = block_faces.len();
     let mut t = Tessellation::default();
-    let (mut first, mut written) = (0, 0);
-    while first < blocks {
-        // The blocks whose refined faces' grids fit `limit` samples, at
-        // least one.
-        let start = block_faces[first].start;
-        let mut end = first + 1;
-        while end < blocks && (block_faces[end].end - start) * per <= limit {
-            end += 1;
-        }
-        let faces = start..block_faces[end - 1].end;
-        source.evaluate(level, faces, &mut t).map_err(tess)?;
+    let chunk = |blocks: Range<usize>, _| {
+        let faces = block_faces[blocks.start].start..block_faces[blocks.end - 1].end;
+        source.evaluate(level, faces, &mut t)?;
         let part = refined::Part {
             domain: r,
             t: &t,
             no_limit,
         };
-        let mut out = refined::assemble_blocks(&[part], first..end).map_err(tess)?;
+        let mut out = refined::assemble_blocks(&[part], blocks)?;
         if let Output::Polygons(p) = &mut out {
             p.boundary_open_edges = v.refined_open_edges();
         }
-        super::finite(v, &out, written).map_err(tess)?;
-        sink(&out).map_err(ChunkError::Sink)?;
-        written += out.counts().1;
-        first = end;
-    }
-    Ok(())
+        Ok(out)
+    };
+    stream(v, block_faces.len(), fitting(&offsets, limit), chunk, sink)
 }
 
 /// Whether the Vulkan harness captures the request's triangles (triangle
@@ -241,12 +311,12 @@ fn captured(v: &Validated<'_>) -> bool {
     v.adaptive.is_some() || matches!(v.domain, super::request::Domain::Triangles(_))
 }
 
-/// The Vulkan harness's captured triangles, streamed: the mesh uploaded
-/// and its pipelines built once, then windows of whole faces, only their
-/// patches drawn and their triangles read back
-/// (`VkMesh::evaluate_triangles_faces`, `VkMesh::evaluate_adaptive_faces`),
-/// each window at most a quarter of [`CHUNK_SAMPLES`] captured vertices
-/// by the capture's own bound per patch.
+/// The Vulkan harness's captured triangles: the mesh uploaded and its
+/// pipelines built once, then windows of whole faces, only their patches
+/// drawn and their triangles read back (`VkMesh::evaluate_triangles_faces`,
+/// `VkMesh::evaluate_adaptive_faces`), each window at most a quarter of
+/// [`CHUNK_SAMPLES`] captured vertices by the capture's own bound per
+/// patch.
 #[cfg(feature = "vulkan")]
 fn captured_chunked<E>(
     session: &mut Session,
@@ -265,74 +335,19 @@ where
         Sampling::Uniform(n) => n,
         Sampling::Adaptive(_) => 1,
     };
-    let limit = if max_samples == 0 {
-        CHUNK_SAMPLES / 4
-    } else {
-        max_samples
-    };
     let per = m.captured_vertices_per_patch(level).max(1) as usize;
-    let step = (limit / per).max(1);
-    let faces = m.patch_faces.len();
-    let (mut first, mut written) = (0, 0);
-    while first < faces {
-        let end = (first + step).min(faces);
+    let step = (or_default(max_samples, CHUNK_SAMPLES / 4) / per).max(1);
+    let chunk = |faces: Range<usize>, _| {
         let mut c = match v.adaptive {
-            Some(_) => m.evaluate_adaptive_faces(first..end),
-            None => m.evaluate_triangles_faces(level, first..end),
-        }
-        .map_err(|e| tess(e.into()))?;
+            Some(_) => m.evaluate_adaptive_faces(faces),
+            None => m.evaluate_triangles_faces(level, faces),
+        }?;
         if let Some(no_limit) = v.no_limit() {
             c.clear_patches(no_limit);
         }
-        let out = Output::Captured(c);
-        super::finite(v, &out, written).map_err(tess)?;
-        sink(&out).map_err(ChunkError::Sink)?;
-        written += out.counts().1;
-        first = end;
-    }
-    Ok(())
-}
-
-/// The window loop of a classified adaptive run whose face `f`'s grid
-/// starts at sample `offsets[f]`: windows of whole faces of at most `limit`
-/// samples (at least one face), each evaluated into the reused
-/// tessellation, its holes left out, checked for non-finite samples and
-/// handed on as an [`Output::Instanced`] naming its faces.
-fn windows<E>(
-    v: &Validated<'_>,
-    offsets: &[usize],
-    limit: usize,
-    sink: &mut impl FnMut(&Output) -> Result<(), E>,
-    mut evaluate: impl FnMut(std::ops::Range<usize>, &mut AdaptiveTessellation) -> Result<(), Error>,
-) -> Result<(), ChunkError<E>>
-where
-    E: std::fmt::Debug,
-{
-    let faces = offsets.len().saturating_sub(1);
-    let keep: Option<Vec<bool>> = v.no_limit().map(super::emitting);
-    let mut t = AdaptiveTessellation::default();
-    let (mut first, mut written) = (0, 0);
-    while first < faces {
-        // The faces whose grids end within `limit` samples of `first`'s
-        // start, at least one.
-        let base = offsets[first];
-        let fit = offsets[first..].partition_point(|&o| o - base <= limit);
-        let end = (first + fit.saturating_sub(1)).clamp(first + 1, faces);
-        evaluate(first..end, &mut t).map_err(ChunkError::Tess)?;
-        if let Some(keep) = &keep {
-            t.retain_faces(keep);
-        }
-        let out = Output::Instanced(std::mem::take(&mut t));
-        super::finite(v, &out, written).map_err(ChunkError::Tess)?;
-        sink(&out).map_err(ChunkError::Sink)?;
-        // The next window reuses the buffers (the CPU writes in place).
-        if let Output::Instanced(back) = out {
-            written += back.positions.len();
-            t = back;
-        }
-        first = end;
-    }
-    Ok(())
+        Ok(Output::Captured(c))
+    };
+    stream(v, m.patch_faces.len(), |first| first + step, chunk, sink)
 }
 
 /// Why [`Session::run_chunked`] stopped.
