@@ -19,9 +19,16 @@ use std::fmt::Write as _;
 /// Render a tessellation as OBJ text (triangle patches via [`tri_to_obj`]):
 /// [`ObjStream`] over one chunk, so a streamed file is byte for byte this.
 pub fn to_obj(t: &Tessellation) -> String {
+    obj_text(|stream| stream.write(t))
+}
+
+/// The text `write` puts into a fresh [`ObjStream`]: every `to_obj` is its
+/// streamed writer over one chunk, so streamed and whole files are the same
+/// bytes.
+pub fn obj_text(write: impl FnOnce(&mut ObjStream<Vec<u8>>) -> std::io::Result<()>) -> String {
     let mut stream = ObjStream::new(Vec::new());
-    // Writing into a Vec cannot fail.
-    let _ = stream.write(t);
+    // Writing into a Vec cannot fail, and the writers write UTF-8.
+    let _ = write(&mut stream);
     String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
 }
 

@@ -305,10 +305,7 @@ impl TriangleCapture {
     /// (the captured vertices, sorted by domain point) and its triangles
     /// `f a//a b//b c//c` as the tessellator emitted them.
     pub fn to_obj(&self) -> String {
-        let mut stream = crate::check::obj::ObjStream::new(Vec::new());
-        // Writing into a Vec cannot fail.
-        let _ = self.write_obj(&mut stream);
-        String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+        crate::check::obj::obj_text(|stream| self.write_obj(stream))
     }
 
     /// [`TriangleCapture::to_obj`] appended to an OBJ stream (the header

@@ -92,10 +92,7 @@ impl Output {
             Output::Grid(t) => crate::check::obj::to_obj(t),
             Output::Captured(c) => c.to_obj(),
             Output::Instanced(_) => {
-                let mut stream = ObjStream::new(Vec::new());
-                // Writing into a Vec cannot fail.
-                let _ = self.write_soup(&mut stream);
-                String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+                crate::check::obj::obj_text(|stream| self.write_soup(stream).map(|_| ()))
             }
             Output::Polygons(p) => p.to_obj(),
         }

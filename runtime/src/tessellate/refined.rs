@@ -705,10 +705,7 @@ impl PolygonGrids {
     /// order, each with its `v`/`vn` lines and triangles
     /// ([`crate::check::obj`]'s layout).
     pub fn to_obj(&self) -> String {
-        let mut stream = crate::check::obj::ObjStream::new(Vec::new());
-        // Writing into a Vec cannot fail.
-        let _ = self.write_obj(&mut stream);
-        String::from_utf8(stream.finish().unwrap_or_default()).unwrap_or_default()
+        crate::check::obj::obj_text(|stream| self.write_obj(stream))
     }
 
     /// [`PolygonGrids::to_obj`] appended to an OBJ stream (the header with
