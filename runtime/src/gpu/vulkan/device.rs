@@ -23,13 +23,15 @@ pub enum VkError {
         result: vk::Result,
     },
     /// `VK_ERROR_DEVICE_LOST` from any call: the device is unusable.
-    #[error("the Vulkan device was lost in {call} (a driver reset or a removed GPU); nothing was written")]
-    DeviceLost { call: &'static str },
+    /// `device` names it (empty only before one was chosen).
+    #[error("the Vulkan device{} was lost in {call} (a driver reset or a removed GPU); nothing was written", named(.device))]
+    DeviceLost { call: &'static str, device: String },
     /// `VK_ERROR_OUT_OF_DEVICE_MEMORY` / `VK_ERROR_OUT_OF_HOST_MEMORY`.
-    #[error("the Vulkan device ran out of memory in {call}: {result}")]
+    #[error("the Vulkan device{} ran out of memory in {call}: {result}", named(.device))]
     OutOfMemory {
         call: &'static str,
         result: vk::Result,
+        device: String,
     },
     #[error("no Vulkan device supports tessellationShader and vertexPipelineStoresAndAtomics with a graphics+compute queue (install mesa-vulkan-drivers for lavapipe)")]
     NoDevice,
@@ -107,14 +109,55 @@ impl From<UploadError> for VkError {
 }
 
 /// The error of a failed Vulkan call: device loss and exhausted memory
-/// typed, anything else with the call and its result.
+/// typed, anything else with the call and its result. The device is named
+/// where the call's result leaves the harness ([`VkError::on_device`]).
 pub(super) fn call(call: &'static str) -> impl FnOnce(vk::Result) -> VkError {
     move |result| match result {
-        vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost { call },
+        vk::Result::ERROR_DEVICE_LOST => VkError::DeviceLost {
+            call,
+            device: String::new(),
+        },
         vk::Result::ERROR_OUT_OF_DEVICE_MEMORY | vk::Result::ERROR_OUT_OF_HOST_MEMORY => {
-            VkError::OutOfMemory { call, result }
+            VkError::OutOfMemory {
+                call,
+                result,
+                device: String::new(),
+            }
         }
         result => VkError::Call { call, result },
+    }
+}
+
+/// ` (NAME)` for a named device, nothing before one was chosen.
+fn named(device: &str) -> String {
+    if device.is_empty() {
+        String::new()
+    } else {
+        format!(" ({device})")
+    }
+}
+
+impl VkError {
+    /// A device loss or exhausted memory named after `device` (the public
+    /// entry points of the harness pass their errors through this, so the
+    /// calls deep inside need not carry the name).
+    pub(super) fn on_device(self, name: &str) -> VkError {
+        match self {
+            VkError::DeviceLost { call, device } if device.is_empty() => VkError::DeviceLost {
+                call,
+                device: name.to_string(),
+            },
+            VkError::OutOfMemory {
+                call,
+                result,
+                device,
+            } if device.is_empty() => VkError::OutOfMemory {
+                call,
+                result,
+                device: name.to_string(),
+            },
+            e => e,
+        }
     }
 }
 
@@ -123,20 +166,32 @@ mod tests {
     use super::*;
 
     /// Loss and memory exhaustion, which lavapipe cannot be made to
-    /// produce, are typed wherever a call returns them.
+    /// produce, are typed wherever a call returns them, and name the device
+    /// once they leave the harness's entry points.
     #[test]
     fn failed_calls_are_typed() {
         let lost = call("vkQueueSubmit")(vk::Result::ERROR_DEVICE_LOST);
         assert!(matches!(
             lost,
             VkError::DeviceLost {
-                call: "vkQueueSubmit"
+                call: "vkQueueSubmit",
+                ..
             }
         ));
         assert_eq!(
             lost.to_string(),
             "the Vulkan device was lost in vkQueueSubmit (a driver reset or a removed GPU); nothing was written"
         );
+        let named = lost.on_device("llvmpipe (LLVM 19)");
+        assert_eq!(
+            named.to_string(),
+            "the Vulkan device (llvmpipe (LLVM 19)) was lost in vkQueueSubmit (a driver reset or a removed GPU); nothing was written"
+        );
+        // A name once given stays.
+        assert!(named
+            .on_device("another")
+            .to_string()
+            .contains("(llvmpipe (LLVM 19))"));
         for r in [
             vk::Result::ERROR_OUT_OF_DEVICE_MEMORY,
             vk::Result::ERROR_OUT_OF_HOST_MEMORY,
@@ -146,6 +201,10 @@ mod tests {
             assert!(e
                 .to_string()
                 .starts_with("the Vulkan device ran out of memory in vkAllocateMemory"));
+            assert!(e
+                .on_device("gpu0")
+                .to_string()
+                .starts_with("the Vulkan device (gpu0) ran out of memory in vkAllocateMemory"));
         }
         let other = call("vkCreateInstance")(vk::Result::ERROR_INITIALIZATION_FAILED);
         assert!(matches!(other, VkError::Call { .. }), "{other:?}");

@@ -30,11 +30,14 @@ impl<'v> VkMesh<'v> {
     /// owner records name: the evaluation stage evaluates owner patches
     /// from it.
     pub fn construct(&self) -> Result<(), VkError> {
-        self.vertex_stage()?;
-        if !self.displaced() {
-            return Ok(());
-        }
-        self.patch_stage()
+        let run = || {
+            self.vertex_stage()?;
+            if !self.displaced() {
+                return Ok(());
+            }
+            self.patch_stage()
+        };
+        run().map_err(|e| e.on_device(&self.vk.name))
     }
 
     /// The compute patch stage, class by class, into the global
@@ -142,6 +145,7 @@ impl<'v> VkMesh<'v> {
         self.with_samples(level, faces, whole, |p0, n| {
             self.draw_chunk(level, p0, n, GRID_PATCHES_PER_DRAW)
         })
+        .map_err(|e| e.on_device(&self.vk.name))
     }
 
     /// Evaluate every patch at `level` with the emitted *compute* entries
@@ -154,6 +158,12 @@ impl<'v> VkMesh<'v> {
     /// [`Self::new_tri_displaced`]) displaces (`eval_displaced_global`).
     /// Builds the two compute pipelines on first use.
     pub fn evaluate_compute(&mut self, level: u32) -> Result<Tessellation, VkError> {
+        let name = self.vk.name.clone();
+        self.evaluate_compute_on(level)
+            .map_err(|e| e.on_device(&name))
+    }
+
+    fn evaluate_compute_on(&mut self, level: u32) -> Result<Tessellation, VkError> {
         cpu::check_level(level)?;
         if self.patch_pipeline == vk::Pipeline::null() {
             self.patch_pipeline = self.compute_pipeline("patch")?;

@@ -174,6 +174,10 @@ impl<'v> VkMesh<'v> {
     }
 
     fn build(vk: &'v Vulkan, upload: Upload, options: &Options) -> Result<Self, VkError> {
+        Self::build_on(vk, upload, options).map_err(|e| e.on_device(&vk.name))
+    }
+
+    fn build_on(vk: &'v Vulkan, upload: Upload, options: &Options) -> Result<Self, VkError> {
         check_limits(upload.scheme, &vk.limits, &vk.name)?;
         let max = vk.limits.max_storage_buffer_range as u64;
         for b in &upload.buffers {

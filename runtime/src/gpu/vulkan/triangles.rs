@@ -198,6 +198,6 @@ impl<'v> VkMesh<'v> {
             )?)
         })();
         buf.destroy(&self.vk.device);
-        result
+        result.map_err(|e| e.on_device(&self.vk.name))
     }
 }
