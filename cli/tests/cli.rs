@@ -444,6 +444,25 @@ fn tessellate_adaptive() {
     let o = run("glsl", "random:1", "fractional");
     assert_ne!(o.status.code(), Some(0));
     assert!(stderr(&o).contains("unknown partitioning"), "{}", all(&o));
+    // A factor above the device's maxTessellationGenerationLevel is clamped
+    // by the tessellator, and the capture is sized for the clamped one.
+    let o = tessgen([
+        "tessellate".as_ref(),
+        torus.as_os_str(),
+        "--scheme".as_ref(),
+        "pccm".as_ref(),
+        "--backend".as_ref(),
+        "glsl".as_ref(),
+        "--adaptive".as_ref(),
+        "random:1:1:1000".as_ref(),
+        "--max-factor".as_ref(),
+        "1000".as_ref(),
+        "--out".as_ref(),
+        out.as_os_str(),
+        "--check-watertight".as_ref(),
+    ]);
+    assert_ok(&o);
+    assert!(stdout(&o).contains("closed 2-manifold"), "{}", all(&o));
 }
 
 /// `--adaptive` with triangle schemes (`--split-quads`): per-edge factors

@@ -411,9 +411,6 @@ fn cases() -> Vec<Case> {
         case("vk_limit", &tess("catmark_cube.obj", "--scheme pccm --level 65 --backend glsl --check-watertight"),
             "tessgen: error: catmark_cube.obj: scheme `pccm`: tessellation level (maxTessellationGenerationLevel) needs 65, … allows …")
             .data(CUBE),
-        case("vk_limit_capture", &tess("catmark_cube.obj", "--scheme pccm --adaptive random:1 --max-factor 1000 --backend glsl"),
-            "tessgen: error: catmark_cube.obj: scheme `pccm`: bytes of captured triangles of one patch (maxStorageBufferRange) needs …, … allows …")
-            .data(CUBE),
         // ---- ChunkError (tessellate without --check-watertight streams) ----
         case("chunk_tess", &tess("catmark_cube.obj", "--scheme pccm --level 65 --backend glsl"),
             "tessgen: error: catmark_cube.obj: scheme `pccm`: tessellation level (maxTessellationGenerationLevel) needs 65, … allows …")

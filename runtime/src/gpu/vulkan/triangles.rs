@@ -103,15 +103,15 @@ impl<'v> VkMesh<'v> {
     /// are drawn. The factors are functions of the edge alone, so each
     /// patch's capture is the whole draw's.
     pub fn evaluate_adaptive_faces(&self, faces: Range<usize>) -> Result<TriangleCapture, VkError> {
-        let Some(a) = &self.options.adaptive else {
+        if self.options.adaptive.is_none() {
             return Err(VkError::AdaptiveNotGrid);
-        };
+        }
         // At most 2·(ceil(max) + 2)² triangles per patch (the inside factor
         // is at most the largest edge factor, a fractional pattern adds one
         // transition ring; a triangle patch emits fewer than a quad), and
         // at most (m + 1)² vertices: draws stay under lavapipe's 16-bit
         // vertex numbering with a geometry shader (see patches_per_draw).
-        let m = a.max.max(1.0).ceil() as u64 + 2;
+        let m = self.adaptive_bound();
         let per_draw = (u16::MAX as u64 / ((m + 1) * (m + 1))).max(1);
         self.capture(1, ADAPTIVE_LEVEL, 2 * m * m, per_draw, faces)
     }
@@ -121,12 +121,21 @@ impl<'v> VkMesh<'v> {
     /// sizes its windows of faces.
     pub fn captured_vertices_per_patch(&self, level: u32) -> u64 {
         match &self.options.adaptive {
-            Some(a) => {
-                let m = a.max.max(1.0).ceil() as u64 + 2;
+            Some(_) => {
+                let m = self.adaptive_bound();
                 (m + 1) * (m + 1)
             }
             None => vertices_per_patch(level),
         }
+    }
+
+    /// `ceil(max) + 2` for an adaptive draw's largest factor `max`, which
+    /// the tessellator clamps to the device's maxTessellationGenerationLevel
+    /// (so `--max-factor 1000` is sized as 64 on lavapipe, not refused).
+    fn adaptive_bound(&self) -> u64 {
+        let max = self.options.adaptive.as_ref().map_or(1.0, |a| a.max);
+        let device = self.vk.limits.max_tessellation_generation_level as f32;
+        max.min(device).max(1.0).ceil() as u64 + 2
     }
 
     /// Draw the patches of the faces `faces` (`Params.level = level`;
