@@ -742,18 +742,12 @@ impl<'p> AdaptiveRun<'p> {
 
     /// What the generated adaptive functions read.
     fn kernel_inputs(&self) -> crate::kernels::common::Inputs<'_> {
-        let data = self.displace.unwrap_or(&self.off);
         crate::kernels::common::Inputs {
             corner_vertex: &self.corner_vertex,
             face_edges: &self.inputs.face_edges,
             edge_factors: &self.inputs.edge_factors,
             adaptive: &self.inputs.params,
-            texcoords: &data.texcoords,
-            owners: &data.owners,
-            displace_info: &data.info,
-            displace_map: &data.map.texels,
-            displace_width: data.map.width,
-            ..Default::default()
+            ..crate::cpu::displace_inputs(self.displace.unwrap_or(&self.off))
         }
     }
 }

@@ -409,7 +409,7 @@ fn face_patch(patches: &Patches, face: usize) -> Option<(u32, u32)> {
 }
 
 /// The generated kernels' view of the displacement arrays.
-fn displace_inputs(data: &DisplaceData) -> Inputs<'_> {
+pub(crate) fn displace_inputs(data: &DisplaceData) -> Inputs<'_> {
     Inputs {
         texcoords: &data.texcoords,
         owners: &data.owners,

@@ -209,6 +209,8 @@ pub(crate) fn vk_mesh<'v>(
 /// A uniform grid request, constructed (uploaded) once and then evaluated
 /// window by window of faces: the streamed form of [`run`]
 /// (`Session::run_chunked`). Each window's samples are [`run`]'s.
+// One per stream, made once: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum GridSource<'s> {
     Cpu {
         patches: cpu::Patches,
