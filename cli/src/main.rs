@@ -462,7 +462,7 @@ fn table(args: &TableArgs) -> CmdResult {
 /// tessellator's triangles (glsl, hlsl) or the instanced path's grids (cpu,
 /// wgpu) as an OBJ triangle soup per patch (`g patch_<face>`, `v` per
 /// triangle corner, `f` per triangle: [`TessOutput::write_soup`]), streamed
-/// to disk on the CPU, welded exactly with `--check-watertight` (which
+/// to disk window by window, welded exactly with `--check-watertight` (which
 /// holds the whole result).
 fn tessellate_adaptive(
     mesh: &Mesh,

@@ -4,7 +4,7 @@
 //! into `OUT.partial` renamed to `OUT` at the end, so a failed run leaves no
 //! half-written file (a special file such as `/dev/null` is written
 //! directly). The bytes are the non-streamed OBJ's. `--adaptive` writes a
-//! triangle soup ([`Output::write_soup`]), streamed on the CPU the same way.
+//! triangle soup ([`Output::write_soup`]), streamed the same way.
 
 use std::fs::File;
 use std::io::BufWriter;
