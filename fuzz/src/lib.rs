@@ -20,7 +20,8 @@
 //! * [`mesh`]: structure-aware: the bytes choose a scheme, level, options,
 //!   a small mesh (positions, faces of 3–5 sides, tags) that is written as
 //!   OBJ and tessellated end to end on the CPU; every sample of an `Ok`
-//!   result must be finite.
+//!   result must be finite, and the result streamed in chunks of one face
+//!   and of a few must give the same OBJ bytes.
 //! * [`tags`]: a stpn tag file for the cube, then the tagged tessellation.
 //! * [`scheme`]: `.tess` source → scheme, stencil table, Plan and all four
 //!   printers.
@@ -29,8 +30,9 @@ use std::fmt::Write as _;
 
 use tessgen_codegen::{Builder, SchemeSource};
 use tessgen_runtime::adaptive::Partitioning;
+use tessgen_runtime::obj::ObjStream;
 use tessgen_runtime::tags::TagFile;
-use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Output, Request};
+use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Output, Request, Session};
 use tessgen_runtime::{cpu, Mesh, Topology};
 
 /// Inputs above this are cut: the targets look for wrong handling, not for
@@ -196,7 +198,29 @@ pub fn mesh(data: &[u8]) -> bool {
         .one_mesh(flags & 0x10 != 0)
         .split_quads(flags & 0x20 != 0)
         .crease_refinement(u32::from(flags >> 6).min(2));
-    finished(tessgen_runtime::tessellate::tessellate(&mesh, &request))
+    let Ok(v) = request.validate(&mesh) else {
+        return false;
+    };
+    let mut session = Session::new();
+    let whole = session.run(&v);
+    let text = whole.as_ref().map(Output::to_obj).ok();
+    if !finished(whole) {
+        return false;
+    }
+    // Streaming changes no byte: the chunks of one face (block) and of a
+    // few, written one after the other, are the whole result's OBJ.
+    for max_samples in [1, 97] {
+        let mut stream = ObjStream::new(Vec::new());
+        let streamed = session.run_chunked(&v, max_samples, |out| out.write_obj(&mut stream));
+        if let Err(e) = streamed {
+            panic!("the whole run succeeded but streaming in chunks of {max_samples} failed: {e}");
+        }
+        let bytes = stream.finish().unwrap_or_default();
+        if Some(bytes.as_slice()) != text.as_deref().map(str::as_bytes) {
+            panic!("streaming in chunks of {max_samples} changed the OBJ");
+        }
+    }
+    true
 }
 
 /// Positions and 0-based faces of one of the built-in OBJ texts.

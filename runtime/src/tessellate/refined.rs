@@ -488,10 +488,11 @@ fn assemble_window(
         &d.base_face_vertices
             [d.base_face_offsets[f as usize] as usize..d.base_face_offsets[f as usize + 1] as usize]
     };
-    if window.is_some() {
-        // A window's grids have the whole's levels, whatever it holds.
-        (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
-    }
+    // The grids' levels and the output's kind are the mesh's, whatever a
+    // window (or the set of faces that emit) holds: a streamed result
+    // writes the whole one's header, and a mesh whose n-gons are all holes
+    // is still polygon grids.
+    (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
     // Room for every emitting block's grid, or TessError::OutOfMemory
     // (never an allocation that aborts).
     let (mut quad_blocks, mut sub_blocks) = (0usize, 0usize);
@@ -526,7 +527,6 @@ fn assemble_window(
         } else {
             &mut quads
         };
-        out.level = l as u32;
         out.ids.push(block.face);
         let w = base(block.face);
         for j in 0..=l {
@@ -630,11 +630,7 @@ fn assemble_window(
         }
     }
     let quads = quads.finish();
-    let polygons = match window {
-        None => !corners.is_empty(),
-        Some(_) => blocks.iter().any(|b| b.corner.is_some()),
-    };
-    if !polygons {
+    if !blocks.iter().any(|b| b.corner.is_some()) {
         return Ok(super::Output::Grid(quads));
     }
     Ok(super::Output::Polygons(PolygonGrids {
