@@ -17,9 +17,7 @@ pub(crate) fn run(v: &Validated<'_>, session: &mut Session) -> Result<Output, Er
         #[cfg(feature = "gpu")]
         Backend::Wgpu => run_wgpu(v, session.gpu()?),
         #[cfg(feature = "vulkan")]
-        Backend::VulkanGlsl => run_vulkan(v, crate::gpu::vulkan::Language::Glsl, session.vulkan()?),
-        #[cfg(feature = "vulkan")]
-        Backend::VulkanHlsl => run_vulkan(v, crate::gpu::vulkan::Language::Hlsl, session.vulkan()?),
+        Backend::VulkanGlsl | Backend::VulkanHlsl => run_vulkan(v, session.vulkan()?),
     }
 }
 
@@ -151,12 +149,8 @@ pub(crate) fn wgpu_mesh<'g>(
 /// and adaptive draws as the captured triangles. Displacement builds the
 /// evaluation stage with `TESSGEN_DISPLACE` (inside `VkMesh::new_displaced`).
 #[cfg(feature = "vulkan")]
-fn run_vulkan(
-    v: &Validated<'_>,
-    language: crate::gpu::vulkan::Language,
-    vk: &crate::gpu::vulkan::Vulkan,
-) -> Result<Output, Error> {
-    let m = vk_mesh(v, language, vk)?;
+fn run_vulkan(v: &Validated<'_>, vk: &crate::gpu::vulkan::Vulkan) -> Result<Output, Error> {
+    let m = vk_mesh(v, vk)?;
     Ok(match (&v.adaptive, &v.domain) {
         (Some(_), _) => Output::Captured(m.evaluate_adaptive()?),
         (None, Domain::Quads { .. }) => Output::Grid(m.evaluate(level(v))?),
@@ -164,24 +158,18 @@ fn run_vulkan(
     })
 }
 
-/// The shading language of a Vulkan harness backend (HLSL or GLSL).
-#[cfg(feature = "vulkan")]
-pub(crate) fn vk_language(backend: super::Backend) -> crate::gpu::vulkan::Language {
-    match backend {
-        super::Backend::VulkanHlsl => crate::gpu::vulkan::Language::Hlsl,
-        _ => crate::gpu::vulkan::Language::Glsl,
-    }
-}
-
 /// The request's mesh in the Vulkan harness, its pipelines built for the
-/// request's options.
+/// request's options in the backend's language (HLSL or GLSL).
 #[cfg(feature = "vulkan")]
 pub(crate) fn vk_mesh<'v>(
     v: &Validated<'_>,
-    language: crate::gpu::vulkan::Language,
     vk: &'v crate::gpu::vulkan::Vulkan,
 ) -> Result<crate::gpu::vulkan::VkMesh<'v>, Error> {
-    use crate::gpu::vulkan::{Options, VkMesh};
+    use crate::gpu::vulkan::{Language, Options, VkMesh};
+    let language = match v.request.backend {
+        super::Backend::VulkanHlsl => Language::Hlsl,
+        _ => Language::Glsl,
+    };
     let options = Options {
         adaptive: v.adaptive.as_ref().map(|a| a.adaptive.clone()),
         ..Options::new(language)
@@ -238,7 +226,10 @@ impl GridSource<'_> {
         v.adaptive.is_none() && v.refined().is_none() && !captured
     }
 
-    /// The request's grid source ([`Self::streams`] must hold).
+    /// The request's grid source: the mesh it runs (a refined request's
+    /// refined mesh) constructed or uploaded, for a request whose result
+    /// is one grid per face of it ([`Self::streams`], or one depth of a
+    /// refinement, assembled per window by the caller).
     pub(crate) fn new<'s>(
         v: &Validated<'_>,
         session: &'s mut Session,
@@ -259,8 +250,7 @@ impl GridSource<'_> {
             Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
             #[cfg(feature = "vulkan")]
             Backend::VulkanGlsl | Backend::VulkanHlsl => {
-                let language = vk_language(v.request.backend);
-                GridSource::Vulkan(vk_mesh(v, language, session.vulkan()?)?)
+                GridSource::Vulkan(vk_mesh(v, session.vulkan()?)?)
             }
         })
     }

@@ -493,17 +493,16 @@ fn assemble_window(
     // writes the whole one's header, and a mesh whose n-gons are all holes
     // is still polygon grids.
     (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
-    // Room for every emitting block's grid, or TessError::OutOfMemory
-    // (never an allocation that aborts).
-    let (mut quad_blocks, mut sub_blocks) = (0usize, 0usize);
-    for (b, block) in blocks.iter().enumerate() {
-        if in_window(b) && cells.iter().any(|c| c[b].is_some()) {
-            match block.corner {
-                None => quad_blocks += 1,
-                Some(_) => sub_blocks += 1,
-            }
-        }
-    }
+    // The blocks that emit (in the window), then room for their grids, or
+    // TessError::OutOfMemory (never an allocation that aborts).
+    let emitting: Vec<usize> = (0..blocks.len())
+        .filter(|&b| in_window(b) && cells.iter().any(|c| c[b].is_some()))
+        .collect();
+    let sub_blocks = emitting
+        .iter()
+        .filter(|&&b| blocks[b].corner.is_some())
+        .count();
+    let quad_blocks = emitting.len() - sub_blocks;
     let samples = |l: usize, count: usize| count.saturating_mul((l + 1) * (l + 1));
     crate::cpu::reserve_samples(
         &mut quads.positions,
@@ -515,10 +514,8 @@ fn assemble_window(
         &mut subfaces.normals,
         samples(n / 2, sub_blocks),
     )?;
-    for (b, block) in blocks.iter().enumerate() {
-        if !in_window(b) || cells.iter().all(|c| c[b].is_none()) {
-            continue;
-        }
+    for &b in &emitting {
+        let block = &blocks[b];
         let sub = block.corner.is_some();
         let l = if sub { n / 2 } else { n };
         let out = if sub {

@@ -328,9 +328,8 @@ where
     E: std::fmt::Debug,
 {
     let tess = |e: Error| ChunkError::Tess(e);
-    let language = backend::vk_language(v.request.backend);
     let vk = session.vulkan().map_err(tess)?;
-    let m = backend::vk_mesh(v, language, vk).map_err(tess)?;
+    let m = backend::vk_mesh(v, vk).map_err(tess)?;
     let level = match v.request.sampling {
         Sampling::Uniform(n) => n,
         Sampling::Adaptive(_) => 1,

@@ -9,6 +9,8 @@ use crate::cpu;
 use crate::gpu::upload::params_bytes;
 use glam::{Mat4, Vec3};
 
+use crate::gpu::readback::patch_runs;
+
 use super::device::check;
 use super::{GpuError, GpuMesh};
 
@@ -251,15 +253,14 @@ impl<'g> GpuMesh<'g> {
         let base = offsets[faces.start];
         let total = offsets[faces.end] - base;
 
-        // 2. one entry list per (class, bucket) of the window's patches.
+        // 2. one entry list per (class, bucket) of the window's patches
+        // (each class's runs cut to the window, in patch order).
         let mut lists: std::collections::BTreeMap<(u32, u32), Vec<u32>> = Default::default();
-        for c in &self.classes {
-            for k in 0..c.count {
-                let p = (c.first + k) as usize;
-                if !faces.contains(&(self.patch_faces[p] as usize)) {
-                    continue;
-                }
-                let w = &words[abi::LEVELS_LEN * p..][..abi::LEVELS_LEN];
+        for (ci, run) in patch_runs(&self.patch_faces, &self.classes, faces.clone()) {
+            let c = &self.classes[ci];
+            for p in run {
+                let k = p as u32 - c.first;
+                let w = &words[abi::LEVELS_LEN * p as usize..][..abi::LEVELS_LEN];
                 lists
                     .entry((c.class, w[abi::LEVELS_BUCKET]))
                     .or_default()
