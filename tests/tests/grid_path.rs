@@ -95,18 +95,32 @@ fn quad_schemes_grid_path_matches_per_sample_path() {
 /// stay zero, never NaN); squeezed onto a plane it is not (unit normals).
 #[test]
 fn degenerate_patches_grid_path_matches_per_sample_path() {
-    let mesh = common::mesh("catmark_torus");
+    // The torus is all ordinary (bicubic form); the cube all extraordinary
+    // (every other quad form: cpatch, acc, gregory).
+    for (mesh_name, schemes) in [
+        ("catmark_torus", &["regular", "pccm", "gregory"][..]),
+        (
+            "catmark_cube",
+            &["pccm", "acc", "gregory", "gregory_osd"][..],
+        ),
+    ] {
+        degenerate_mesh(mesh_name, schemes);
+    }
+}
+
+fn degenerate_mesh(mesh_name: &str, schemes: &[&str]) {
+    let mesh = common::mesh(mesh_name);
     let (topo, positions) = common::topo_positions(&mesh);
     for (what, squeeze) in [
         ("a line", Vec3::new(1.0, 0.0, 0.0)),
         ("a plane", Vec3::new(1.0, 1.0, 0.0)),
     ] {
         let squeezed: Vec<Vec3> = positions.iter().map(|p| *p * squeeze).collect();
-        for name in ["regular", "pccm", "gregory"] {
+        for &name in schemes {
             let k = cpu::scheme(name).expect("scheme");
             let patches = cpu::construct(&topo, &squeezed, k).expect("construct");
             same_bits(
-                &format!("{name} on the torus squeezed onto {what}"),
+                &format!("{name} on {mesh_name} squeezed onto {what}"),
                 &patches,
             );
             let t = cpu::evaluate(&patches, 8).expect("evaluate");

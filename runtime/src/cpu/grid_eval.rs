@@ -17,10 +17,12 @@
 //! edge evaluator (`tessgen_edge`'s operations, lanes over `t`) in their
 //! own loop, after the interior loop wrote the surface everywhere: the
 //! generated `eval` also keeps the surface normal and replaces only the
-//! position. The `cpatch` form (PCCM's extraordinary class) has its own
-//! lanes ([`super::grid_cpatch`]). Every other form (ACC and Gregory
-//! extraordinary patches) runs the generated `eval` per sample, walking
-//! the grid row by row instead of decoding each sample index.
+//! position. The extraordinary forms have their own lanes: `cpatch`
+//! (PCCM, [`super::grid_cpatch`]), `acc` ([`super::grid_acc`]) and
+//! `gregory` (`gregory`, `gregory_osd`: [`super::grid_gregory`]). A form
+//! none of these knows (a user scheme's) runs the generated `eval` per
+//! sample, walking the grid row by row instead of decoding each sample
+//! index.
 //!
 //! The grid weights `i/N`, `(N − i)/N` are made once per evaluation
 //! ([`LevelWeights`]), with the generated conversion and division.
@@ -34,7 +36,9 @@
 //! `tests/tests/grid_path.rs` checks that this path and the per-sample path
 //! give the same bits for every scheme, class and level 1–64.
 
+use super::grid_acc::acc_patch;
 use super::grid_cpatch::cpatch_patch;
+use super::grid_gregory::gregory_patch;
 use crate::kernels::common::SchemeKernels;
 use glam::Vec3;
 
@@ -64,6 +68,12 @@ pub(crate) enum Path {
     /// PCCM's c-patch: per piece net once, vectorised over each row's run
     /// of samples in a piece ([`super::grid_cpatch`]).
     CPatch,
+    /// ACC's extraordinary form: row curves and `U` rows per column, `V`
+    /// columns per row ([`super::grid_acc`]).
+    Acc,
+    /// The Gregory form: outer row curves per column, the blend per sample
+    /// ([`super::grid_gregory`]).
+    Gregory,
     /// Any other form: the generated `eval` per sample.
     PerSample,
 }
@@ -95,7 +105,7 @@ impl LevelWeights {
 
     /// `L` consecutive `l` weights from `i`.
     #[inline(always)]
-    fn l_from<const L: usize>(&self, i: usize) -> [f32; L] {
+    pub(crate) fn l_from<const L: usize>(&self, i: usize) -> [f32; L] {
         let mut v = [0.0f32; L];
         v.copy_from_slice(&self.l[i..i + L]);
         v
@@ -103,7 +113,7 @@ impl LevelWeights {
 
     /// `L` consecutive `r` weights from `i`.
     #[inline(always)]
-    fn r_from<const L: usize>(&self, i: usize) -> [f32; L] {
+    pub(crate) fn r_from<const L: usize>(&self, i: usize) -> [f32; L] {
         let mut v = [0.0f32; L];
         v.copy_from_slice(&self.r[i..i + L]);
         v
@@ -125,6 +135,10 @@ pub(crate) fn class_paths(kernels: &SchemeKernels) -> Vec<Path> {
                 Path::TriCubic
             } else if kernels.sides == 4 && c.form == "cpatch" && c.control_points == 24 {
                 Path::CPatch
+            } else if kernels.sides == 4 && c.form == "acc" && c.control_points == 40 {
+                Path::Acc
+            } else if kernels.sides == 4 && c.form == "gregory" && c.control_points == 20 {
+                Path::Gregory
             } else {
                 Path::PerSample
             }
@@ -256,8 +270,68 @@ pub(crate) fn patch_grid(
                 per_sample(kernels, cp, class, level, pos, nrm);
             }
         }
+        Path::Acc => {
+            let mut g = [Vec3::ZERO; 40];
+            g.copy_from_slice(&cp[..40]);
+            let mut curve = [0u32; 16];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
+            let degenerate = match isa {
+                Isa::Baseline => acc_patch::<false>(&g, &curve, w, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as above.
+                Isa::Avx2 | Isa::Avx512 => unsafe {
+                    acc_patch_avx2(&g, &curve, w, level, pos, nrm)
+                },
+            };
+            if degenerate {
+                per_sample(kernels, cp, class, level, pos, nrm);
+            }
+        }
+        Path::Gregory => {
+            let mut g = [Vec3::ZERO; 20];
+            g.copy_from_slice(&cp[..20]);
+            let mut curve = [0u32; 16];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
+            let degenerate = match isa {
+                Isa::Baseline => gregory_patch::<false>(&g, &curve, w, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: as above.
+                Isa::Avx2 | Isa::Avx512 => unsafe {
+                    gregory_patch_avx2(&g, &curve, w, level, pos, nrm)
+                },
+            };
+            if degenerate {
+                per_sample(kernels, cp, class, level, pos, nrm);
+            }
+        }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
     }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn acc_patch_avx2(
+    g: &[Vec3; 40],
+    curve: &[u32; 16],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    acc_patch::<true>(g, curve, w, level, pos, nrm)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gregory_patch_avx2(
+    g: &[Vec3; 20],
+    curve: &[u32; 16],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    gregory_patch::<true>(g, curve, w, level, pos, nrm)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -460,7 +534,7 @@ fn bicubic_strip<const L: usize, const V: bool>(
 /// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component, per lane:
 /// point `d0·l + d1·r` and tangent `(d1 − d0)·3`.
 #[inline(always)]
-fn row_curve_lanes<const L: usize>(
+pub(crate) fn row_curve_lanes<const L: usize>(
     b: [f32; 4],
     l: &[f32; L],
     r: &[f32; L],
@@ -495,15 +569,6 @@ fn sample_lanes<const L: usize>(
     out: &mut [[f32; L]; 6],
 ) -> bool {
     let mut degenerate = false;
-    #[inline(always)]
-    fn cubic(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> (f32, f32) {
-        let c0 = (b0 * l) + (b1 * r);
-        let c1 = (b1 * l) + (b2 * r);
-        let c2 = (b2 * l) + (b3 * r);
-        let d0 = (c0 * l) + (c1 * r);
-        let d1 = (c1 * l) + (c2 * r);
-        ((d0 * l) + (d1 * r), (d1 - d0) * 3.0f32)
-    }
     for k in 0..L {
         let along = |a: &[[[f32; L]; 3]; 4], c: usize| {
             cubic(a[0][c][k], a[1][c][k], a[2][c][k], a[3][c][k], l, r)
@@ -524,6 +589,24 @@ fn sample_lanes<const L: usize>(
         out[5][k] = nz;
     }
     degenerate
+}
+
+/// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component of one lane:
+/// (point, tangent), the generated operations.
+#[inline(always)]
+pub(crate) fn cubic(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> (f32, f32) {
+    let c0 = (b0 * l) + (b1 * r);
+    let c1 = (b1 * l) + (b2 * r);
+    let c2 = (b2 * l) + (b3 * r);
+    let d0 = (c0 * l) + (c1 * r);
+    let d1 = (c1 * l) + (c2 * r);
+    ((d0 * l) + (d1 * r), (d1 - d0) * 3.0f32)
+}
+
+/// The point of [`cubic`] alone.
+#[inline(always)]
+pub(crate) fn cubic_point(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) -> f32 {
+    cubic(b0, b1, b2, b3, l, r).0
 }
 
 /// `tessgen_patch_normal(a, b)` of one lane: glam's `a × b` (`(a.y·b.z −

@@ -14,8 +14,10 @@
 pub mod adaptive;
 pub mod construct;
 pub mod displace;
+mod grid_acc;
 mod grid_cpatch;
 mod grid_eval;
+mod grid_gregory;
 mod patch_flat;
 mod vertex_flat;
 
