@@ -14,6 +14,9 @@ command -v glslangValidator >/dev/null 2>&1 || need_apt+=(glslang-tools)
 command -v spirv-val >/dev/null 2>&1 || need_apt+=(spirv-tools)
 ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1 || need_apt+=(mesa-vulkan-drivers)
 ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1' || need_apt+=(libvulkan1)
+#   node + npm (nodejs, npm)          run Dawn, Chrome's WebGPU, on the emitted WGSL (tests/dawn)
+command -v node >/dev/null 2>&1 || need_apt+=(nodejs)
+command -v npm >/dev/null 2>&1 || need_apt+=(npm)
 if [ "${#need_apt[@]}" -gt 0 ]; then
   echo "== installing ${need_apt[*]}"
   export DEBIAN_FRONTEND=noninteractive
@@ -30,6 +33,12 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 
 export INSTA_UPDATE=no
 export CARGO_TERM_COLOR=never
+
+# Dawn (npm `webgpu`, pinned by tests/dawn/package-lock.json) for tests/tests/dawn.rs.
+if [ ! -d tests/dawn/node_modules/webgpu ]; then
+  echo "== npm ci (tests/dawn: Dawn for the WGSL check)"
+  npm ci --prefix tests/dawn --no-audit --no-fund
+fi
 
 echo "== cargo fmt --check"
 cargo fmt --all -- --check

@@ -1125,12 +1125,14 @@ fn eval_main(@builtin(global_invocation_id) gid: vec3<u32>) {
     samples[(o + 5u)] = result.normal.z;
 }
 
-// Output of the instanced evaluation.
+// Output of the instanced evaluation. `patch_class` is flat with `either` sampling:
+// every vertex of a draw has the same class, so any provoking vertex gives it, and
+// WebGPU's compatibility mode has no `first` (plain `flat`).
 struct VsOut {
     @builtin(position) clip_position: vec4<f32>,
     @location(0) world_position: vec3<f32>,
     @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) patch_class: u32,
+    @location(2) @interpolate(flat, either) patch_class: u32,
     @location(3) uv: vec2<f32>,
 }
 

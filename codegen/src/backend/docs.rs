@@ -393,5 +393,20 @@ fn entry_sections() -> String {
          * `eval_vs` draws `count` instances with `first`/`cp_base` as `patch_main`; the index buffer covers the \
          `(level + 1)²` grid (vertex id = sample `s`).\n\n",
     );
+    s.push_str("### Core WebGPU and compatibility mode\n\n");
+    s.push_str(
+        "Every entry point compiles and builds its pipeline under WebGPU's default limits on wgpu (naga) and on \
+         Dawn (Chrome's WebGPU, Tint), with no error and no warning: the tests `validate_wgsl` and `dawn` check \
+         each file. In WebGPU's **compatibility mode** (`featureLevel: \"compatibility\"`) five entries per \
+         file need core WebGPU:\n\n\
+         * `eval_vs`, `eval_adaptive_vs`, `eval_adaptive_indirect_vs`: they read the control points and the \
+         patch lists from storage buffers in the vertex stage, and compatibility mode's default \
+         `maxStorageBuffersInVertexStage` is 0 (an adapter that allows more can be asked for it in \
+         `requiredLimits`);\n\
+         * `adaptive_count_main`, `adaptive_scatter_main`: their workgroups have 256 invocations, above \
+         compatibility mode's default 128.\n\n\
+         Every other entry builds in compatibility mode, `shade_fs` included: its flat `patch_class` input uses \
+         `either` sampling (every vertex of a draw has the same class; compatibility mode has no `first`).\n",
+    );
     s
 }

@@ -490,7 +490,7 @@ impl<'a> Writer<'a> {
                     self.line("    @builtin(position) clip_position: vec4<f32>,");
                     self.line("    @location(0) world_position: vec3<f32>,");
                     self.line("    @location(1) normal: vec3<f32>,");
-                    self.line("    @location(2) @interpolate(flat) patch_class: u32,");
+                    self.line("    @location(2) @interpolate(flat, either) patch_class: u32,");
                     self.line("    @location(3) uv: vec2<f32>,");
                     self.line("}");
                 }

@@ -237,7 +237,10 @@ fn uniform(entries: &Entries) -> Vec<EntryItem> {
     items.push(entry(COMPUTE, vec![StageIn::GlobalId], f));
 
     items.push(EntryItem::VertexOutput {
-        doc: "Output of the instanced evaluation.".into(),
+        doc: "Output of the instanced evaluation. `patch_class` is flat with `either` sampling:\n\
+              every vertex of a draw has the same class, so any provoking vertex gives it, and\n\
+              WebGPU's compatibility mode has no `first` (plain `flat`)."
+            .into(),
     });
 
     let mut f = Function::new(
