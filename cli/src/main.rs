@@ -15,7 +15,6 @@ use tessgen_codegen::outdir;
 use tessgen_codegen::{Builder, GeneratedFile, SchemeSource, DEFAULT_MAX_VALENCE};
 use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::{DisplaceError, DisplaceMap, Displacement, Ownership};
-use tessgen_runtime::obj::ObjStream;
 use tessgen_runtime::stats::{FeatureStats, MeshStats};
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::tessellate::{
@@ -259,8 +258,8 @@ struct TessellateArgs {
     /// Largest adaptive factor (clamp; the device allows up to maxTessellationGenerationLevel, 64 on lavapipe).
     #[arg(long, value_name = "F", default_value_t = 64.0, value_parser = parse_max_factor)]
     max_factor: f32,
-    /// Output OBJ file.
-    #[arg(long, value_name = "OUT.obj")]
+    /// Output file; its extension chooses the format: `.glb` (glTF 2.0 binary) or `.ply` (binary PLY), one indexed mesh welded by exact position bits (watertight; triangles the weld collapses left out), or anything else OBJ (grids per patch, adaptive results as a triangle soup). All stream to disk chunk by chunk.
+    #[arg(long, value_name = "OUT.obj|OUT.glb|OUT.ply")]
     out: PathBuf,
     /// Where the generated kernels run.
     #[arg(long, value_enum, default_value_t = Backend::Cpu)]
@@ -493,12 +492,11 @@ fn tessellate_adaptive(
     // boundary edge (its own adaptive level, on the instanced path).
     let boundary = validated.expected_open_edges(&out);
     let elapsed = start.elapsed();
-    let io = |e: std::io::Error| format!("{}: {e}", args.out.display());
-    let file = std::fs::File::create(&args.out).map_err(io)?;
-    let mut obj = ObjStream::new(std::io::BufWriter::with_capacity(1 << 20, file));
-    out.write_soup(&mut obj).map_err(io)?;
-    obj.finish().map_err(io)?;
-    summary(tris.len(), elapsed.as_secs_f64() * 1e3);
+    let kept = stream::write_whole(&out, &args.out, true)?;
+    summary(
+        kept.map_or(tris.len(), |k| k as usize),
+        elapsed.as_secs_f64() * 1e3,
+    );
     let soup: Vec<glam::Vec3> = tris.iter().flatten().copied().collect();
     let r = weld::weld_triangles(&soup, 3, &[[0, 1, 2]]);
     println!(
@@ -717,7 +715,7 @@ fn tessellate(args: &TessellateArgs) -> CmdResult {
         }
     };
     let r = args.check_watertight.then(|| out.weld());
-    std::fs::write(&args.out, out.to_obj()).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    stream::write_whole(&out, &args.out, false)?;
     eprintln!(
         "tessgen: {summary} ({} level {}, {} backend) in {:.2} ms → {}",
         args.scheme,

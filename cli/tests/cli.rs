@@ -978,3 +978,69 @@ fn bench_uniform_and_adaptive() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("not supported"), "{}", stderr(&o));
 }
+
+/// `--out` ending in `.glb` or `.ply` writes a welded binary mesh (the
+/// extension chooses): streamed without `--check-watertight` to the same
+/// bytes as the whole result written with it, uniform and adaptive, and a
+/// file the size its header says (the closed cube at level 4: 6·4² + 2
+/// welded vertices, 6·32 triangles).
+#[test]
+fn tessellate_writes_glb_and_ply_by_extension() {
+    let tmp = TempDir::new("tess-binary");
+    let cube = mesh("catmark_cube.obj");
+    for ext in ["glb", "ply"] {
+        for adaptive in [false, true] {
+            let run = |check: bool| {
+                let out = tmp.path().join(format!("cube-{adaptive}-{check}.{ext}"));
+                let mut args: Vec<std::ffi::OsString> = vec![
+                    "tessellate".into(),
+                    cube.clone().into(),
+                    "--scheme".into(),
+                    "pccm".into(),
+                    "--out".into(),
+                    out.clone().into(),
+                ];
+                if adaptive {
+                    args.extend([
+                        "--adaptive".into(),
+                        "random:7:1:8".into(),
+                        "--max-factor".into(),
+                        "8".into(),
+                    ]);
+                } else {
+                    args.extend(["--level".into(), "4".into()]);
+                }
+                if check {
+                    args.push("--check-watertight".into());
+                }
+                let o = tessgen(args);
+                assert_ok(&o);
+                std::fs::read(&out).unwrap()
+            };
+            let (streamed, whole) = (run(false), run(true));
+            assert!(
+                streamed == whole,
+                "{ext} adaptive={adaptive}: streamed differs"
+            );
+            if !adaptive {
+                match ext {
+                    "glb" => {
+                        assert_eq!(&streamed[..4], b"glTF");
+                        let len = u32::from_le_bytes([
+                            streamed[8],
+                            streamed[9],
+                            streamed[10],
+                            streamed[11],
+                        ]);
+                        assert_eq!(len as usize, streamed.len());
+                    }
+                    _ => {
+                        let text = String::from_utf8_lossy(&streamed[..400]);
+                        assert!(text.contains("element vertex 98\n"), "{text}");
+                        assert!(text.contains("element face 192\n"), "{text}");
+                    }
+                }
+            }
+        }
+    }
+}

@@ -425,6 +425,12 @@ fn cases() -> Vec<Case> {
         case("out_unwritable_check", &tess("catmark_cube.obj", "--scheme pccm --level 2 --check-watertight").replace("o.obj", "no/such/o.obj"),
             "tessgen: error: no/such/o.obj: No such file or directory (os error 2)")
             .data(CUBE),
+        case("glb_empty", &tess("m.obj", "--scheme pccm --level 2").replace("o.obj", "o.glb"),
+            "tessgen: error: o.glb.partial: the result has no triangles (every face a hole?): a .glb cannot hold an empty mesh")
+            .file("m.obj", quad_with("t hole 1/0/0 0")),
+        case("glb_empty_check", &tess("m.obj", "--scheme pccm --level 2 --check-watertight").replace("o.obj", "o.glb"),
+            "tessgen: error: o.glb: the result has no triangles (every face a hole?): a .glb cannot hold an empty mesh")
+            .file("m.obj", quad_with("t hole 1/0/0 0")),
         case("refine_out_unwritable", "refine catmark_cube.obj --out f/x",
             "tessgen: error: f/x: Not a directory (os error 20)")
             .data(CUBE).file("f", "a file\n"),

@@ -38,6 +38,7 @@
 pub mod abi;
 pub mod check;
 pub mod cpu;
+pub mod export;
 pub mod gpu;
 pub mod grid;
 pub mod kernels;

@@ -28,7 +28,10 @@ use tessgen_codegen::{Builder, Target};
 const CORE_ONLY: &[(&str, &str)] = &[
     ("eval_vs", "storage buffers used in vertex stage"),
     ("eval_adaptive_vs", "storage buffers used in vertex stage"),
-    ("eval_adaptive_indirect_vs", "storage buffers used in vertex stage"),
+    (
+        "eval_adaptive_indirect_vs",
+        "storage buffers used in vertex stage",
+    ),
     ("adaptive_count_main", "workgroup_size(256"),
     ("adaptive_scatter_main", "workgroup_size(256"),
 ];
@@ -90,13 +93,20 @@ fn every_wgsl_entry_point_builds_on_dawn() {
             let _stage = w.next()?;
             let entry = w.next()?.trim_end_matches(':').to_string();
             let (_, reason) = CORE_ONLY.iter().find(|(e, _)| *e == entry)?;
-            assert!(l.contains(reason), "{file} {entry} fails for another reason: {l}");
+            assert!(
+                l.contains(reason),
+                "{file} {entry} fails for another reason: {l}"
+            );
             Some((file, entry))
         })
         .collect();
     let expected: BTreeSet<(String, String)> = names
         .iter()
-        .flat_map(|n| CORE_ONLY.iter().map(move |(e, _)| (n.clone(), e.to_string())))
+        .flat_map(|n| {
+            CORE_ONLY
+                .iter()
+                .map(move |(e, _)| (n.clone(), e.to_string()))
+        })
         .collect();
     let failing = stdout
         .lines()
@@ -104,5 +114,9 @@ fn every_wgsl_entry_point_builds_on_dawn() {
         .skip(1)
         .count();
     assert_eq!(listed, expected, "{stdout}");
-    assert_eq!(failing, expected.len(), "an unlisted entry fails in compatibility mode:\n{stdout}");
+    assert_eq!(
+        failing,
+        expected.len(),
+        "an unlisted entry fails in compatibility mode:\n{stdout}"
+    );
 }

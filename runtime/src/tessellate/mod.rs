@@ -175,6 +175,62 @@ impl Output {
         Ok(written)
     }
 
+    /// Append every patch to a welded binary mesh ([`crate::export::MeshStream`]:
+    /// `.glb`, `.ply`), in the OBJ's patch order: each grid (base grids,
+    /// polygon sub-faces, adaptive grids at their own levels) with its local
+    /// triangles, each captured
+    /// patch with its own. Chunks of [`Session::run_chunked`] written one
+    /// after the other give the whole result's file, byte for byte.
+    pub fn write_mesh(&self, mesh: &mut crate::export::MeshStream) -> std::io::Result<()> {
+        let grid = |t: &Tessellation,
+                    g: usize,
+                    local: &[[u32; 3]],
+                    mesh: &mut crate::export::MeshStream| {
+            let r = g * t.grid_len()..(g + 1) * t.grid_len();
+            mesh.patch(&t.positions[r.clone()], &t.normals[r], local)
+        };
+        match self {
+            Output::Grid(t) => {
+                let local = t.local_triangles();
+                (0..t.faces).try_for_each(|g| grid(t, g, &local, mesh))
+            }
+            // Base face order, as the OBJ: sub-faces next to their quads.
+            Output::Polygons(p) => {
+                let (quad, sub) = (p.quads.local_triangles(), p.subfaces.local_triangles());
+                p.base_order()
+                    .into_iter()
+                    .try_for_each(|(_, _, is_sub, g)| {
+                        if is_sub {
+                            grid(&p.subfaces, g, &sub, mesh)
+                        } else {
+                            grid(&p.quads, g, &quad, mesh)
+                        }
+                    })
+            }
+            Output::Instanced(a) => {
+                let mut local: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
+                for g in 0..a.levels.len() {
+                    let l = a.levels[g];
+                    let tris = local.entry(l).or_insert_with(|| {
+                        if a.sides == 3 {
+                            crate::grid::tri_grid_triangles(l)
+                        } else {
+                            crate::grid::grid_triangles(l)
+                        }
+                    });
+                    let end = a.offsets.get(g + 1).copied().unwrap_or(a.positions.len());
+                    let r = a.offsets[g]..end;
+                    mesh.patch(&a.positions[r.clone()], &a.normals[r], tris)?;
+                }
+                Ok(())
+            }
+            Output::Captured(c) => c
+                .patches
+                .iter()
+                .try_for_each(|p| mesh.patch(&p.positions, &p.normals, &p.triangles)),
+        }
+    }
+
     /// The first sample with a NaN or infinite position or normal, as
     /// `(face, sample within the output)`: the face is the base face of a
     /// grid (its `face_ids`), the patch of an instanced or captured result.

@@ -701,6 +701,22 @@ impl PolygonGrids {
         crate::check::obj::obj_text(|stream| self.write_obj(stream))
     }
 
+    /// Every grid in base face order, `(face, corner, is a sub-face, grid)`:
+    /// base quads (corner 0) and sub-faces by base face, then corner — the
+    /// order of every writer, so chunks in base-block windows concatenate
+    /// to the whole.
+    pub(crate) fn base_order(&self) -> Vec<(u32, u32, bool, usize)> {
+        let mut order: Vec<(u32, u32, bool, usize)> = (0..self.quads.faces)
+            .map(|g| (self.quads.face_of(g) as u32, 0, false, g))
+            .chain(
+                (0..self.subfaces.faces)
+                    .map(|g| (self.subfaces.face_of(g) as u32, self.corners[g], true, g)),
+            )
+            .collect();
+        order.sort_unstable();
+        order
+    }
+
     /// [`PolygonGrids::to_obj`] appended to an OBJ stream (the header with
     /// the stream's first chunk, vertex indices continuing across chunks),
     /// so a streamed refined result is byte for byte the whole one.
@@ -714,14 +730,7 @@ impl PolygonGrids {
             self.quads.level.max(2 * self.subfaces.level),
             self.subfaces.level
         );
-        let mut order: Vec<(u32, u32, bool, usize)> = (0..self.quads.faces)
-            .map(|g| (self.quads.face_of(g) as u32, 0, false, g))
-            .chain(
-                (0..self.subfaces.faces)
-                    .map(|g| (self.subfaces.face_of(g) as u32, self.corners[g], true, g)),
-            )
-            .collect();
-        order.sort_unstable();
+        let order = self.base_order();
         let (quad_tris, sub_tris) = (
             self.quads.local_triangles(),
             self.subfaces.local_triangles(),
