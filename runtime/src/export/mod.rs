@@ -281,6 +281,14 @@ fn vertex_index(count: u64) -> std::io::Result<u32> {
         .ok_or_else(|| std::io::Error::other("more than 2^32 - 1 vertices in one mesh"))
 }
 
+/// What the headers need.
+pub(crate) struct Counts {
+    pub vertices: u64,
+    pub triangles: u64,
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -293,12 +301,4 @@ mod tests {
         assert_eq!(e.to_string(), "more than 2^32 - 1 vertices in one mesh");
         assert!(super::vertex_index(u64::MAX).is_err());
     }
-}
-
-/// What the headers need.
-pub(crate) struct Counts {
-    pub vertices: u64,
-    pub triangles: u64,
-    pub min: Vec3,
-    pub max: Vec3,
 }
