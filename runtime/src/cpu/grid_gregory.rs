@@ -108,66 +108,69 @@ fn gregory_strip<const L: usize, const V: bool>(
         let va = (3.0f32 * rv) * (lv * lv);
         let vb = (3.0f32 * (rv * rv)) * lv;
         let mut out = [[0.0f32; L]; 6];
-        for k in 0..L {
-            // (wp, wm, wp/N, wm/N, Bernstein weight) per corner.
-            let corner = [
-                (iu[k], ivf, ru[k], rv, ua[k] * va),
-                (ivf, niu[k], rv, lu[k], ub[k] * va),
-                (niu[k], nivf, lu[k], lv, ub[k] * vb),
-                (nivf, iu[k], lv, ru[k], ua[k] * vb),
-            ];
-            let mut x = [[0.0f32; 3]; 4];
-            let mut inv_s2 = [0.0f32; 4];
-            for (j, &(wp, wm, _, _, _)) in corner.iter().enumerate() {
+        // Stage 1, per corner and lane: the integer weights, the blend
+        // (a select at ws = 0), the Bernstein weight and the two scalar
+        // factors of the corner's derivative terms, as the generated code
+        // groups them: ((±w/N · inv_s2) · bw).
+        let mut a = [[0.0f32; L]; 4];
+        let mut b = [[0.0f32; L]; 4];
+        let mut su = [[0.0f32; L]; 4];
+        let mut sv = [[0.0f32; L]; 4];
+        for j in 0..4 {
+            for k in 0..L {
+                // (wp, wm, wp/N, wm/N, Bernstein weight) of corner j.
+                let (wp, wm, wpf, wmf, bw) = match j {
+                    0 => (iu[k], ivf, ru[k], rv, ua[k] * va),
+                    1 => (ivf, niu[k], rv, lu[k], ub[k] * va),
+                    2 => (niu[k], nivf, lu[k], lv, ub[k] * vb),
+                    _ => (nivf, iu[k], lv, ru[k], ua[k] * vb),
+                };
                 // The integers are exact in f32, so their f32 sum is the
                 // generated `(wp + wm) as f32`.
                 let ws = wp + wm;
                 let some = ws > 0.0f32;
-                let a = if some { wp / ws } else { 0.5f32 };
-                let b = if some { wm / ws } else { 0.5f32 };
+                a[j][k] = if some { wp / ws } else { 0.5f32 };
+                b[j][k] = if some { wm / ws } else { 0.5f32 };
                 let sf = ws / nf;
-                inv_s2[j] = if some { 1.0f32 / (sf * sf) } else { 0.0f32 };
-                for c in 0..3 {
-                    x[j][c] = (fp[j][c] * a) + (fm[j][c] * b);
-                }
+                let inv = if some { 1.0f32 / (sf * sf) } else { 0.0f32 };
+                (su[j][k], sv[j][k]) = match j {
+                    0 => ((wmf * inv) * bw, ((-wpf) * inv) * bw),
+                    1 => ((wpf * inv) * bw, (wmf * inv) * bw),
+                    2 => (((-wmf) * inv) * bw, (wpf * inv) * bw),
+                    _ => (((-wpf) * inv) * bw, ((-wmf) * inv) * bw),
+                };
             }
-            let (l, r) = (lu[k], ru[k]);
-            let mut du = [0.0f32; 3];
-            let mut dv = [0.0f32; 3];
-            // The blend terms' scalar factors, as the generated code
-            // groups them: ((±w·inv_s2)·bw).
-            let (wpf, wmf) = (
-                [corner[0].2, corner[1].2, corner[2].2, corner[3].2],
-                [corner[0].3, corner[1].3, corner[2].3, corner[3].3],
-            );
-            let bw = [corner[0].4, corner[1].4, corner[2].4, corner[3].4];
-            let su = [
-                (wmf[0] * inv_s2[0]) * bw[0],
-                (wpf[1] * inv_s2[1]) * bw[1],
-                ((-wmf[2]) * inv_s2[2]) * bw[2],
-                ((-wpf[3]) * inv_s2[3]) * bw[3],
-            ];
-            let sv = [
-                ((-wpf[0]) * inv_s2[0]) * bw[0],
-                (wmf[1] * inv_s2[1]) * bw[1],
-                (wpf[2] * inv_s2[2]) * bw[2],
-                ((-wmf[3]) * inv_s2[3]) * bw[3],
-            ];
-            for c in 0..3 {
-                // Inner rows: row 1 = cubic(cp2, x0, x1, cp6), row 2 =
-                // cubic(cp16, x3, x2, cp12).
-                let (p1, t1) = cubic(c2[c], x[0][c], x[1][c], c6[c], l, r);
-                let (p2, t2) = cubic(c16[c], x[3][c], x[2][c], c12[c], l, r);
+        }
+        // Stage 2, per component and lane: the interior points, the inner
+        // row curves (row 1 = cubic(cp2, x0, x1, cp6), row 2 = cubic(cp16,
+        // x3, x2, cp12)), the de Casteljau steps along v, du and dv.
+        let mut du = [[0.0f32; L]; 3];
+        let mut dv = [[0.0f32; L]; 3];
+        for c in 0..3 {
+            let d = dfm.map(|p| p.to_array()[c]);
+            let (f, g) = (fp.map(|p| p[c]), fm.map(|p| p[c]));
+            for k in 0..L {
+                let (l, r) = (lu[k], ru[k]);
+                let x = |j: usize| (f[j] * a[j][k]) + (g[j] * b[j][k]);
+                let (p1, t1) = cubic(c2[c], x(0), x(1), c6[c], l, r);
+                let (p2, t2) = cubic(c16[c], x(3), x(2), c12[c], l, r);
                 let (pv, tv) = cubic(p0[c][k], p1, p2, p3[c][k], lv, rv);
                 let (pu, _) = cubic(t0[c][k], t1, t2, t3[c][k], lv, rv);
-                let d = |j: usize| dfm[j].to_array()[c];
-                du[c] =
-                    pu + ((((d(0) * su[0]) + (d(1) * su[1])) + (d(2) * su[2])) + (d(3) * su[3]));
-                dv[c] =
-                    tv + ((((d(0) * sv[0]) + (d(1) * sv[1])) + (d(2) * sv[2])) + (d(3) * sv[3]));
+                du[c][k] = pu
+                    + ((((d[0] * su[0][k]) + (d[1] * su[1][k])) + (d[2] * su[2][k]))
+                        + (d[3] * su[3][k]));
+                dv[c][k] = tv
+                    + ((((d[0] * sv[0][k]) + (d[1] * sv[1][k])) + (d[2] * sv[2][k]))
+                        + (d[3] * sv[3][k]));
                 out[c][k] = pv;
             }
-            let (nn, parallel) = patch_normal(du, dv);
+        }
+        // Stage 3: the normal.
+        for k in 0..L {
+            let (nn, parallel) = patch_normal(
+                [du[0][k], du[1][k], du[2][k]],
+                [dv[0][k], dv[1][k], dv[2][k]],
+            );
             degenerate |= parallel;
             (out[3][k], out[4][k], out[5][k]) = (nn[0], nn[1], nn[2]);
         }
