@@ -6,7 +6,7 @@ use super::{load_mesh, Backend, BenchArgs, CmdResult, RenderArgs};
 use std::process::ExitCode;
 use tessgen_runtime::cpu;
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("--size {s:?}: expected WxH, e.g. 800x600"))?;
@@ -26,7 +26,7 @@ fn parse_size(s: &str) -> Result<(u32, u32), String> {
     Ok((w, h))
 }
 
-fn parse_camera(s: &str) -> Result<glam::Vec3, String> {
+pub(crate) fn parse_camera(s: &str) -> Result<glam::Vec3, String> {
     let (a, e) = s
         .split_once(',')
         .ok_or_else(|| format!("--camera {s:?}: expected AZ,EL in degrees"))?;

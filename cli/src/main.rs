@@ -71,6 +71,25 @@ struct CompareArgs {
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
+    /// Also write heat maps of each scheme's deviation from the limit (needs --reference): OUT.png coloured by distance (% of the local quad size) and OUT_normal.png by normal angle (degrees), one colour range for all schemes (0 to the 99th percentile of their samples; above it saturates); with several schemes OUT_<scheme>.png and OUT_<scheme>_normal.png.
+    #[arg(long, value_name = "OUT.png", requires = "reference")]
+    heatmap: Option<PathBuf>,
+    /// Heat map view direction: azimuth and elevation in degrees.
+    #[arg(
+        long,
+        value_name = "AZ,EL",
+        default_value = "35,25",
+        requires = "heatmap"
+    )]
+    camera: String,
+    /// Heat map size in pixels.
+    #[arg(
+        long,
+        value_name = "WxH",
+        default_value = "480x360",
+        requires = "heatmap"
+    )]
+    size: String,
 }
 
 /// Render a mesh's smooth surface offscreen to a PNG with the generated WGSL (ordinary patches orange, extraordinary blue).
@@ -856,6 +875,9 @@ fn compare(args: &CompareArgs) -> CmdResult {
     };
     let mut rows = Vec::new();
     let mut failed = false;
+    if let (Some(out), Some(lim)) = (&args.heatmap, limit.as_ref()) {
+        failed |= heatmaps(args, &mesh, lim, out)?;
+    }
     for scheme in &args.schemes {
         let request = Request::uniform(scheme, args.level)
             .crease_refinement(args.crease_refinement)
@@ -885,6 +907,77 @@ fn compare(args: &CompareArgs) -> CmdResult {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// `compare --heatmap`: every scheme's deviation, one colour range per
+/// measure for all of them, two PNGs per scheme. Whether a scheme failed
+/// (its error printed; the others still drawn).
+fn heatmaps(
+    args: &CompareArgs,
+    mesh: &Mesh,
+    lim: &tessgen_runtime::accuracy::LimitSamples,
+    out: &std::path::Path,
+) -> Result<bool, String> {
+    use tessgen_runtime::heatmap::{self, HeatOptions, Unit};
+    let view = gpu_cmds::parse_camera(&args.camera)?;
+    let (width, height) = gpu_cmds::parse_size(&args.size)?;
+    let mut failed = false;
+    let mut devs = Vec::new();
+    for scheme in &args.schemes {
+        let request = Request::uniform(scheme, args.level)
+            .crease_refinement(args.crease_refinement)
+            .isolate(args.isolate);
+        match tessgen_runtime::accuracy::deviation(mesh, &request, lim) {
+            Ok(d) => devs.push((scheme, d)),
+            Err(e) => {
+                eprintln!("tessgen: error: {scheme}: {e}");
+                failed = true;
+            }
+        }
+    }
+    // One colour range per measure for every scheme: the 99th percentile
+    // of all their samples (the few above it saturate).
+    let dmax = heatmap::quantile(devs.iter().map(|(_, d)| &d.distance_pct[..]), 0.99);
+    let nmax = heatmap::quantile(devs.iter().map(|(_, d)| &d.normal_deg[..]), 0.99);
+    let stem = out.with_extension("");
+    let name = |scheme: &str, what: &str| {
+        let mut s = stem.as_os_str().to_owned();
+        if args.schemes.len() > 1 {
+            s.push(format!("_{scheme}"));
+        }
+        s.push(what);
+        s.push(".png");
+        PathBuf::from(s)
+    };
+    for (scheme, d) in &devs {
+        for (values, max, unit, what) in [
+            (&d.distance_pct, dmax, Unit::Percent, ""),
+            (&d.normal_deg, nmax, Unit::Degrees, "_normal"),
+        ] {
+            let opts = HeatOptions {
+                width,
+                height,
+                max,
+                unit,
+                view,
+            };
+            let img = heatmap::render(&d.grid, values, &opts);
+            let path = name(scheme, what);
+            image::save_buffer(
+                &path,
+                &img.rgb,
+                img.width,
+                img.height,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!(
+                "tessgen: {scheme}: heat map (0 .. {max:.3}) → {}",
+                path.display()
+            );
+        }
+    }
+    Ok(failed)
 }
 
 #[cfg(test)]

@@ -1044,3 +1044,61 @@ fn tessellate_writes_glb_and_ply_by_extension() {
         }
     }
 }
+
+/// `compare --heatmap`: two PNGs per scheme (distance, normal) of the asked
+/// size, the surface drawn (pixels neither background white nor the bar's
+/// column), one colour range for all schemes; the Markdown table still
+/// prints.
+#[test]
+fn compare_writes_heat_maps() {
+    let tmp = TempDir::new("heatmap");
+    let cube = mesh("catmark_cube.obj");
+    let reference = common::data("cc_limit");
+    let out = tmp.path().join("cube.png");
+    let o = tessgen([
+        "compare".as_ref(),
+        cube.as_os_str(),
+        "--schemes".as_ref(),
+        "pccm,acc".as_ref(),
+        "--reference".as_ref(),
+        reference.as_os_str(),
+        "--heatmap".as_ref(),
+        out.as_os_str(),
+        "--size".as_ref(),
+        "200x150".as_ref(),
+    ]);
+    assert_ok(&o);
+    assert!(stdout(&o).contains("| catmark_cube | acc |"), "{}", all(&o));
+    let mut ranges = Vec::new();
+    for name in [
+        "cube_pccm.png",
+        "cube_pccm_normal.png",
+        "cube_acc.png",
+        "cube_acc_normal.png",
+    ] {
+        let img = image::open(tmp.path().join(name)).unwrap().to_rgb8();
+        assert_eq!(img.dimensions(), (200, 150), "{name}");
+        let drawn = img
+            .enumerate_pixels()
+            .filter(|(x, _, p)| *x < 200 - 96 && p.0 != [255, 255, 255])
+            .count();
+        assert!(drawn > 2000, "{name}: {drawn} surface pixels");
+        ranges.push(name);
+    }
+    // One range per measure: both schemes' distance maps name the same max.
+    let e = stderr(&o);
+    let maxes: Vec<&str> = e
+        .lines()
+        .filter(|l| l.contains("heat map") && !l.contains("_normal"))
+        .map(|l| {
+            l.split("(0 .. ")
+                .nth(1)
+                .unwrap_or("")
+                .split(')')
+                .next()
+                .unwrap_or("")
+        })
+        .collect();
+    assert_eq!(maxes.len(), 2, "{e}");
+    assert_eq!(maxes[0], maxes[1], "{e}");
+}

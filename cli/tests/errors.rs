@@ -431,6 +431,9 @@ fn cases() -> Vec<Case> {
         case("glb_empty_check", &tess("m.obj", "--scheme pccm --level 2 --check-watertight").replace("o.obj", "o.glb"),
             "tessgen: error: o.glb: the result has no triangles (every face a hole?): a .glb cannot hold an empty mesh")
             .file("m.obj", quad_with("t hole 1/0/0 0")),
+        case("usage_heatmap_reference", "compare catmark_cube.obj --heatmap h.png",
+            "error: the following required arguments were not provided:")
+            .data(CUBE).code(2),
         case("refine_out_unwritable", "refine catmark_cube.obj --out f/x",
             "tessgen: error: f/x: Not a directory (os error 20)")
             .data(CUBE).file("f", "a file\n"),

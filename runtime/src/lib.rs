@@ -49,7 +49,7 @@ pub mod tessellate;
 /// paths (`tessgen_runtime::topology`, `::weld`, `::adaptive`, `::upload`,
 /// `::render`, `::vulkan`, …); the wgpu types stay at `gpu::{Gpu, GpuMesh,
 /// …}` (re-exported by `gpu/mod.rs`).
-pub use check::{accuracy, obj, stats, weld};
+pub use check::{accuracy, heatmap, obj, stats, weld};
 pub use cpu::{adaptive, displace};
 #[cfg(feature = "gpu")]
 pub use gpu::render;

@@ -29,6 +29,14 @@ impl Drop for TempDir {
     }
 }
 
+/// A path under `tests/data`.
+#[allow(dead_code)]
+pub fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/data")
+        .join(name)
+}
+
 pub fn mesh(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../tests/data/meshes")

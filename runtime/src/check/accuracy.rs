@@ -456,49 +456,23 @@ pub fn compare_with(
         }
     }
     if let Some(lim) = limit {
-        let sampled = Request {
-            sampling: Sampling::Uniform((lim.n - 1) as u32),
-            ..request.clone()
-        };
-        let vs = sampled.validate(mesh)?;
-        let g = match session.run(&vs)? {
-            Output::Grid(g) => g,
-            Output::Polygons(p) => p.quads,
-            _ => return Err(cpu::facet_error(kernels).into()),
-        };
+        let dev = deviation_with(&mut session, mesh, request, lim)?;
         let per = lim.n * lim.n;
         let (mut dmax, mut dsum, mut amax, mut asum, mut count) =
             (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0usize);
         let mut rmax: Option<f64> = None;
-        for k in 0..g.faces {
-            let f = g.face_of(k);
-            if f >= lim.faces {
+        for (s, (&d, &a)) in dev.distance_pct.iter().zip(&dev.normal_deg).enumerate() {
+            if d.is_nan() {
                 continue;
             }
-            let face = mesh.face(f);
-            let mut size = 0.0f64;
-            for i in 0..face.len() {
-                let a = Vec3::from_array(mesh.positions[face[i] as usize]);
-                let b = Vec3::from_array(mesh.positions[face[(i + 1) % face.len()] as usize]);
-                size += (b - a).length() as f64;
+            if regular[dev.grid.face_of(s / per)] {
+                rmax = Some(rmax.unwrap_or(0.0).max(d));
             }
-            let size = (size / face.len() as f64).max(f64::MIN_POSITIVE);
-            for s in 0..per {
-                let [p, n] = lim.samples[f * per + s];
-                if !p.is_finite() {
-                    continue;
-                }
-                let d = (g.positions[k * per + s] - p).as_dvec3().length() / size * 100.0;
-                let a = angle(g.normals[k * per + s], n);
-                if regular[f] {
-                    rmax = Some(rmax.unwrap_or(0.0).max(d));
-                }
-                dmax = dmax.max(d);
-                amax = amax.max(a);
-                dsum += d * d;
-                asum += a * a;
-                count += 1;
-            }
+            dmax = dmax.max(d);
+            amax = amax.max(a);
+            dsum += d * d;
+            asum += a * a;
+            count += 1;
         }
         let c = count.max(1) as f64;
         acc.max_distance_pct = Some(dmax);
@@ -508,6 +482,90 @@ pub fn compare_with(
         acc.max_regular_distance_pct = rmax;
     }
     Ok(acc)
+}
+
+/// A scheme's deviation from the Catmull-Clark limit at every limit sample:
+/// its grid at the limit samples' `(u, v)` (level `n − 1`, one grid per
+/// base quad; a refined mesh's n-gon sub-faces have no limit samples) and,
+/// per grid sample, the distance in % of the base face's size and the
+/// normal's angle in degrees (NaN where the limit file has no sample).
+#[derive(Clone, Debug)]
+pub struct Deviation {
+    pub grid: Tessellation,
+    pub distance_pct: Vec<f64>,
+    pub normal_deg: Vec<f64>,
+}
+
+impl Deviation {
+    /// The largest finite distance and normal angle.
+    pub fn max(&self) -> (f64, f64) {
+        let m = |v: &[f64]| {
+            v.iter()
+                .copied()
+                .filter(|x| !x.is_nan())
+                .fold(0.0, f64::max)
+        };
+        (m(&self.distance_pct), m(&self.normal_deg))
+    }
+}
+
+/// [`Deviation`] of `request`'s scheme on `mesh` (its level is replaced
+/// by the limit samples' grid).
+pub fn deviation(
+    mesh: &Mesh,
+    request: &Request<'_>,
+    limit: &LimitSamples,
+) -> Result<Deviation, crate::tessellate::Error> {
+    deviation_with(&mut Session::new(), mesh, request, limit)
+}
+
+fn deviation_with(
+    session: &mut Session,
+    mesh: &Mesh,
+    request: &Request<'_>,
+    lim: &LimitSamples,
+) -> Result<Deviation, crate::tessellate::Error> {
+    let sampled = Request {
+        sampling: Sampling::Uniform((lim.n - 1) as u32),
+        ..request.clone()
+    };
+    let vs = sampled.validate(mesh)?;
+    let g = match session.run(&vs)? {
+        Output::Grid(g) => g,
+        Output::Polygons(p) => p.quads,
+        _ => return Err(cpu::facet_error(vs.kernels()).into()),
+    };
+    let per = lim.n * lim.n;
+    let mut distance_pct = vec![f64::NAN; g.positions.len()];
+    let mut normal_deg = vec![f64::NAN; g.positions.len()];
+    for k in 0..g.faces {
+        let f = g.face_of(k);
+        if f >= lim.faces || g.grid_len() != per {
+            continue;
+        }
+        let face = mesh.face(f);
+        let mut size = 0.0f64;
+        for i in 0..face.len() {
+            let a = Vec3::from_array(mesh.positions[face[i] as usize]);
+            let b = Vec3::from_array(mesh.positions[face[(i + 1) % face.len()] as usize]);
+            size += (b - a).length() as f64;
+        }
+        let size = (size / face.len() as f64).max(f64::MIN_POSITIVE);
+        for s in 0..per {
+            let [p, n] = lim.samples[f * per + s];
+            if !p.is_finite() {
+                continue;
+            }
+            distance_pct[k * per + s] =
+                (g.positions[k * per + s] - p).as_dvec3().length() / size * 100.0;
+            normal_deg[k * per + s] = angle(g.normals[k * per + s], n);
+        }
+    }
+    Ok(Deviation {
+        grid: g,
+        distance_pct,
+        normal_deg,
+    })
 }
 
 /// Markdown table of results. "max geometric normal jump °" is the

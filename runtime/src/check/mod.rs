@@ -4,6 +4,7 @@
 //! tessellates; everything reads a [`crate::Tessellation`] or its samples.
 
 pub mod accuracy;
+pub mod heatmap;
 pub mod obj;
 pub mod stats;
 pub mod weld;
