@@ -8,8 +8,9 @@
 //! * [`capture`]: a hardware tessellator's output as triangles (always
 //!   built: the front door's `Output::Captured` holds one).
 //! * [`wgpu`] (feature `gpu`): the generated WGSL in compute
-//!   passes and instanced draws; [`render`] and its instanced [`pattern`]
-//!   draw with it.
+//!   passes and instanced draws; [`renderer`] (a surface drawn every frame
+//!   into an engine's render pass), [`render`] (offscreen images through
+//!   it) and the instanced [`pattern`] draw with it.
 //! * `vulkan` (feature `vulkan`): the emitted GLSL/HLSL tessellation shaders
 //!   in a real Vulkan tessellation pipeline.
 //!
@@ -26,6 +27,8 @@ pub mod pattern;
 pub(crate) mod readback;
 #[cfg(feature = "gpu")]
 pub mod render;
+#[cfg(feature = "gpu")]
+pub mod renderer;
 pub mod upload;
 #[cfg(feature = "vulkan")]
 pub mod vulkan;

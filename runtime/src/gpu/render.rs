@@ -6,6 +6,7 @@
 
 use crate::abi;
 use crate::gpu::pattern;
+use crate::gpu::renderer::{SurfaceOptions, SurfaceRenderer};
 use crate::gpu::wgpu::{GpuError, GpuMesh};
 use glam::{Mat4, Vec3};
 
@@ -120,65 +121,24 @@ impl Image {
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// One draw of [`GpuMesh::render_with`]: a bind group, which index buffer,
-/// and the counts (direct) or the indirect arguments.
-enum Draw<'a> {
-    Direct {
-        group: wgpu::BindGroup,
-        pattern: usize,
-        instances: u32,
-    },
-    Indirect {
-        group: wgpu::BindGroup,
-        pattern: usize,
-        args: &'a wgpu::Buffer,
-        offset: u64,
-    },
-}
-
 impl GpuMesh<'_> {
     /// Render the surface offscreen: one instanced draw of `eval_vs` per
     /// facet class at the uniform `opts.level`, of the class's emitting
     /// patches (holes are left out).
     pub fn render(&self, opts: &RenderOptions) -> Result<Image, GpuError> {
-        let level = opts.level.clamp(1, crate::cpu::MAX_LEVEL);
-        let indices = if self.scheme.sides == 3 {
-            crate::grid::tri_grid_triangles(level).concat()
-        } else {
-            pattern::cache_friendly_indices(level, 20)
-        };
-        let count = indices.len() as u32;
-        self.render_with(
-            opts,
-            "eval_vs",
-            vec![indices],
-            |_| Ok(()),
-            |layout, view_proj| {
-                // One instanced draw per facet class (patches are sorted by class).
-                let mut draws = Vec::new();
-                for c in &self.classes {
-                    if c.emitting == 0 {
-                        continue;
-                    }
-                    let p = self.params(
-                        view_proj,
-                        c.first,
-                        c.emitting,
-                        c.class,
-                        c.cp_base,
-                        level,
-                        0,
-                        u32::from(opts.wireframe),
-                    );
-                    draws.push(Draw::Direct {
-                        group: self.bind_group("eval_vs", layout, &p, None),
-                        pattern: 0,
-                        instances: c.emitting,
-                    });
-                }
-                (draws, count)
+        let surface = SurfaceRenderer::new(
+            self,
+            &SurfaceOptions {
+                color: COLOR,
+                depth: Some(DEPTH),
+                samples: 1,
+                level: opts.level,
+                wireframe: opts.wireframe,
             },
-        )
+        )?;
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        surface.prepare(self, opts.camera.view_proj(w as f32 / h as f32));
+        self.render_with(opts, |_| Ok(()), |pass| surface.draw(pass))
     }
 
     /// Render adaptive tessellation with GPU-driven buckets: the classify,
@@ -219,63 +179,75 @@ impl GpuMesh<'_> {
                 }
             })
             .collect();
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        let view_proj = opts.camera.view_proj(w as f32 / h as f32);
+        let (pipeline, index_buffers, draws) = self.gpu().scoped(|| {
+            let pipeline = self.surface_pipeline(
+                "eval_adaptive_indirect_vs",
+                &SurfaceOptions {
+                    color: COLOR,
+                    depth: Some(DEPTH),
+                    samples: 1,
+                    level: 1,
+                    wireframe: opts.wireframe,
+                },
+            );
+            let index_buffers: Vec<wgpu::Buffer> =
+                patterns.iter().map(|p| self.index_buffer(p)).collect();
+            let layout = pipeline.get_bind_group_layout(0);
+            let extra = b.bindings();
+            let draws: Vec<(wgpu::BindGroup, usize, u64)> = slots
+                .iter()
+                .map(|&(slot, class, level)| {
+                    let p = self.slot_params(
+                        view_proj,
+                        b.slots,
+                        class,
+                        level,
+                        slot,
+                        u32::from(opts.wireframe),
+                    );
+                    (
+                        self.bind_group_with(
+                            "eval_adaptive_indirect_vs",
+                            &layout,
+                            &p,
+                            None,
+                            &extra,
+                        ),
+                        level.trailing_zeros() as usize,
+                        (abi::BUCKET_DRAW_WORDS * abi::ELEMENT_BYTES) as u64 * slot as u64,
+                    )
+                })
+                .collect();
+            (pipeline, index_buffers, draws)
+        })?;
         self.render_with(
             opts,
-            "eval_adaptive_indirect_vs",
-            patterns,
             |enc| self.encode_phases(enc, &phases, &b, None),
-            |layout, view_proj| {
-                let extra = b.bindings();
-                let draws = slots
-                    .iter()
-                    .map(|&(slot, class, level)| {
-                        let p = self.slot_params(
-                            view_proj,
-                            b.slots,
-                            class,
-                            level,
-                            slot,
-                            u32::from(opts.wireframe),
-                        );
-                        Draw::Indirect {
-                            group: self.bind_group_with(
-                                "eval_adaptive_indirect_vs",
-                                layout,
-                                &p,
-                                None,
-                                &extra,
-                            ),
-                            pattern: level.trailing_zeros() as usize,
-                            args: &b.draw,
-                            offset: (abi::BUCKET_DRAW_WORDS * abi::ELEMENT_BYTES) as u64
-                                * slot as u64,
-                        }
-                    })
-                    .collect();
-                (draws, 0)
+            |pass| {
+                pass.set_pipeline(&pipeline);
+                for (group, pattern, offset) in &draws {
+                    pass.set_index_buffer(
+                        index_buffers[*pattern].slice(..),
+                        wgpu::IndexFormat::Uint32,
+                    );
+                    pass.set_bind_group(0, group, &[]);
+                    pass.draw_indexed_indirect(&b.draw, *offset);
+                }
             },
         )
     }
 
-    /// The render pipeline of vertex entry `vs` with `shade_fs`, `pre`
-    /// recorded before the render pass (compute passes), then the draws
-    /// `make(layout, view_proj)` returns (with the index count of direct
-    /// draws) over the index buffers `patterns`; the image read back.
-    fn render_with<'a>(
-        &self,
-        opts: &RenderOptions,
-        vs: &str,
-        patterns: Vec<Vec<u32>>,
-        pre: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
-        make: impl FnOnce(&wgpu::BindGroupLayout, Mat4) -> (Vec<Draw<'a>>, u32),
-    ) -> Result<Image, GpuError> {
-        let gpu = self.gpu();
-        let dev = &gpu.device;
-        let (w, h) = (opts.width.max(1), opts.height.max(1));
-        let view_proj = opts.camera.view_proj(w as f32 / h as f32);
-        gpu.scoped(|| -> Result<(wgpu::Buffer, u32), GpuError> {
-            let pipeline = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("tessgen render"),
+    /// The render pipeline of vertex entry `vs` (`eval_vs`,
+    /// `eval_adaptive_indirect_vs`) with `shade_fs`, for attachments of
+    /// `opts`' formats: triangle lists, no culling (the surface is seen from
+    /// both sides), depth test `Less` with depth writes.
+    pub(crate) fn surface_pipeline(&self, vs: &str, opts: &SurfaceOptions) -> wgpu::RenderPipeline {
+        self.gpu()
+            .device
+            .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("tessgen surface"),
                 layout: None,
                 vertex: wgpu::VertexState {
                     module: self.module(),
@@ -289,41 +261,58 @@ impl GpuMesh<'_> {
                     cull_mode: None,
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH,
+                depth_stencil: opts.depth.map(|format| wgpu::DepthStencilState {
+                    format,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Less),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: wgpu::MultisampleState {
+                    count: opts.samples,
+                    ..Default::default()
+                },
                 fragment: Some(wgpu::FragmentState {
                     module: self.module(),
                     entry_point: Some("shade_fs"),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
-                        format: COLOR,
+                        format: opts.color,
                         blend: None,
                         write_mask: wgpu::ColorWrites::ALL,
                     })],
                 }),
                 multiview_mask: None,
                 cache: None,
-            });
-            let index_buffers: Vec<wgpu::Buffer> = patterns
-                .iter()
-                .map(|indices| {
-                    let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-                    let buf = dev.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("refinement pattern"),
-                        size: (bytes.len() as u64).max(4),
-                        usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    });
-                    gpu.queue.write_buffer(&buf, 0, &bytes);
-                    buf
-                })
-                .collect();
+            })
+    }
+
+    /// An index buffer holding `indices`.
+    pub(crate) fn index_buffer(&self, indices: &[u32]) -> wgpu::Buffer {
+        let bytes: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let buf = self.gpu().device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("refinement pattern"),
+            size: (bytes.len() as u64).max(4),
+            usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        self.gpu().queue.write_buffer(&buf, 0, &bytes);
+        buf
+    }
+
+    /// Draw offscreen: `pre` recorded before the render pass (compute
+    /// passes), then `record` into a pass over a cleared colour and depth
+    /// target of `opts`' size; the image read back.
+    fn render_with(
+        &self,
+        opts: &RenderOptions,
+        pre: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
+        record: impl FnOnce(&mut wgpu::RenderPass<'_>),
+    ) -> Result<Image, GpuError> {
+        let gpu = self.gpu();
+        let dev = &gpu.device;
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        gpu.scoped(|| -> Result<(wgpu::Buffer, u32), GpuError> {
             let extent = wgpu::Extent3d {
                 width: w,
                 height: h,
@@ -348,7 +337,6 @@ impl GpuMesh<'_> {
             let depth = target(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
             let color_view = color.create_view(&Default::default());
             let depth_view = depth.create_view(&Default::default());
-            let (draws, index_count) = make(&pipeline.get_bind_group_layout(0), view_proj);
             let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("render"),
             });
@@ -378,36 +366,7 @@ impl GpuMesh<'_> {
                     occlusion_query_set: None,
                     multiview_mask: None,
                 });
-                pass.set_pipeline(&pipeline);
-                for d in &draws {
-                    match d {
-                        Draw::Direct {
-                            group,
-                            pattern,
-                            instances,
-                        } => {
-                            pass.set_index_buffer(
-                                index_buffers[*pattern].slice(..),
-                                wgpu::IndexFormat::Uint32,
-                            );
-                            pass.set_bind_group(0, group, &[]);
-                            pass.draw_indexed(0..index_count, 0, 0..*instances);
-                        }
-                        Draw::Indirect {
-                            group,
-                            pattern,
-                            args,
-                            offset,
-                        } => {
-                            pass.set_index_buffer(
-                                index_buffers[*pattern].slice(..),
-                                wgpu::IndexFormat::Uint32,
-                            );
-                            pass.set_bind_group(0, group, &[]);
-                            pass.draw_indexed_indirect(args, *offset);
-                        }
-                    }
-                }
+                record(&mut pass);
             }
             let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
             let row = (4 * w).div_ceil(align) * align;
