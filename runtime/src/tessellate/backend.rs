@@ -194,6 +194,32 @@ pub(crate) fn vk_mesh<'v>(
     Ok(m)
 }
 
+/// The session's device for a backend, opened (on first use): what the
+/// grid sources of one request's depths share.
+#[derive(Clone, Copy)]
+pub(crate) enum Device<'s> {
+    /// The CPU holds nothing of the session (this keeps `'s` used without
+    /// GPU features).
+    Cpu(std::marker::PhantomData<&'s ()>),
+    #[cfg(feature = "gpu")]
+    Wgpu(&'s crate::gpu::wgpu::Gpu),
+    #[cfg(feature = "vulkan")]
+    Vulkan(&'s crate::gpu::vulkan::Vulkan),
+}
+
+/// Opens `backend`'s device in `session` (reused if open).
+pub(crate) fn device(session: &mut Session, backend: super::Backend) -> Result<Device<'_>, Error> {
+    use super::Backend;
+    let _ = &session;
+    Ok(match backend {
+        Backend::Cpu => Device::Cpu(std::marker::PhantomData),
+        #[cfg(feature = "gpu")]
+        Backend::Wgpu => Device::Wgpu(session.gpu()?),
+        #[cfg(feature = "vulkan")]
+        Backend::VulkanGlsl | Backend::VulkanHlsl => Device::Vulkan(session.vulkan()?),
+    })
+}
+
 /// A uniform grid request, constructed (uploaded) once and then evaluated
 /// window by window of faces: the streamed form of [`run`]
 /// (`Session::run_chunked`). Each window's samples are [`run`]'s.
@@ -234,24 +260,26 @@ impl GridSource<'_> {
         v: &Validated<'_>,
         session: &'s mut Session,
     ) -> Result<GridSource<'s>, Error> {
-        use super::Backend;
-        let _ = &session;
-        Ok(match v.request.backend {
-            Backend::Cpu => {
+        GridSource::on(v, device(session, v.request.backend)?)
+    }
+
+    /// [`Self::new`] on a device already opened: the depths of a
+    /// feature-adaptive refinement share one, as [`run`] runs them.
+    pub(crate) fn on<'s>(v: &Validated<'_>, device: Device<'s>) -> Result<GridSource<'s>, Error> {
+        Ok(match device {
+            Device::Cpu(device) => {
                 let patches = cpu_patches(v)?;
                 let displace = cpu_displacement(v, &patches)?;
                 GridSource::Cpu {
                     patches,
                     displace,
-                    device: std::marker::PhantomData,
+                    device,
                 }
             }
             #[cfg(feature = "gpu")]
-            Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
+            Device::Wgpu(gpu) => GridSource::Wgpu(wgpu_mesh(v, gpu)?),
             #[cfg(feature = "vulkan")]
-            Backend::VulkanGlsl | Backend::VulkanHlsl => {
-                GridSource::Vulkan(vk_mesh(v, session.vulkan()?)?)
-            }
+            Device::Vulkan(vk) => GridSource::Vulkan(vk_mesh(v, vk)?),
         })
     }
 

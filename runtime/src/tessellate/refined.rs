@@ -380,19 +380,24 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, super::Error> {
     assemble_window(parts, None)
 }
 
-/// [`assemble`] of the blocks `blocks` only, for a one-depth refinement
-/// streamed block window by block window (`Session::run_chunked`): each
-/// part's `t` need hold only the grids of those blocks' leaves (through
-/// its `face_ids`). With no transitions between depths, each block's
-/// samples are [`assemble`]'s bit for bit; the result is
+/// [`assemble`] of the blocks `blocks` only, for a refinement streamed
+/// block window by block window (`Session::run_chunked`): each part's `t`
+/// need hold only the grids of the leaves of those blocks and of `halo`
+/// (through its `face_ids`). `halo` (sorted, outside the window: see
+/// [`Neighbours::halo`]; empty for one depth) are the blocks that share a
+/// border sample with the window: their samples there take part in the
+/// transitions between depths as in the whole (the deepest side's sample,
+/// the first block's in block order), but they are not emitted. Each
+/// block's samples are then [`assemble`]'s bit for bit; the result is
 /// [`super::Output::Polygons`] whenever the whole would be (the mesh has a
 /// non-quad block), its levels those of the whole (`N`, `N/2`), so the
 /// chunks' OBJ written one after the other is the whole's.
 pub fn assemble_blocks(
     parts: &[Part<'_>],
     blocks: std::ops::Range<usize>,
+    halo: &[usize],
 ) -> Result<super::Output, super::Error> {
-    assemble_window(parts, Some(blocks))
+    assemble_window(parts, Some((blocks, halo)))
 }
 
 /// The refined face range of every block (`None` unless each block's
@@ -430,16 +435,111 @@ pub fn block_faces(domain: &RefinedDomain) -> Option<Vec<std::ops::Range<usize>>
     Some(ranges)
 }
 
+/// The blocks around each base vertex: which blocks a window's border
+/// samples can be shared with (every [`Border`] key of a block lies on its
+/// base face — a vertex, an edge, the face's inner lines — so the blocks
+/// that have it are those of the base faces sharing a vertex with it).
+pub struct Neighbours<'a> {
+    domain: &'a RefinedDomain,
+    /// The blocks of base vertex `v`: `blocks[offsets[v]..offsets[v + 1]]`,
+    /// ascending.
+    offsets: Vec<usize>,
+    blocks: Vec<u32>,
+}
+
+impl<'a> Neighbours<'a> {
+    /// The blocks of `domain`'s base mesh by base vertex (a few words per
+    /// block corner).
+    pub fn new(domain: &'a RefinedDomain) -> Self {
+        let vertices = domain
+            .base_face_vertices
+            .iter()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut offsets = vec![0usize; vertices + 1];
+        let faces = |b: &refine::Block| domain.base_vertices(b.face);
+        for b in &domain.refinement.blocks {
+            for &v in faces(b) {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for k in 1..offsets.len() {
+            offsets[k] += offsets[k - 1];
+        }
+        let mut fill = offsets.clone();
+        let mut blocks = vec![0u32; offsets[vertices]];
+        for (k, b) in domain.refinement.blocks.iter().enumerate() {
+            for &v in faces(b) {
+                blocks[fill[v as usize]] = k as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Neighbours {
+            domain,
+            offsets,
+            blocks,
+        }
+    }
+
+    /// The blocks outside `window` that share a base vertex with a block
+    /// in it, ascending: the halo [`assemble_blocks`] takes.
+    pub fn halo(&self, window: std::ops::Range<usize>) -> Vec<usize> {
+        let all = &self.domain.refinement.blocks;
+        let mut halo: Vec<usize> = Vec::new();
+        for b in window.clone() {
+            for &v in self.domain.base_vertices(all[b].face) {
+                let around = &self.blocks[self.offsets[v as usize]..self.offsets[v as usize + 1]];
+                halo.extend(
+                    around
+                        .iter()
+                        .map(|&k| k as usize)
+                        .filter(|k| !window.contains(k)),
+                );
+            }
+        }
+        halo.sort_unstable();
+        halo.dedup();
+        halo
+    }
+}
+
+impl RefinedDomain {
+    /// The vertices of base face `f`.
+    fn base_vertices(&self, f: u32) -> &[u32] {
+        let (a, b) = (
+            self.base_face_offsets[f as usize] as usize,
+            self.base_face_offsets[f as usize + 1] as usize,
+        );
+        &self.base_face_vertices[a..b]
+    }
+}
+
+/// Where an assembled sample is kept: the output's quad or sub-face grids,
+/// or (a halo block's border sample) only for the transitions.
+#[derive(Debug, Clone, Copy)]
+enum Dst {
+    Quads,
+    Subfaces,
+    Halo,
+}
+
 fn assemble_window(
     parts: &[Part<'_>],
-    window: Option<std::ops::Range<usize>>,
+    window: Option<(std::ops::Range<usize>, &[usize])>,
 ) -> Result<super::Output, super::Error> {
     let Some(first) = parts.first() else {
         return Ok(super::Output::Grid(Tessellation::default()));
     };
     let blocks = &first.domain.refinement.blocks;
     let n = first.domain.level as usize;
-    let in_window = |b: usize| window.as_ref().is_none_or(|w| w.contains(&b));
+    // Emitted: the window's blocks; assembled: those and the halo's.
+    let emitted = |b: usize| window.as_ref().is_none_or(|(w, _)| w.contains(&b));
+    let in_window = |b: usize| {
+        window
+            .as_ref()
+            .is_none_or(|(w, halo)| w.contains(&b) || halo.binary_search(&b).is_ok())
+    };
     // Per part and block: the emitting leaf face of every cell, row-major.
     let cells: Vec<Vec<Option<Vec<u32>>>> = parts
         .iter()
@@ -479,30 +579,29 @@ fn assemble_window(
         .collect();
     let mut quads = GridBuilder::default();
     let mut subfaces = GridBuilder::default();
+    let mut halo: Vec<(Vec3, Vec3)> = Vec::new();
     let mut corners = Vec::new();
-    // Border samples: where in the output, and the depth that gave them.
-    let mut borders: std::collections::HashMap<Border, Vec<(bool, usize, u32)>> =
+    // Border samples: where they are kept, and the depth that gave them,
+    // in block order (the whole's order, halo blocks in their place).
+    let mut borders: std::collections::HashMap<Border, Vec<(Dst, usize, u32)>> =
         std::collections::HashMap::new();
-    let base = |f: u32| {
-        let d = first.domain;
-        &d.base_face_vertices
-            [d.base_face_offsets[f as usize] as usize..d.base_face_offsets[f as usize + 1] as usize]
-    };
+    let base = |f: u32| first.domain.base_vertices(f);
     // The grids' levels and the output's kind are the mesh's, whatever a
     // window (or the set of faces that emit) holds: a streamed result
     // writes the whole one's header, and a mesh whose n-gons are all holes
     // is still polygon grids.
     (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
-    // The blocks that emit (in the window), then room for their grids, or
-    // TessError::OutOfMemory (never an allocation that aborts).
-    let emitting: Vec<usize> = (0..blocks.len())
+    // The blocks that emit (in the window or its halo), then room for the
+    // window's grids, or TessError::OutOfMemory (never an allocation that
+    // aborts).
+    let assembled: Vec<usize> = (0..blocks.len())
         .filter(|&b| in_window(b) && cells.iter().any(|c| c[b].is_some()))
         .collect();
-    let sub_blocks = emitting
+    let sub_blocks = assembled
         .iter()
-        .filter(|&&b| blocks[b].corner.is_some())
+        .filter(|&&b| emitted(b) && blocks[b].corner.is_some())
         .count();
-    let quad_blocks = emitting.len() - sub_blocks;
+    let quad_blocks = assembled.iter().filter(|&&b| emitted(b)).count() - sub_blocks;
     let samples = |l: usize, count: usize| count.saturating_mul((l + 1) * (l + 1));
     crate::cpu::reserve_samples(
         &mut quads.positions,
@@ -514,20 +613,34 @@ fn assemble_window(
         &mut subfaces.normals,
         samples(n / 2, sub_blocks),
     )?;
-    for &b in &emitting {
+    for &b in &assembled {
         let block = &blocks[b];
         let sub = block.corner.is_some();
         let l = if sub { n / 2 } else { n };
-        let out = if sub {
-            corners.push(block.corner.unwrap_or(0));
-            &mut subfaces
-        } else {
-            &mut quads
+        let emit = emitted(b);
+        let dst = match (emit, sub) {
+            (false, _) => Dst::Halo,
+            (true, true) => Dst::Subfaces,
+            (true, false) => Dst::Quads,
         };
-        out.ids.push(block.face);
+        if emit {
+            let out = if sub {
+                corners.push(block.corner.unwrap_or(0));
+                &mut subfaces
+            } else {
+                &mut quads
+            };
+            out.ids.push(block.face);
+        }
         let w = base(block.face);
         for j in 0..=l {
-            for i in 0..=l {
+            // A halo block takes part with its border samples only.
+            let step = if emit || j == 0 || j == l {
+                1
+            } else {
+                l.max(1)
+            };
+            for i in (0..=l).step_by(step) {
                 let mut found = None;
                 for ((p, c), grid) in parts.iter().zip(&cells).zip(&grid_of) {
                     let Some(cell) = &c[b] else { continue };
@@ -554,9 +667,15 @@ fn assemble_window(
                     }
                     .into());
                 };
-                let at = out.positions.len();
-                out.positions.push(p.t.positions[s]);
-                out.normals.push(p.t.normals[s]);
+                let sample = (p.t.positions[s], p.t.normals[s]);
+                let at = match dst {
+                    Dst::Quads => quads.push(sample),
+                    Dst::Subfaces => subfaces.push(sample),
+                    Dst::Halo => {
+                        halo.push(sample);
+                        halo.len() - 1
+                    }
+                };
                 // Transitions are between depths: one depth has none.
                 if parts.len() > 1 && (i == 0 || j == 0 || i == l || j == l) {
                     let depth = p.domain.refinement.levels;
@@ -601,29 +720,33 @@ fn assemble_window(
                     }
                     keys.dedup();
                     for key in keys {
-                        borders.entry(key).or_default().push((sub, at, depth));
+                        borders.entry(key).or_default().push((dst, at, depth));
                     }
                 }
             }
         }
     }
-    // Transitions: the deepest side's sample on every side.
+    // Transitions: the deepest side's sample (the first such block's) on
+    // every side; a halo block only gives it.
     for uses in borders.values() {
         let deepest = uses.iter().map(|u| u.2).max().unwrap_or(0);
         if uses.iter().all(|u| u.2 == deepest) {
             continue;
         }
-        let Some(&(sub, at, _)) = uses.iter().find(|u| u.2 == deepest) else {
+        let Some(&(src, at, _)) = uses.iter().find(|u| u.2 == deepest) else {
             continue;
         };
-        let (p, nn) = {
-            let src = if sub { &subfaces } else { &quads };
-            (src.positions[at], src.normals[at])
+        let sample = match src {
+            Dst::Quads => quads.get(at),
+            Dst::Subfaces => subfaces.get(at),
+            Dst::Halo => halo[at],
         };
-        for &(s, a, _) in uses {
-            let dst = if s { &mut subfaces } else { &mut quads };
-            dst.positions[a] = p;
-            dst.normals[a] = nn;
+        for &(d, a, _) in uses {
+            match d {
+                Dst::Quads => quads.set(a, sample),
+                Dst::Subfaces => subfaces.set(a, sample),
+                Dst::Halo => {}
+            }
         }
     }
     let quads = quads.finish();
@@ -656,6 +779,22 @@ struct GridBuilder {
 }
 
 impl GridBuilder {
+    /// Appends a sample; returns its index.
+    fn push(&mut self, (p, n): (Vec3, Vec3)) -> usize {
+        self.positions.push(p);
+        self.normals.push(n);
+        self.positions.len() - 1
+    }
+
+    fn get(&self, at: usize) -> (Vec3, Vec3) {
+        (self.positions[at], self.normals[at])
+    }
+
+    fn set(&mut self, at: usize, (p, n): (Vec3, Vec3)) {
+        self.positions[at] = p;
+        self.normals[at] = n;
+    }
+
     fn finish(self) -> Tessellation {
         Tessellation {
             level: self.level,

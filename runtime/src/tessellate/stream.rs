@@ -64,7 +64,7 @@ impl Session {
             (Sampling::Uniform(n), _, _) if GridSource::streams(v) => {
                 grid_chunked(self, v, *n, max_samples, sink)
             }
-            (Sampling::Uniform(_), None, _) if v.refined().is_some() && v.deeper.is_empty() => {
+            (Sampling::Uniform(_), None, _) if v.refined().is_some() => {
                 refined_chunked(self, v, max_samples, sink)
             }
             (Sampling::Adaptive(_), Some(a), Backend::Cpu) => adaptive_cpu(v, a, max_samples, sink),
@@ -252,15 +252,18 @@ where
     stream(v, faces, fitting(offsets, limit), chunk, sink)
 }
 
-/// A refined request of one depth (a mesh with triangles or n-gons; creases
-/// refined uniformly): the refined mesh constructed (uploaded) once
-/// ([`GridSource`]), then windows of whole base blocks — a base quad, or
-/// one sub-face of an n-gon — whose refined faces' grids fit the chunk,
-/// each evaluated, assembled into the base layout
-/// ([`refined::assemble_blocks`]) and handed on. A feature-adaptive
-/// refinement (several depths, whose transitions are taken from the
-/// deepest side across blocks), or leaves not numbered block by block,
-/// come whole.
+/// A refined request (a mesh with triangles or n-gons, semi-sharp creases;
+/// a feature-adaptive refinement of several depths too): each depth's
+/// refined mesh constructed (uploaded) once ([`GridSource`], the depths
+/// sharing the session's device as [`Session::run`] does), then windows of
+/// whole base blocks — a base quad, or one sub-face of an n-gon — whose
+/// refined faces' grids (every depth's) fit the chunk, each evaluated,
+/// assembled into the base layout ([`refined::assemble_blocks`]) and
+/// handed on. With several depths, a window's transitions take the deepest
+/// side's sample across blocks: the window's halo (the blocks sharing a
+/// base vertex with it, [`refined::Neighbours::halo`]) is evaluated too,
+/// for its border samples only, and not emitted. Leaves not numbered block
+/// by block come whole.
 fn refined_chunked<E>(
     session: &mut Session,
     v: &Validated<'_>,
@@ -270,38 +273,117 @@ fn refined_chunked<E>(
 where
     E: std::fmt::Debug,
 {
-    let (Some(r), Some(block_faces)) = (v.refined(), v.refined().and_then(refined::block_faces))
-    else {
-        let out = session.run(v).map_err(ChunkError::Tess)?;
+    let tess = |e: Error| ChunkError::Tess(e);
+    let depths: Option<Vec<_>> = v
+        .parts()
+        .map(|p| {
+            let r = p.refined()?;
+            Some((p, r, refined::block_faces(r)?))
+        })
+        .collect();
+    let Some(depths) = depths.filter(|d| !d.is_empty()) else {
+        let out = session.run(v).map_err(tess)?;
         return sink(&out).map_err(ChunkError::Sink);
     };
-    let source = GridSource::new(v, session).map_err(ChunkError::Tess)?;
-    let level = r.leaf_level;
-    let per = (v.kernels.grid_len)(level) as usize;
-    let limit = or_default(max_samples, source.chunk_samples());
-    // Block b's refined faces start at block_faces[b].start, block by block.
-    let offsets: Vec<usize> = block_faces
+    let device = backend::device(session, v.request.backend).map_err(tess)?;
+    let sources = depths
         .iter()
-        .map(|f| f.start * per)
-        .chain(std::iter::once(source.faces() * per))
+        .map(|(p, _, _)| GridSource::on(p, device))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(tess)?;
+    let blocks = depths[0].2.len();
+    let limit = or_default(max_samples, sources[0].chunk_samples());
+    // Block b's refined faces' samples, every depth's, start at
+    // offsets[b]: each depth's faces are numbered block by block.
+    let per: Vec<usize> = depths
+        .iter()
+        .map(|(_, r, _)| (v.kernels.grid_len)(r.leaf_level) as usize)
         .collect();
-    let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
-    let mut t = Tessellation::default();
-    let chunk = |blocks: Range<usize>, _| {
-        let faces = block_faces[blocks.start].start..block_faces[blocks.end - 1].end;
-        source.evaluate(level, faces, &mut t)?;
-        let part = refined::Part {
-            domain: r,
-            t: &t,
-            no_limit,
-        };
-        let mut out = refined::assemble_blocks(&[part], blocks)?;
+    let mut offsets = vec![0usize; blocks + 1];
+    for b in 0..blocks {
+        let faces: usize = depths
+            .iter()
+            .zip(&per)
+            .map(|((_, _, f), per)| f[b].len() * per)
+            .sum();
+        offsets[b + 1] = offsets[b] + faces;
+    }
+    let neighbours = (depths.len() > 1).then(|| refined::Neighbours::new(depths[0].1));
+    let mut grids: Vec<Tessellation> = depths.iter().map(|_| Tessellation::default()).collect();
+    let mut scratch = Tessellation::default();
+    let chunk = |window: Range<usize>, _| {
+        let halo = neighbours
+            .as_ref()
+            .map_or_else(Vec::new, |n| n.halo(window.clone()));
+        let runs = block_runs(&window, &halo);
+        for ((((_, r, faces), source), t), per) in
+            depths.iter().zip(&sources).zip(&mut grids).zip(&per)
+        {
+            // The window's and the halo's refined faces of this depth,
+            // run by run of consecutive blocks, into one tessellation.
+            let ranges = runs
+                .iter()
+                .map(|b| faces[b.start].start..faces[b.end - 1].end);
+            let total: usize = ranges.clone().map(|f| f.len() * per).sum();
+            let mut first = true;
+            for faces in ranges.filter(|f| !f.is_empty()) {
+                if first {
+                    source.evaluate(r.leaf_level, faces, t)?;
+                    crate::cpu::reserve_samples(&mut t.positions, &mut t.normals, total)?;
+                    first = false;
+                } else {
+                    source.evaluate(r.leaf_level, faces, &mut scratch)?;
+                    t.positions.extend_from_slice(&scratch.positions);
+                    t.normals.extend_from_slice(&scratch.normals);
+                    t.face_ids.extend_from_slice(&scratch.face_ids);
+                    t.faces += scratch.faces;
+                }
+            }
+            if first {
+                // Nothing of this depth here.
+                *t = Tessellation {
+                    level: r.leaf_level,
+                    sides: 4,
+                    ..Tessellation::default()
+                };
+            }
+            debug_assert_eq!(t.positions.len(), t.faces * per);
+        }
+        let parts: Vec<refined::Part<'_>> = depths
+            .iter()
+            .zip(&grids)
+            .map(|((p, r, _), t)| refined::Part {
+                domain: r,
+                t,
+                no_limit: p.topology().map_or(&[][..], |t| &t.no_limit[..]),
+            })
+            .collect();
+        let mut out = refined::assemble_blocks(&parts, window, &halo)?;
         if let Output::Polygons(p) = &mut out {
             p.boundary_open_edges = v.refined_open_edges();
         }
         Ok(out)
     };
-    stream(v, block_faces.len(), fitting(&offsets, limit), chunk, sink)
+    stream(v, blocks, fitting(&offsets, limit), chunk, sink)
+}
+
+/// The window and its halo (ascending, outside the window) as runs of
+/// consecutive blocks, ascending.
+fn block_runs(window: &Range<usize>, halo: &[usize]) -> Vec<Range<usize>> {
+    let mut runs: Vec<Range<usize>> = Vec::with_capacity(halo.len() + 1);
+    let below = halo.partition_point(|&b| b < window.start);
+    let singles = |bs: &[usize]| bs.iter().map(|&b| b..b + 1).collect::<Vec<_>>();
+    let all = singles(&halo[..below])
+        .into_iter()
+        .chain(std::iter::once(window.clone()))
+        .chain(singles(&halo[below..]));
+    for r in all {
+        match runs.last_mut() {
+            Some(last) if last.end == r.start => last.end = r.end,
+            _ => runs.push(r),
+        }
+    }
+    runs
 }
 
 /// Whether the Vulkan harness captures the request's triangles (triangle
