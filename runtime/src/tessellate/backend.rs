@@ -311,6 +311,66 @@ impl GridSource<'_> {
         }
     }
 
+    /// The grids of the faces in `runs` (ascending, disjoint ranges) into
+    /// `t`, one after the other (`face_ids` naming them), `scratch` holding
+    /// each further run on a GPU; with `emits` (per face) the CPU leaves
+    /// out the faces that emit nothing, as [`run`] does (a feature-adaptive
+    /// depth's ring-only faces). Each face's samples are [`run`]'s.
+    pub(crate) fn evaluate_runs(
+        &self,
+        level: u32,
+        runs: &[std::ops::Range<usize>],
+        emits: Option<&[bool]>,
+        t: &mut cpu::Tessellation,
+        scratch: &mut cpu::Tessellation,
+    ) -> Result<(), Error> {
+        if let (
+            GridSource::Cpu {
+                patches,
+                displace: None,
+                ..
+            },
+            Some(emits),
+        ) = (self, emits)
+        {
+            let faces: Vec<u32> = runs
+                .iter()
+                .flat_map(|r| r.clone())
+                .filter(|&f| emits.get(f).copied().unwrap_or(true))
+                .map(|f| f as u32)
+                .collect();
+            cpu::evaluate_listed_into(patches, level, &faces, t)?;
+            return Ok(());
+        }
+        let per = match self {
+            GridSource::Cpu { patches, .. } => (patches.scheme.grid_len)(level),
+            #[cfg(feature = "gpu")]
+            GridSource::Wgpu(m) => (m.scheme.grid_len)(level),
+            #[cfg(feature = "vulkan")]
+            GridSource::Vulkan(m) => (m.scheme.grid_len)(level),
+        } as usize;
+        let total: usize = runs.iter().map(|r| r.len() * per).sum();
+        let mut runs = runs.iter().filter(|r| !r.is_empty());
+        let Some(first) = runs.next() else {
+            t.faces = 0;
+            t.level = level;
+            t.positions.clear();
+            t.normals.clear();
+            t.face_ids.clear();
+            return Ok(());
+        };
+        self.evaluate(level, first.clone(), t)?;
+        cpu::reserve_samples(&mut t.positions, &mut t.normals, total)?;
+        for run in runs {
+            self.evaluate(level, run.clone(), scratch)?;
+            t.positions.extend_from_slice(&scratch.positions);
+            t.normals.extend_from_slice(&scratch.normals);
+            t.face_ids.extend_from_slice(&scratch.face_ids);
+            t.faces += scratch.faces;
+        }
+        Ok(())
+    }
+
     /// The grids of the faces `faces` into `t` (`face_ids` = the range),
     /// its buffers reused where the backend writes in place.
     pub(crate) fn evaluate(

@@ -310,44 +310,29 @@ where
     }
     let neighbours = (depths.len() > 1).then(|| refined::Neighbours::new(depths[0].1));
     let mut grids: Vec<Tessellation> = depths.iter().map(|_| Tessellation::default()).collect();
+    // Per depth, the faces that emit (the CPU evaluates only those).
+    let emits: Vec<Option<Vec<bool>>> = depths
+        .iter()
+        .map(|(p, _, _)| p.no_limit().map(super::emitting))
+        .collect();
     let mut scratch = Tessellation::default();
     let chunk = |window: Range<usize>, _| {
         let halo = neighbours
             .as_ref()
             .map_or_else(Vec::new, |n| n.halo(window.clone()));
         let runs = block_runs(&window, &halo);
-        for ((((_, r, faces), source), t), per) in
-            depths.iter().zip(&sources).zip(&mut grids).zip(&per)
+        for (((_, r, faces), source), (t, emits)) in depths
+            .iter()
+            .zip(&sources)
+            .zip(grids.iter_mut().zip(&emits))
         {
-            // The window's and the halo's refined faces of this depth,
-            // run by run of consecutive blocks, into one tessellation.
-            let ranges = runs
+            // The window's and the halo's refined faces of this depth, run
+            // by run of consecutive blocks, into one tessellation.
+            let runs: Vec<Range<usize>> = runs
                 .iter()
-                .map(|b| faces[b.start].start..faces[b.end - 1].end);
-            let total: usize = ranges.clone().map(|f| f.len() * per).sum();
-            let mut first = true;
-            for faces in ranges.filter(|f| !f.is_empty()) {
-                if first {
-                    source.evaluate(r.leaf_level, faces, t)?;
-                    crate::cpu::reserve_samples(&mut t.positions, &mut t.normals, total)?;
-                    first = false;
-                } else {
-                    source.evaluate(r.leaf_level, faces, &mut scratch)?;
-                    t.positions.extend_from_slice(&scratch.positions);
-                    t.normals.extend_from_slice(&scratch.normals);
-                    t.face_ids.extend_from_slice(&scratch.face_ids);
-                    t.faces += scratch.faces;
-                }
-            }
-            if first {
-                // Nothing of this depth here.
-                *t = Tessellation {
-                    level: r.leaf_level,
-                    sides: 4,
-                    ..Tessellation::default()
-                };
-            }
-            debug_assert_eq!(t.positions.len(), t.faces * per);
+                .map(|b| faces[b.start].start..faces[b.end - 1].end)
+                .collect();
+            source.evaluate_runs(r.leaf_level, &runs, emits.as_deref(), t, &mut scratch)?;
         }
         let parts: Vec<refined::Part<'_>> = depths
             .iter()
