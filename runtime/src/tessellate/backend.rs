@@ -311,32 +311,30 @@ impl GridSource<'_> {
         }
     }
 
-    /// The grids of the faces in `runs` (ascending, disjoint ranges) into
-    /// `t`, one after the other (`face_ids` naming them), `scratch` holding
-    /// each further run on a GPU; with `emits` (per face) the CPU leaves
-    /// out the faces that emit nothing, as [`run`] does (a feature-adaptive
-    /// depth's ring-only faces). Each face's samples are [`run`]'s.
+    /// The grids of the faces in `runs` (disjoint ranges) into `t`, one
+    /// after the other (`face_ids` naming them), `scratch` holding each
+    /// further run on a GPU. The CPU evaluates only the faces with
+    /// `keep(face)` (those that emit, as [`run`] does: a feature-adaptive
+    /// depth's ring-only faces are left out; a halo's border leaves); the
+    /// GPUs dispatch whole runs. Each face's samples are [`run`]'s.
     pub(crate) fn evaluate_runs(
         &self,
         level: u32,
         runs: &[std::ops::Range<usize>],
-        emits: Option<&[bool]>,
+        keep: &dyn Fn(usize) -> bool,
         t: &mut cpu::Tessellation,
         scratch: &mut cpu::Tessellation,
     ) -> Result<(), Error> {
-        if let (
-            GridSource::Cpu {
-                patches,
-                displace: None,
-                ..
-            },
-            Some(emits),
-        ) = (self, emits)
+        if let GridSource::Cpu {
+            patches,
+            displace: None,
+            ..
+        } = self
         {
             let faces: Vec<u32> = runs
                 .iter()
                 .flat_map(|r| r.clone())
-                .filter(|&f| emits.get(f).copied().unwrap_or(true))
+                .filter(|&f| keep(f))
                 .map(|f| f as u32)
                 .collect();
             cpu::evaluate_listed_into(patches, level, &faces, t)?;

@@ -329,6 +329,21 @@ impl RefinedDomain {
             .map_or(refined_face, |b| b.face as usize)
     }
 
+    /// Whether refined face `f` lies on its block's border (a leaf cell
+    /// in the block's first or last row or column): the leaves whose
+    /// samples a neighbouring block's transitions can take.
+    pub fn on_block_border(&self, f: usize) -> bool {
+        let r = &self.refinement;
+        let Some(l) = r.leaves.get(f) else {
+            return false;
+        };
+        let Some(b) = r.blocks.get(l.block as usize) else {
+            return false;
+        };
+        let side = 1u32 << r.levels.saturating_sub(u32::from(b.corner.is_some()));
+        l.x == 0 || l.y == 0 || l.x + 1 == side || l.y + 1 == side
+    }
+
     /// Whether refined face `f` emits (a leaf: not refined further, not
     /// only a ring, not a hole).
     pub fn emits(&self, f: usize) -> bool {
@@ -516,12 +531,15 @@ impl RefinedDomain {
 }
 
 /// Where an assembled sample is kept: the output's quad or sub-face grids,
-/// or (a halo block's border sample) only for the transitions.
-#[derive(Debug, Clone, Copy)]
+/// or (a halo block's border sample) only for the transitions; a halo
+/// sample of the shallowest depth is not evaluated (it never wins a
+/// transition: the deepest side's does) and takes part with its depth only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Dst {
     Quads,
     Subfaces,
     Halo,
+    Unevaluated,
 }
 
 fn assemble_window(
@@ -566,7 +584,8 @@ fn assemble_window(
     let grid_of: Vec<Option<Vec<u32>>> = parts
         .iter()
         .map(|p| {
-            (!p.t.face_ids.is_empty()).then(|| {
+            // (A part with no grids here: none.)
+            (!p.t.face_ids.is_empty() || p.t.faces == 0).then(|| {
                 let mut g = vec![u32::MAX; p.domain.refinement.leaves.len().max(p.t.faces)];
                 for (k, &f) in p.t.face_ids.iter().enumerate() {
                     if let Some(x) = g.get_mut(f as usize) {
@@ -642,6 +661,9 @@ fn assemble_window(
             };
             for i in (0..=l).step_by(step) {
                 let mut found = None;
+                // A halo leaf left unevaluated (the shallowest depth's,
+                // whose sample never wins a transition): its depth only.
+                let mut unevaluated = None;
                 for ((p, c), grid) in parts.iter().zip(&cells).zip(&grid_of) {
                     let Some(cell) = &c[b] else { continue };
                     let r = p.domain.refinement.levels - u32::from(sub);
@@ -658,27 +680,41 @@ fn assemble_window(
                         found = Some((p, g as usize * (m + 1) * (m + 1) + lj * (m + 1) + li));
                         break;
                     }
+                    if f != u32::MAX && !emit {
+                        unevaluated = Some(p.domain.refinement.levels);
+                        break;
+                    }
                 }
-                let Some((p, s)) = found else {
-                    return Err(RefineError::Uncovered {
-                        face: block.face,
-                        i,
-                        j,
+                let (depth, at) = match (found, unevaluated) {
+                    (Some((p, s)), _) => {
+                        let sample = (p.t.positions[s], p.t.normals[s]);
+                        let at = match dst {
+                            Dst::Quads => quads.push(sample),
+                            Dst::Subfaces => subfaces.push(sample),
+                            Dst::Halo | Dst::Unevaluated => {
+                                halo.push(sample);
+                                halo.len() - 1
+                            }
+                        };
+                        (p.domain.refinement.levels, at)
                     }
-                    .into());
+                    (None, Some(depth)) => (depth, usize::MAX),
+                    (None, None) => {
+                        return Err(RefineError::Uncovered {
+                            face: block.face,
+                            i,
+                            j,
+                        }
+                        .into())
+                    }
                 };
-                let sample = (p.t.positions[s], p.t.normals[s]);
-                let at = match dst {
-                    Dst::Quads => quads.push(sample),
-                    Dst::Subfaces => subfaces.push(sample),
-                    Dst::Halo => {
-                        halo.push(sample);
-                        halo.len() - 1
-                    }
+                let dst = if at == usize::MAX {
+                    Dst::Unevaluated
+                } else {
+                    dst
                 };
                 // Transitions are between depths: one depth has none.
                 if parts.len() > 1 && (i == 0 || j == 0 || i == l || j == l) {
-                    let depth = p.domain.refinement.levels;
                     let mut keys: Vec<Border> = Vec::with_capacity(2);
                     match block.corner {
                         None => {
@@ -740,12 +776,15 @@ fn assemble_window(
             Dst::Quads => quads.get(at),
             Dst::Subfaces => subfaces.get(at),
             Dst::Halo => halo[at],
+            // Never: an unevaluated sample is of the shallowest depth,
+            // the deepest only where every use is (no transition).
+            Dst::Unevaluated => continue,
         };
         for &(d, a, _) in uses {
             match d {
                 Dst::Quads => quads.set(a, sample),
                 Dst::Subfaces => subfaces.set(a, sample),
-                Dst::Halo => {}
+                Dst::Halo | Dst::Unevaluated => {}
             }
         }
     }

@@ -320,19 +320,28 @@ where
         let halo = neighbours
             .as_ref()
             .map_or_else(Vec::new, |n| n.halo(window.clone()));
-        let runs = block_runs(&window, &halo);
-        for (((_, r, faces), source), (t, emits)) in depths
+        for (k, (((_, r, faces), source), (t, emits))) in depths
             .iter()
             .zip(&sources)
             .zip(grids.iter_mut().zip(&emits))
+            .enumerate()
         {
-            // The window's and the halo's refined faces of this depth, run
-            // by run of consecutive blocks, into one tessellation.
-            let runs: Vec<Range<usize>> = runs
-                .iter()
-                .map(|b| faces[b.start].start..faces[b.end - 1].end)
-                .collect();
-            source.evaluate_runs(r.leaf_level, &runs, emits.as_deref(), t, &mut scratch)?;
+            // The window's refined faces of this depth, and (below the
+            // shallowest depth, whose samples never win a transition) the
+            // halo's, into one tessellation; the CPU evaluates only those
+            // that emit, of the halo only its blocks' border leaves.
+            let own = faces[window.start].start..faces[window.end - 1].end;
+            let mut runs = vec![own.clone()];
+            if k > 0 {
+                runs.extend(halo.iter().map(|&b| faces[b].clone()));
+            }
+            let keep = |f: usize| {
+                emits
+                    .as_ref()
+                    .is_none_or(|e| e.get(f).copied().unwrap_or(true))
+                    && (own.contains(&f) || r.on_block_border(f))
+            };
+            source.evaluate_runs(r.leaf_level, &runs, &keep, t, &mut scratch)?;
         }
         let parts: Vec<refined::Part<'_>> = depths
             .iter()
@@ -350,25 +359,6 @@ where
         Ok(out)
     };
     stream(v, blocks, fitting(&offsets, limit), chunk, sink)
-}
-
-/// The window and its halo (ascending, outside the window) as runs of
-/// consecutive blocks, ascending.
-fn block_runs(window: &Range<usize>, halo: &[usize]) -> Vec<Range<usize>> {
-    let mut runs: Vec<Range<usize>> = Vec::with_capacity(halo.len() + 1);
-    let below = halo.partition_point(|&b| b < window.start);
-    let singles = |bs: &[usize]| bs.iter().map(|&b| b..b + 1).collect::<Vec<_>>();
-    let all = singles(&halo[..below])
-        .into_iter()
-        .chain(std::iter::once(window.clone()))
-        .chain(singles(&halo[below..]));
-    for r in all {
-        match runs.last_mut() {
-            Some(last) if last.end == r.start => last.end = r.end,
-            _ => runs.push(r),
-        }
-    }
-    runs
 }
 
 /// Whether the Vulkan harness captures the request's triangles (triangle
