@@ -497,22 +497,25 @@ impl<'a> Neighbours<'a> {
         }
     }
 
+    /// The blocks sharing a base vertex with block `b` (`b` among them;
+    /// some more than once).
+    pub fn around(&self, b: usize) -> impl Iterator<Item = usize> + '_ {
+        let face = self.domain.refinement.blocks[b].face;
+        self.domain.base_vertices(face).iter().flat_map(move |&v| {
+            self.blocks[self.offsets[v as usize]..self.offsets[v as usize + 1]]
+                .iter()
+                .map(|&k| k as usize)
+        })
+    }
+
     /// The blocks outside `window` that share a base vertex with a block
     /// in it, ascending: the halo [`assemble_blocks`] takes.
     pub fn halo(&self, window: std::ops::Range<usize>) -> Vec<usize> {
-        let all = &self.domain.refinement.blocks;
-        let mut halo: Vec<usize> = Vec::new();
-        for b in window.clone() {
-            for &v in self.domain.base_vertices(all[b].face) {
-                let around = &self.blocks[self.offsets[v as usize]..self.offsets[v as usize + 1]];
-                halo.extend(
-                    around
-                        .iter()
-                        .map(|&k| k as usize)
-                        .filter(|k| !window.contains(k)),
-                );
-            }
-        }
+        let mut halo: Vec<usize> = window
+            .clone()
+            .flat_map(|b| self.around(b))
+            .filter(|k| !window.contains(k))
+            .collect();
         halo.sort_unstable();
         halo.dedup();
         halo

@@ -17,17 +17,25 @@
 //!   each face's edge levels, bucket and sample offset), then windows of
 //!   whole faces of at most [`CHUNK_SAMPLES`] samples (a quarter on wgpu),
 //!   each an [`Output::Instanced`] naming its faces;
-//! - refined meshes of one depth (triangles and n-gons; semi-sharp creases
-//!   refined uniformly): the refined mesh constructed once, then windows of
-//!   whole base blocks (a quad, or an n-gon's sub-face), their refined
-//!   faces evaluated and assembled into the base layout;
+//! - refined meshes (triangles and n-gons; semi-sharp creases; isolated
+//!   extraordinary vertices), of one depth or feature-adaptive of several:
+//!   each depth's refined mesh constructed once (the depths sharing the
+//!   session's one device, as [`Session::run`] runs them), then windows of
+//!   whole base blocks (a quad, or an n-gon's sub-face) of at most the
+//!   chunk's samples, every depth's refined faces counted, evaluated and
+//!   assembled into the base layout. Where depths meet, a transition takes
+//!   the deepest side's sample across blocks: a window also evaluates its
+//!   halo (the blocks sharing a base vertex with it) below the shallowest
+//!   depth — on the CPU only their border leaves — for those samples, and
+//!   emits none of it, so the halo adds a few blocks' border leaves to a
+//!   window, nothing of the whole result;
 //! - the Vulkan harness's captured triangles (triangle schemes, adaptive
 //!   draws): windows of whole faces, only their patches drawn.
 //!
-//! What comes as one chunk, the [`Session::run`] result: feature-adaptive
-//! refinements (several depths: a transition takes the deepest side's
-//! sample across blocks); its readback is chunked inside, but the whole
-//! result is held once.
+//! What comes as one chunk, the [`Session::run`] result (its readback is
+//! chunked inside, but the whole result is held once): only a refinement
+//! whose leaves are not numbered block by block ([`refined::block_faces`]),
+//! a fallback — the refinements built here always are.
 //!
 //! Each chunk passes the same non-finite check as [`Session::run`]; the
 //! samples are [`Session::run`]'s bit for bit.
@@ -316,7 +324,9 @@ where
         .map(|(p, _, _)| p.no_limit().map(super::emitting))
         .collect();
     let mut scratch = Tessellation::default();
-    let chunk = |window: Range<usize>, _| {
+    let chunk = |window: Range<usize>, previous: Output| {
+        // The previous chunk is handed on: nothing of it is reused here.
+        drop(previous);
         let halo = neighbours
             .as_ref()
             .map_or_else(Vec::new, |n| n.halo(window.clone()));
@@ -358,7 +368,64 @@ where
         }
         Ok(out)
     };
-    stream(v, blocks, fitting(&offsets, limit), chunk, sink)
+    match &neighbours {
+        None => stream(v, blocks, fitting(&offsets, limit), chunk, sink),
+        Some(n) => {
+            // A halo block costs its grids below the shallowest depth.
+            let halo_cost: Vec<usize> = (0..blocks)
+                .map(|b| {
+                    depths[1..]
+                        .iter()
+                        .zip(&per[1..])
+                        .map(|((_, _, f), per)| f[b].len() * per)
+                        .sum()
+                })
+                .collect();
+            let next = with_halo(n, &offsets, &halo_cost, limit);
+            stream(v, blocks, next, chunk, sink)
+        }
+    }
+}
+
+/// `next` for [`stream`] over a feature-adaptive refinement's blocks: the
+/// blocks from the window's start whose samples (`offsets`, as for
+/// [`fitting`]) and their halo's (`halo_cost` each, the halo as
+/// [`refined::Neighbours::halo`]) fit within `limit`, at least one.
+fn with_halo<'a>(
+    n: &'a refined::Neighbours<'_>,
+    offsets: &'a [usize],
+    halo_cost: &'a [usize],
+    limit: usize,
+) -> impl FnMut(usize) -> usize + 'a {
+    // The window (stamp) in which a block was counted in the halo.
+    let mut in_halo = vec![usize::MAX; halo_cost.len()];
+    let mut around: Vec<usize> = Vec::new();
+    move |first| {
+        let (mut end, mut total) = (first, 0usize);
+        while end < halo_cost.len() {
+            let mut add = offsets[end + 1] - offsets[end];
+            if in_halo[end] == first {
+                add -= halo_cost[end].min(add);
+            }
+            around.clear();
+            around.extend(
+                n.around(end)
+                    .filter(|&b| !(first..=end).contains(&b) && in_halo[b] != first),
+            );
+            around.sort_unstable();
+            around.dedup();
+            add += around.iter().map(|&b| halo_cost[b]).sum::<usize>();
+            if end > first && total + add > limit {
+                break;
+            }
+            for &b in &around {
+                in_halo[b] = first;
+            }
+            total += add;
+            end += 1;
+        }
+        end
+    }
 }
 
 /// Whether the Vulkan harness captures the request's triangles (triangle
