@@ -4,8 +4,8 @@
 //! not, on the CPU, on wgpu and through the Vulkan harness (GLSL, HLSL), a
 //! mesh with holes (faces left out mid-chunk), adaptive requests on the CPU
 //! and on wgpu (a triangle soup per face window), refined meshes (windows of
-//! base blocks), the Vulkan harness's captured triangles, and what does not
-//! stream (one chunk: feature-adaptive refinements).
+//! base blocks, feature-adaptive refinements of several depths too), and
+//! the Vulkan harness's captured triangles.
 
 mod common;
 
@@ -362,7 +362,7 @@ fn holes_are_left_out_per_chunk() {
 /// constructed once, each window's refined faces evaluated and assembled
 /// into the base layout; the OBJ is the whole run's byte for byte — n-gons,
 /// triangles, semi-sharp creases refined uniformly (the regular scheme),
-/// holes. A feature-adaptive refinement (several depths) comes whole.
+/// holes.
 #[test]
 fn refined_meshes_stream_in_block_windows() {
     let mut session = Session::new();
@@ -423,11 +423,163 @@ fn refined_meshes_stream_in_block_windows() {
             }
         }
     }
-    // Feature-adaptive depths (pccm isolates the crease): one chunk.
-    let request = Request::uniform("pccm", 4);
-    let (text, chunks) = streamed_in(&mut session, &crease, &request, 1);
-    assert_eq!(chunks, 1);
-    assert!(text == whole_in(&mut session, &crease, &request));
+}
+
+/// The samples of a grid or polygon-grid result, as bits, with the base
+/// face (and corner) of each grid: the quads', then the sub-faces'.
+type GridBits = (Vec<u32>, Vec<[u32; 6]>, Vec<(u32, u32)>, Vec<[u32; 6]>);
+
+fn grid_bits(out: &Output, into: &mut GridBits) {
+    let bits = |t: &tessgen_runtime::Tessellation| {
+        t.positions
+            .iter()
+            .zip(&t.normals)
+            .map(|(p, n)| {
+                let (p, n) = (p.to_array(), n.to_array());
+                [p[0], p[1], p[2], n[0], n[1], n[2]].map(f32::to_bits)
+            })
+            .collect::<Vec<_>>()
+    };
+    let ids = |t: &tessgen_runtime::Tessellation| {
+        (0..t.faces)
+            .map(|g| t.face_of(g) as u32)
+            .collect::<Vec<_>>()
+    };
+    match out {
+        Output::Grid(t) => {
+            into.0.extend(ids(t));
+            into.1.extend(bits(t));
+        }
+        Output::Polygons(p) => {
+            into.0.extend(ids(&p.quads));
+            into.1.extend(bits(&p.quads));
+            into.2
+                .extend(ids(&p.subfaces).into_iter().zip(p.corners.iter().copied()));
+            into.3.extend(bits(&p.subfaces));
+        }
+        other => panic!("not grids: {other:?}"),
+    }
+}
+
+/// Whether two blocks of different depths share a base vertex (so the
+/// refinement has transitions, whose samples a window takes from its
+/// neighbours).
+fn has_transitions(mesh: &Mesh, v: &tessgen_runtime::tessellate::Validated<'_>) -> bool {
+    let blocks = &v.refined().expect("refined").refinement.blocks;
+    let mut depths: std::collections::HashMap<u32, std::collections::BTreeSet<u32>> =
+        Default::default();
+    for b in blocks {
+        for &vertex in mesh.face(b.face as usize) {
+            depths.entry(vertex).or_default().insert(b.depth);
+        }
+    }
+    depths.values().any(|d| d.len() > 1)
+}
+
+/// Feature-adaptive refinements (several depths: around semi-sharp
+/// creases, isolated extraordinary vertices, n-gons' sub-faces) stream in
+/// windows of base blocks on every backend, each depth's refined mesh
+/// constructed once on the session's one device: chunks of one block, of a
+/// few, and one chunk give the whole run's samples bit for bit and its OBJ
+/// byte for byte. The meshes have transitions between depths, where a
+/// window takes the deepest side's sample from the blocks around it (its
+/// halo): without them a one-block window's border would be its own.
+#[test]
+fn feature_adaptive_refinements_stream_in_block_windows() {
+    let mut session = Session::new();
+    let crease = common::mesh("catmark_single_crease");
+    let xord = common::mesh("catmark_xord_interior");
+    let pawn = common::mesh("catmark_pawn");
+    let nonquads = common::mesh("catmark_nonquads");
+    let mut holed = common::mesh("catmark_nonquads");
+    holed.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: vec![0, 3],
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    let every = vec![
+        Backend::Cpu,
+        Backend::Wgpu,
+        Backend::VulkanGlsl,
+        Backend::VulkanHlsl,
+    ];
+    // (what, mesh, request, backends, blocks of different depths meet)
+    let cases: Vec<(&str, &Mesh, Request<'_>, Vec<Backend>, bool)> = vec![
+        (
+            "single crease pccm",
+            &crease,
+            Request::uniform("pccm", 4),
+            every.clone(),
+            true,
+        ),
+        (
+            "pawn pccm",
+            &pawn,
+            Request::uniform("pccm", 2),
+            vec![Backend::Cpu, Backend::Wgpu],
+            true,
+        ),
+        (
+            "xord interior pccm isolated",
+            &xord,
+            Request::uniform("pccm", 8).isolate(2),
+            every.clone(),
+            false,
+        ),
+        (
+            "nonquads gregory isolated",
+            &nonquads,
+            Request::uniform("gregory", 4).isolate(2),
+            vec![Backend::Cpu, Backend::Wgpu, Backend::VulkanGlsl],
+            false,
+        ),
+        (
+            "holed nonquads pccm isolated",
+            &holed,
+            Request::uniform("pccm", 4).isolate(2),
+            vec![Backend::Cpu, Backend::Wgpu],
+            false,
+        ),
+    ];
+    for (what, mesh, request, backends, transitions) in cases {
+        for backend in backends {
+            let request = request.clone().on(backend);
+            let v = request.validate(mesh).expect("validate");
+            assert!(v.parts().count() > 1, "{what}: one depth");
+            if transitions {
+                assert!(has_transitions(mesh, &v), "{what}: no transitions");
+            }
+            let blocks = v.refined().expect("refined").refinement.blocks.len();
+            let whole = session.run(&v).expect("run");
+            let (reference, mut samples) = (whole.to_obj(), GridBits::default());
+            grid_bits(&whole, &mut samples);
+            // A few blocks a chunk: a quarter of the result (every depth's
+            // evaluated samples count).
+            let few = whole.samples() / 4;
+            for max_samples in [1, few, 0] {
+                let mut stream = ObjStream::new(Vec::new());
+                let (mut chunks, mut streamed) = (0, GridBits::default());
+                session
+                    .run_chunked(&v, max_samples, |out| {
+                        chunks += 1;
+                        grid_bits(out, &mut streamed);
+                        out.write_obj(&mut stream)
+                    })
+                    .expect("run_chunked");
+                let text = String::from_utf8(stream.finish().expect("flush")).expect("utf-8");
+                let at = format!("{what} on {backend:?}, chunks of {max_samples}");
+                assert!(streamed == samples, "{at}: samples");
+                assert!(text == reference, "{at}: OBJ");
+                match max_samples {
+                    1 => assert_eq!(chunks, blocks, "{at}"),
+                    0 => assert_eq!(chunks, 1, "{at}"),
+                    _ => assert!(chunks > 1 && chunks < blocks, "{at}: {chunks} chunks"),
+                }
+            }
+        }
+    }
 }
 
 /// The grid writer of a whole result is `to_obj`'s.

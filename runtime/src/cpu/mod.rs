@@ -616,6 +616,45 @@ pub fn evaluate_emitting(
     Ok(t)
 }
 
+/// The grids of the faces `faces` (ascending) into `t`, whose
+/// [`Tessellation::face_ids`] name them, its buffers reused when large
+/// enough: [`evaluate_emitting`] of a streamed window (a feature-adaptive
+/// depth's leaves around a block window, its ring-only faces left out).
+/// Each face's samples are [`evaluate`]'s bit for bit.
+pub fn evaluate_listed_into(
+    patches: &Patches,
+    level: u32,
+    faces: &[u32],
+    t: &mut Tessellation,
+) -> Result<(), TessError> {
+    check_level(level)?;
+    let all = patches.face_class.len();
+    let faces: Vec<u32> = faces
+        .iter()
+        .copied()
+        .filter(|&f| (f as usize) < all)
+        .collect();
+    let per = (patches.scheme.grid_len)(level) as usize;
+    let total = per * faces.len();
+    reserve_samples(&mut t.positions, &mut t.normals, total)?;
+    t.level = level;
+    t.faces = faces.len();
+    t.sides = patches.scheme.sides;
+    t.positions.resize(total, Vec3::ZERO);
+    t.normals.resize(total, Vec3::ZERO);
+    let isa = grid_eval::Isa::detect();
+    grid_path_of(
+        patches,
+        level,
+        |k| faces[k] as usize,
+        &mut t.positions,
+        &mut t.normals,
+        isa,
+    );
+    t.face_ids = faces;
+    Ok(())
+}
+
 /// The grids of faces `first ..` (as many as `positions` holds whole grids).
 fn grid_path_from(
     patches: &Patches,

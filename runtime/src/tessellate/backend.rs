@@ -194,6 +194,32 @@ pub(crate) fn vk_mesh<'v>(
     Ok(m)
 }
 
+/// The session's device for a backend, opened (on first use): what the
+/// grid sources of one request's depths share.
+#[derive(Clone, Copy)]
+pub(crate) enum Device<'s> {
+    /// The CPU holds nothing of the session (this keeps `'s` used without
+    /// GPU features).
+    Cpu(std::marker::PhantomData<&'s ()>),
+    #[cfg(feature = "gpu")]
+    Wgpu(&'s crate::gpu::wgpu::Gpu),
+    #[cfg(feature = "vulkan")]
+    Vulkan(&'s crate::gpu::vulkan::Vulkan),
+}
+
+/// Opens `backend`'s device in `session` (reused if open).
+pub(crate) fn device(session: &mut Session, backend: super::Backend) -> Result<Device<'_>, Error> {
+    use super::Backend;
+    let _ = &session;
+    Ok(match backend {
+        Backend::Cpu => Device::Cpu(std::marker::PhantomData),
+        #[cfg(feature = "gpu")]
+        Backend::Wgpu => Device::Wgpu(session.gpu()?),
+        #[cfg(feature = "vulkan")]
+        Backend::VulkanGlsl | Backend::VulkanHlsl => Device::Vulkan(session.vulkan()?),
+    })
+}
+
 /// A uniform grid request, constructed (uploaded) once and then evaluated
 /// window by window of faces: the streamed form of [`run`]
 /// (`Session::run_chunked`). Each window's samples are [`run`]'s.
@@ -234,24 +260,26 @@ impl GridSource<'_> {
         v: &Validated<'_>,
         session: &'s mut Session,
     ) -> Result<GridSource<'s>, Error> {
-        use super::Backend;
-        let _ = &session;
-        Ok(match v.request.backend {
-            Backend::Cpu => {
+        GridSource::on(v, device(session, v.request.backend)?)
+    }
+
+    /// [`Self::new`] on a device already opened: the depths of a
+    /// feature-adaptive refinement share one, as [`run`] runs them.
+    pub(crate) fn on<'s>(v: &Validated<'_>, device: Device<'s>) -> Result<GridSource<'s>, Error> {
+        Ok(match device {
+            Device::Cpu(device) => {
                 let patches = cpu_patches(v)?;
                 let displace = cpu_displacement(v, &patches)?;
                 GridSource::Cpu {
                     patches,
                     displace,
-                    device: std::marker::PhantomData,
+                    device,
                 }
             }
             #[cfg(feature = "gpu")]
-            Backend::Wgpu => GridSource::Wgpu(wgpu_mesh(v, session.gpu()?)?),
+            Device::Wgpu(gpu) => GridSource::Wgpu(wgpu_mesh(v, gpu)?),
             #[cfg(feature = "vulkan")]
-            Backend::VulkanGlsl | Backend::VulkanHlsl => {
-                GridSource::Vulkan(vk_mesh(v, session.vulkan()?)?)
-            }
+            Device::Vulkan(vk) => GridSource::Vulkan(vk_mesh(v, vk)?),
         })
     }
 
@@ -281,6 +309,64 @@ impl GridSource<'_> {
             #[cfg(feature = "vulkan")]
             GridSource::Vulkan(m) => m.patch_faces.len(),
         }
+    }
+
+    /// The grids of the faces in `runs` (disjoint ranges) into `t`, one
+    /// after the other (`face_ids` naming them), `scratch` holding each
+    /// further run on a GPU. The CPU evaluates only the faces with
+    /// `keep(face)` (those that emit, as [`run`] does: a feature-adaptive
+    /// depth's ring-only faces are left out; a halo's border leaves); the
+    /// GPUs dispatch whole runs. Each face's samples are [`run`]'s.
+    pub(crate) fn evaluate_runs(
+        &self,
+        level: u32,
+        runs: &[std::ops::Range<usize>],
+        keep: &dyn Fn(usize) -> bool,
+        t: &mut cpu::Tessellation,
+        scratch: &mut cpu::Tessellation,
+    ) -> Result<(), Error> {
+        if let GridSource::Cpu {
+            patches,
+            displace: None,
+            ..
+        } = self
+        {
+            let faces: Vec<u32> = runs
+                .iter()
+                .flat_map(|r| r.clone())
+                .filter(|&f| keep(f))
+                .map(|f| f as u32)
+                .collect();
+            cpu::evaluate_listed_into(patches, level, &faces, t)?;
+            return Ok(());
+        }
+        let per = match self {
+            GridSource::Cpu { patches, .. } => (patches.scheme.grid_len)(level),
+            #[cfg(feature = "gpu")]
+            GridSource::Wgpu(m) => (m.scheme.grid_len)(level),
+            #[cfg(feature = "vulkan")]
+            GridSource::Vulkan(m) => (m.scheme.grid_len)(level),
+        } as usize;
+        let total: usize = runs.iter().map(|r| r.len() * per).sum();
+        let mut runs = runs.iter().filter(|r| !r.is_empty());
+        let Some(first) = runs.next() else {
+            t.faces = 0;
+            t.level = level;
+            t.positions.clear();
+            t.normals.clear();
+            t.face_ids.clear();
+            return Ok(());
+        };
+        self.evaluate(level, first.clone(), t)?;
+        cpu::reserve_samples(&mut t.positions, &mut t.normals, total)?;
+        for run in runs {
+            self.evaluate(level, run.clone(), scratch)?;
+            t.positions.extend_from_slice(&scratch.positions);
+            t.normals.extend_from_slice(&scratch.normals);
+            t.face_ids.extend_from_slice(&scratch.face_ids);
+            t.faces += scratch.faces;
+        }
+        Ok(())
     }
 
     /// The grids of the faces `faces` into `t` (`face_ids` = the range),

@@ -329,6 +329,21 @@ impl RefinedDomain {
             .map_or(refined_face, |b| b.face as usize)
     }
 
+    /// Whether refined face `f` lies on its block's border (a leaf cell
+    /// in the block's first or last row or column): the leaves whose
+    /// samples a neighbouring block's transitions can take.
+    pub fn on_block_border(&self, f: usize) -> bool {
+        let r = &self.refinement;
+        let Some(l) = r.leaves.get(f) else {
+            return false;
+        };
+        let Some(b) = r.blocks.get(l.block as usize) else {
+            return false;
+        };
+        let side = 1u32 << r.levels.saturating_sub(u32::from(b.corner.is_some()));
+        l.x == 0 || l.y == 0 || l.x + 1 == side || l.y + 1 == side
+    }
+
     /// Whether refined face `f` emits (a leaf: not refined further, not
     /// only a ring, not a hole).
     pub fn emits(&self, f: usize) -> bool {
@@ -380,19 +395,24 @@ pub fn assemble(parts: &[Part<'_>]) -> Result<super::Output, super::Error> {
     assemble_window(parts, None)
 }
 
-/// [`assemble`] of the blocks `blocks` only, for a one-depth refinement
-/// streamed block window by block window (`Session::run_chunked`): each
-/// part's `t` need hold only the grids of those blocks' leaves (through
-/// its `face_ids`). With no transitions between depths, each block's
-/// samples are [`assemble`]'s bit for bit; the result is
+/// [`assemble`] of the blocks `blocks` only, for a refinement streamed
+/// block window by block window (`Session::run_chunked`): each part's `t`
+/// need hold only the grids of the leaves of those blocks and of `halo`
+/// (through its `face_ids`). `halo` (sorted, outside the window: see
+/// [`Neighbours::halo`]; empty for one depth) are the blocks that share a
+/// border sample with the window: their samples there take part in the
+/// transitions between depths as in the whole (the deepest side's sample,
+/// the first block's in block order), but they are not emitted. Each
+/// block's samples are then [`assemble`]'s bit for bit; the result is
 /// [`super::Output::Polygons`] whenever the whole would be (the mesh has a
 /// non-quad block), its levels those of the whole (`N`, `N/2`), so the
 /// chunks' OBJ written one after the other is the whole's.
 pub fn assemble_blocks(
     parts: &[Part<'_>],
     blocks: std::ops::Range<usize>,
+    halo: &[usize],
 ) -> Result<super::Output, super::Error> {
-    assemble_window(parts, Some(blocks))
+    assemble_window(parts, Some((blocks, halo)))
 }
 
 /// The refined face range of every block (`None` unless each block's
@@ -430,16 +450,117 @@ pub fn block_faces(domain: &RefinedDomain) -> Option<Vec<std::ops::Range<usize>>
     Some(ranges)
 }
 
+/// The blocks around each base vertex: which blocks a window's border
+/// samples can be shared with (every [`Border`] key of a block lies on its
+/// base face — a vertex, an edge, the face's inner lines — so the blocks
+/// that have it are those of the base faces sharing a vertex with it).
+pub struct Neighbours<'a> {
+    domain: &'a RefinedDomain,
+    /// The blocks of base vertex `v`: `blocks[offsets[v]..offsets[v + 1]]`,
+    /// ascending.
+    offsets: Vec<usize>,
+    blocks: Vec<u32>,
+}
+
+impl<'a> Neighbours<'a> {
+    /// The blocks of `domain`'s base mesh by base vertex (a few words per
+    /// block corner).
+    pub fn new(domain: &'a RefinedDomain) -> Self {
+        let vertices = domain
+            .base_face_vertices
+            .iter()
+            .map(|&v| v as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut offsets = vec![0usize; vertices + 1];
+        let faces = |b: &refine::Block| domain.base_vertices(b.face);
+        for b in &domain.refinement.blocks {
+            for &v in faces(b) {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for k in 1..offsets.len() {
+            offsets[k] += offsets[k - 1];
+        }
+        let mut fill = offsets.clone();
+        let mut blocks = vec![0u32; offsets[vertices]];
+        for (k, b) in domain.refinement.blocks.iter().enumerate() {
+            for &v in faces(b) {
+                blocks[fill[v as usize]] = k as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Neighbours {
+            domain,
+            offsets,
+            blocks,
+        }
+    }
+
+    /// The blocks sharing a base vertex with block `b` (`b` among them;
+    /// some more than once).
+    pub fn around(&self, b: usize) -> impl Iterator<Item = usize> + '_ {
+        let face = self.domain.refinement.blocks[b].face;
+        self.domain.base_vertices(face).iter().flat_map(move |&v| {
+            self.blocks[self.offsets[v as usize]..self.offsets[v as usize + 1]]
+                .iter()
+                .map(|&k| k as usize)
+        })
+    }
+
+    /// The blocks outside `window` that share a base vertex with a block
+    /// in it, ascending: the halo [`assemble_blocks`] takes.
+    pub fn halo(&self, window: std::ops::Range<usize>) -> Vec<usize> {
+        let mut halo: Vec<usize> = window
+            .clone()
+            .flat_map(|b| self.around(b))
+            .filter(|k| !window.contains(k))
+            .collect();
+        halo.sort_unstable();
+        halo.dedup();
+        halo
+    }
+}
+
+impl RefinedDomain {
+    /// The vertices of base face `f`.
+    fn base_vertices(&self, f: u32) -> &[u32] {
+        let (a, b) = (
+            self.base_face_offsets[f as usize] as usize,
+            self.base_face_offsets[f as usize + 1] as usize,
+        );
+        &self.base_face_vertices[a..b]
+    }
+}
+
+/// Where an assembled sample is kept: the output's quad or sub-face grids,
+/// or (a halo block's border sample) only for the transitions; a halo
+/// sample of the shallowest depth is not evaluated (it never wins a
+/// transition: the deepest side's does) and takes part with its depth only.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Dst {
+    Quads,
+    Subfaces,
+    Halo,
+    Unevaluated,
+}
+
 fn assemble_window(
     parts: &[Part<'_>],
-    window: Option<std::ops::Range<usize>>,
+    window: Option<(std::ops::Range<usize>, &[usize])>,
 ) -> Result<super::Output, super::Error> {
     let Some(first) = parts.first() else {
         return Ok(super::Output::Grid(Tessellation::default()));
     };
     let blocks = &first.domain.refinement.blocks;
     let n = first.domain.level as usize;
-    let in_window = |b: usize| window.as_ref().is_none_or(|w| w.contains(&b));
+    // Emitted: the window's blocks; assembled: those and the halo's.
+    let emitted = |b: usize| window.as_ref().is_none_or(|(w, _)| w.contains(&b));
+    let in_window = |b: usize| {
+        window
+            .as_ref()
+            .is_none_or(|(w, halo)| w.contains(&b) || halo.binary_search(&b).is_ok())
+    };
     // Per part and block: the emitting leaf face of every cell, row-major.
     let cells: Vec<Vec<Option<Vec<u32>>>> = parts
         .iter()
@@ -466,7 +587,8 @@ fn assemble_window(
     let grid_of: Vec<Option<Vec<u32>>> = parts
         .iter()
         .map(|p| {
-            (!p.t.face_ids.is_empty()).then(|| {
+            // (A part with no grids here: none.)
+            (!p.t.face_ids.is_empty() || p.t.faces == 0).then(|| {
                 let mut g = vec![u32::MAX; p.domain.refinement.leaves.len().max(p.t.faces)];
                 for (k, &f) in p.t.face_ids.iter().enumerate() {
                     if let Some(x) = g.get_mut(f as usize) {
@@ -479,30 +601,29 @@ fn assemble_window(
         .collect();
     let mut quads = GridBuilder::default();
     let mut subfaces = GridBuilder::default();
+    let mut halo: Vec<(Vec3, Vec3)> = Vec::new();
     let mut corners = Vec::new();
-    // Border samples: where in the output, and the depth that gave them.
-    let mut borders: std::collections::HashMap<Border, Vec<(bool, usize, u32)>> =
+    // Border samples: where they are kept, and the depth that gave them,
+    // in block order (the whole's order, halo blocks in their place).
+    let mut borders: std::collections::HashMap<Border, Vec<(Dst, usize, u32)>> =
         std::collections::HashMap::new();
-    let base = |f: u32| {
-        let d = first.domain;
-        &d.base_face_vertices
-            [d.base_face_offsets[f as usize] as usize..d.base_face_offsets[f as usize + 1] as usize]
-    };
+    let base = |f: u32| first.domain.base_vertices(f);
     // The grids' levels and the output's kind are the mesh's, whatever a
     // window (or the set of faces that emit) holds: a streamed result
     // writes the whole one's header, and a mesh whose n-gons are all holes
     // is still polygon grids.
     (quads.level, subfaces.level) = (n as u32, (n / 2) as u32);
-    // The blocks that emit (in the window), then room for their grids, or
-    // TessError::OutOfMemory (never an allocation that aborts).
-    let emitting: Vec<usize> = (0..blocks.len())
+    // The blocks that emit (in the window or its halo), then room for the
+    // window's grids, or TessError::OutOfMemory (never an allocation that
+    // aborts).
+    let assembled: Vec<usize> = (0..blocks.len())
         .filter(|&b| in_window(b) && cells.iter().any(|c| c[b].is_some()))
         .collect();
-    let sub_blocks = emitting
+    let sub_blocks = assembled
         .iter()
-        .filter(|&&b| blocks[b].corner.is_some())
+        .filter(|&&b| emitted(b) && blocks[b].corner.is_some())
         .count();
-    let quad_blocks = emitting.len() - sub_blocks;
+    let quad_blocks = assembled.iter().filter(|&&b| emitted(b)).count() - sub_blocks;
     let samples = |l: usize, count: usize| count.saturating_mul((l + 1) * (l + 1));
     crate::cpu::reserve_samples(
         &mut quads.positions,
@@ -514,21 +635,38 @@ fn assemble_window(
         &mut subfaces.normals,
         samples(n / 2, sub_blocks),
     )?;
-    for &b in &emitting {
+    for &b in &assembled {
         let block = &blocks[b];
         let sub = block.corner.is_some();
         let l = if sub { n / 2 } else { n };
-        let out = if sub {
-            corners.push(block.corner.unwrap_or(0));
-            &mut subfaces
-        } else {
-            &mut quads
+        let emit = emitted(b);
+        let dst = match (emit, sub) {
+            (false, _) => Dst::Halo,
+            (true, true) => Dst::Subfaces,
+            (true, false) => Dst::Quads,
         };
-        out.ids.push(block.face);
+        if emit {
+            let out = if sub {
+                corners.push(block.corner.unwrap_or(0));
+                &mut subfaces
+            } else {
+                &mut quads
+            };
+            out.ids.push(block.face);
+        }
         let w = base(block.face);
         for j in 0..=l {
-            for i in 0..=l {
+            // A halo block takes part with its border samples only.
+            let step = if emit || j == 0 || j == l {
+                1
+            } else {
+                l.max(1)
+            };
+            for i in (0..=l).step_by(step) {
                 let mut found = None;
+                // A halo leaf left unevaluated (the shallowest depth's,
+                // whose sample never wins a transition): its depth only.
+                let mut unevaluated = None;
                 for ((p, c), grid) in parts.iter().zip(&cells).zip(&grid_of) {
                     let Some(cell) = &c[b] else { continue };
                     let r = p.domain.refinement.levels - u32::from(sub);
@@ -545,21 +683,41 @@ fn assemble_window(
                         found = Some((p, g as usize * (m + 1) * (m + 1) + lj * (m + 1) + li));
                         break;
                     }
-                }
-                let Some((p, s)) = found else {
-                    return Err(RefineError::Uncovered {
-                        face: block.face,
-                        i,
-                        j,
+                    if f != u32::MAX && !emit {
+                        unevaluated = Some(p.domain.refinement.levels);
+                        break;
                     }
-                    .into());
+                }
+                let (depth, at) = match (found, unevaluated) {
+                    (Some((p, s)), _) => {
+                        let sample = (p.t.positions[s], p.t.normals[s]);
+                        let at = match dst {
+                            Dst::Quads => quads.push(sample),
+                            Dst::Subfaces => subfaces.push(sample),
+                            Dst::Halo | Dst::Unevaluated => {
+                                halo.push(sample);
+                                halo.len() - 1
+                            }
+                        };
+                        (p.domain.refinement.levels, at)
+                    }
+                    (None, Some(depth)) => (depth, usize::MAX),
+                    (None, None) => {
+                        return Err(RefineError::Uncovered {
+                            face: block.face,
+                            i,
+                            j,
+                        }
+                        .into())
+                    }
                 };
-                let at = out.positions.len();
-                out.positions.push(p.t.positions[s]);
-                out.normals.push(p.t.normals[s]);
+                let dst = if at == usize::MAX {
+                    Dst::Unevaluated
+                } else {
+                    dst
+                };
                 // Transitions are between depths: one depth has none.
                 if parts.len() > 1 && (i == 0 || j == 0 || i == l || j == l) {
-                    let depth = p.domain.refinement.levels;
                     let mut keys: Vec<Border> = Vec::with_capacity(2);
                     match block.corner {
                         None => {
@@ -601,29 +759,36 @@ fn assemble_window(
                     }
                     keys.dedup();
                     for key in keys {
-                        borders.entry(key).or_default().push((sub, at, depth));
+                        borders.entry(key).or_default().push((dst, at, depth));
                     }
                 }
             }
         }
     }
-    // Transitions: the deepest side's sample on every side.
+    // Transitions: the deepest side's sample (the first such block's) on
+    // every side; a halo block only gives it.
     for uses in borders.values() {
         let deepest = uses.iter().map(|u| u.2).max().unwrap_or(0);
         if uses.iter().all(|u| u.2 == deepest) {
             continue;
         }
-        let Some(&(sub, at, _)) = uses.iter().find(|u| u.2 == deepest) else {
+        let Some(&(src, at, _)) = uses.iter().find(|u| u.2 == deepest) else {
             continue;
         };
-        let (p, nn) = {
-            let src = if sub { &subfaces } else { &quads };
-            (src.positions[at], src.normals[at])
+        let sample = match src {
+            Dst::Quads => quads.get(at),
+            Dst::Subfaces => subfaces.get(at),
+            Dst::Halo => halo[at],
+            // Never: an unevaluated sample is of the shallowest depth,
+            // the deepest only where every use is (no transition).
+            Dst::Unevaluated => continue,
         };
-        for &(s, a, _) in uses {
-            let dst = if s { &mut subfaces } else { &mut quads };
-            dst.positions[a] = p;
-            dst.normals[a] = nn;
+        for &(d, a, _) in uses {
+            match d {
+                Dst::Quads => quads.set(a, sample),
+                Dst::Subfaces => subfaces.set(a, sample),
+                Dst::Halo | Dst::Unevaluated => {}
+            }
         }
     }
     let quads = quads.finish();
@@ -656,6 +821,22 @@ struct GridBuilder {
 }
 
 impl GridBuilder {
+    /// Appends a sample; returns its index.
+    fn push(&mut self, (p, n): (Vec3, Vec3)) -> usize {
+        self.positions.push(p);
+        self.normals.push(n);
+        self.positions.len() - 1
+    }
+
+    fn get(&self, at: usize) -> (Vec3, Vec3) {
+        (self.positions[at], self.normals[at])
+    }
+
+    fn set(&mut self, at: usize, (p, n): (Vec3, Vec3)) {
+        self.positions[at] = p;
+        self.normals[at] = n;
+    }
+
     fn finish(self) -> Tessellation {
         Tessellation {
             level: self.level,

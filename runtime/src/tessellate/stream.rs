@@ -17,17 +17,25 @@
 //!   each face's edge levels, bucket and sample offset), then windows of
 //!   whole faces of at most [`CHUNK_SAMPLES`] samples (a quarter on wgpu),
 //!   each an [`Output::Instanced`] naming its faces;
-//! - refined meshes of one depth (triangles and n-gons; semi-sharp creases
-//!   refined uniformly): the refined mesh constructed once, then windows of
-//!   whole base blocks (a quad, or an n-gon's sub-face), their refined
-//!   faces evaluated and assembled into the base layout;
+//! - refined meshes (triangles and n-gons; semi-sharp creases; isolated
+//!   extraordinary vertices), of one depth or feature-adaptive of several:
+//!   each depth's refined mesh constructed once (the depths sharing the
+//!   session's one device, as [`Session::run`] runs them), then windows of
+//!   whole base blocks (a quad, or an n-gon's sub-face) of at most the
+//!   chunk's samples, every depth's refined faces counted, evaluated and
+//!   assembled into the base layout. Where depths meet, a transition takes
+//!   the deepest side's sample across blocks: a window also evaluates its
+//!   halo (the blocks sharing a base vertex with it) below the shallowest
+//!   depth — on the CPU only their border leaves — for those samples, and
+//!   emits none of it, so the halo adds a few blocks' border leaves to a
+//!   window, nothing of the whole result;
 //! - the Vulkan harness's captured triangles (triangle schemes, adaptive
 //!   draws): windows of whole faces, only their patches drawn.
 //!
-//! What comes as one chunk, the [`Session::run`] result: feature-adaptive
-//! refinements (several depths: a transition takes the deepest side's
-//! sample across blocks); its readback is chunked inside, but the whole
-//! result is held once.
+//! What comes as one chunk, the [`Session::run`] result (its readback is
+//! chunked inside, but the whole result is held once): only a refinement
+//! whose leaves are not numbered block by block ([`refined::block_faces`]),
+//! a fallback — the refinements built here always are.
 //!
 //! Each chunk passes the same non-finite check as [`Session::run`]; the
 //! samples are [`Session::run`]'s bit for bit.
@@ -64,7 +72,7 @@ impl Session {
             (Sampling::Uniform(n), _, _) if GridSource::streams(v) => {
                 grid_chunked(self, v, *n, max_samples, sink)
             }
-            (Sampling::Uniform(_), None, _) if v.refined().is_some() && v.deeper.is_empty() => {
+            (Sampling::Uniform(_), None, _) if v.refined().is_some() => {
                 refined_chunked(self, v, max_samples, sink)
             }
             (Sampling::Adaptive(_), Some(a), Backend::Cpu) => adaptive_cpu(v, a, max_samples, sink),
@@ -252,15 +260,18 @@ where
     stream(v, faces, fitting(offsets, limit), chunk, sink)
 }
 
-/// A refined request of one depth (a mesh with triangles or n-gons; creases
-/// refined uniformly): the refined mesh constructed (uploaded) once
-/// ([`GridSource`]), then windows of whole base blocks — a base quad, or
-/// one sub-face of an n-gon — whose refined faces' grids fit the chunk,
-/// each evaluated, assembled into the base layout
-/// ([`refined::assemble_blocks`]) and handed on. A feature-adaptive
-/// refinement (several depths, whose transitions are taken from the
-/// deepest side across blocks), or leaves not numbered block by block,
-/// come whole.
+/// A refined request (a mesh with triangles or n-gons, semi-sharp creases;
+/// a feature-adaptive refinement of several depths too): each depth's
+/// refined mesh constructed (uploaded) once ([`GridSource`], the depths
+/// sharing the session's device as [`Session::run`] does), then windows of
+/// whole base blocks — a base quad, or one sub-face of an n-gon — whose
+/// refined faces' grids (every depth's) fit the chunk, each evaluated,
+/// assembled into the base layout ([`refined::assemble_blocks`]) and
+/// handed on. With several depths, a window's transitions take the deepest
+/// side's sample across blocks: the window's halo (the blocks sharing a
+/// base vertex with it, [`refined::Neighbours::halo`]) is evaluated too,
+/// for its border samples only, and not emitted. Leaves not numbered block
+/// by block come whole.
 fn refined_chunked<E>(
     session: &mut Session,
     v: &Validated<'_>,
@@ -270,38 +281,151 @@ fn refined_chunked<E>(
 where
     E: std::fmt::Debug,
 {
-    let (Some(r), Some(block_faces)) = (v.refined(), v.refined().and_then(refined::block_faces))
-    else {
-        let out = session.run(v).map_err(ChunkError::Tess)?;
+    let tess = |e: Error| ChunkError::Tess(e);
+    let depths: Option<Vec<_>> = v
+        .parts()
+        .map(|p| {
+            let r = p.refined()?;
+            Some((p, r, refined::block_faces(r)?))
+        })
+        .collect();
+    let Some(depths) = depths.filter(|d| !d.is_empty()) else {
+        let out = session.run(v).map_err(tess)?;
         return sink(&out).map_err(ChunkError::Sink);
     };
-    let source = GridSource::new(v, session).map_err(ChunkError::Tess)?;
-    let level = r.leaf_level;
-    let per = (v.kernels.grid_len)(level) as usize;
-    let limit = or_default(max_samples, source.chunk_samples());
-    // Block b's refined faces start at block_faces[b].start, block by block.
-    let offsets: Vec<usize> = block_faces
+    let device = backend::device(session, v.request.backend).map_err(tess)?;
+    let sources = depths
         .iter()
-        .map(|f| f.start * per)
-        .chain(std::iter::once(source.faces() * per))
+        .map(|(p, _, _)| GridSource::on(p, device))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(tess)?;
+    let blocks = depths[0].2.len();
+    let limit = or_default(max_samples, sources[0].chunk_samples());
+    // Block b's refined faces' samples, every depth's, start at
+    // offsets[b]: each depth's faces are numbered block by block.
+    let per: Vec<usize> = depths
+        .iter()
+        .map(|(_, r, _)| (v.kernels.grid_len)(r.leaf_level) as usize)
         .collect();
-    let no_limit = v.topology().map_or(&[][..], |t| &t.no_limit[..]);
-    let mut t = Tessellation::default();
-    let chunk = |blocks: Range<usize>, _| {
-        let faces = block_faces[blocks.start].start..block_faces[blocks.end - 1].end;
-        source.evaluate(level, faces, &mut t)?;
-        let part = refined::Part {
-            domain: r,
-            t: &t,
-            no_limit,
-        };
-        let mut out = refined::assemble_blocks(&[part], blocks)?;
+    let mut offsets = vec![0usize; blocks + 1];
+    for b in 0..blocks {
+        let faces: usize = depths
+            .iter()
+            .zip(&per)
+            .map(|((_, _, f), per)| f[b].len() * per)
+            .sum();
+        offsets[b + 1] = offsets[b] + faces;
+    }
+    let neighbours = (depths.len() > 1).then(|| refined::Neighbours::new(depths[0].1));
+    let mut grids: Vec<Tessellation> = depths.iter().map(|_| Tessellation::default()).collect();
+    // Per depth, the faces that emit (the CPU evaluates only those).
+    let emits: Vec<Option<Vec<bool>>> = depths
+        .iter()
+        .map(|(p, _, _)| p.no_limit().map(super::emitting))
+        .collect();
+    let mut scratch = Tessellation::default();
+    let chunk = |window: Range<usize>, previous: Output| {
+        // The previous chunk is handed on: nothing of it is reused here.
+        drop(previous);
+        let halo = neighbours
+            .as_ref()
+            .map_or_else(Vec::new, |n| n.halo(window.clone()));
+        for (k, (((_, r, faces), source), (t, emits))) in depths
+            .iter()
+            .zip(&sources)
+            .zip(grids.iter_mut().zip(&emits))
+            .enumerate()
+        {
+            // The window's refined faces of this depth, and (below the
+            // shallowest depth, whose samples never win a transition) the
+            // halo's, into one tessellation; the CPU evaluates only those
+            // that emit, of the halo only its blocks' border leaves.
+            let own = faces[window.start].start..faces[window.end - 1].end;
+            let mut runs = vec![own.clone()];
+            if k > 0 {
+                runs.extend(halo.iter().map(|&b| faces[b].clone()));
+            }
+            let keep = |f: usize| {
+                emits
+                    .as_ref()
+                    .is_none_or(|e| e.get(f).copied().unwrap_or(true))
+                    && (own.contains(&f) || r.on_block_border(f))
+            };
+            source.evaluate_runs(r.leaf_level, &runs, &keep, t, &mut scratch)?;
+        }
+        let parts: Vec<refined::Part<'_>> = depths
+            .iter()
+            .zip(&grids)
+            .map(|((p, r, _), t)| refined::Part {
+                domain: r,
+                t,
+                no_limit: p.topology().map_or(&[][..], |t| &t.no_limit[..]),
+            })
+            .collect();
+        let mut out = refined::assemble_blocks(&parts, window, &halo)?;
         if let Output::Polygons(p) = &mut out {
             p.boundary_open_edges = v.refined_open_edges();
         }
         Ok(out)
     };
-    stream(v, block_faces.len(), fitting(&offsets, limit), chunk, sink)
+    match &neighbours {
+        None => stream(v, blocks, fitting(&offsets, limit), chunk, sink),
+        Some(n) => {
+            // A halo block costs its grids below the shallowest depth.
+            let halo_cost: Vec<usize> = (0..blocks)
+                .map(|b| {
+                    depths[1..]
+                        .iter()
+                        .zip(&per[1..])
+                        .map(|((_, _, f), per)| f[b].len() * per)
+                        .sum()
+                })
+                .collect();
+            let next = with_halo(n, &offsets, &halo_cost, limit);
+            stream(v, blocks, next, chunk, sink)
+        }
+    }
+}
+
+/// `next` for [`stream`] over a feature-adaptive refinement's blocks: the
+/// blocks from the window's start whose samples (`offsets`, as for
+/// [`fitting`]) and their halo's (`halo_cost` each, the halo as
+/// [`refined::Neighbours::halo`]) fit within `limit`, at least one.
+fn with_halo<'a>(
+    n: &'a refined::Neighbours<'_>,
+    offsets: &'a [usize],
+    halo_cost: &'a [usize],
+    limit: usize,
+) -> impl FnMut(usize) -> usize + 'a {
+    // The window (stamp) in which a block was counted in the halo.
+    let mut in_halo = vec![usize::MAX; halo_cost.len()];
+    let mut around: Vec<usize> = Vec::new();
+    move |first| {
+        let (mut end, mut total) = (first, 0usize);
+        while end < halo_cost.len() {
+            let mut add = offsets[end + 1] - offsets[end];
+            if in_halo[end] == first {
+                add -= halo_cost[end].min(add);
+            }
+            around.clear();
+            around.extend(
+                n.around(end)
+                    .filter(|&b| !(first..=end).contains(&b) && in_halo[b] != first),
+            );
+            around.sort_unstable();
+            around.dedup();
+            add += around.iter().map(|&b| halo_cost[b]).sum::<usize>();
+            if end > first && total + add > limit {
+                break;
+            }
+            for &b in &around {
+                in_halo[b] = first;
+            }
+            total += add;
+            end += 1;
+        }
+        end
+    }
 }
 
 /// Whether the Vulkan harness captures the request's triangles (triangle
