@@ -5,7 +5,8 @@
 //! refined n-gons (polygon grids), adaptive grids on the CPU, captured
 //! triangles from the Vulkan harness — the file written chunk by chunk
 //! (`Session::run_chunked`, chunks of one face and of everything) is the
-//! whole result's byte for byte; the `.glb` is re-read and validated by the
+//! whole result's byte for byte (a feature-adaptive refinement of several
+//! depths too); the `.glb` is re-read and validated by the
 //! `gltf` crate, the `.ply` by `ply-rs-bw`; both hold the same vertices and
 //! triangles; the positions' bounds in the glTF accessor are the data's;
 //! and the welded mesh is watertight: on a closed input every edge is used
@@ -147,6 +148,7 @@ fn glb_and_ply_are_welded_watertight_and_stream_byte_for_byte() {
     let torus = common::mesh("catmark_torus");
     let tent = common::mesh("catmark_tent");
     let nonquads = common::mesh("catmark_nonquads");
+    let crease = common::mesh("catmark_single_crease");
     let mut holed = common::mesh("catmark_cube");
     holed.tags.push(tessgen_runtime::mesh::Tag {
         name: "hole".into(),
