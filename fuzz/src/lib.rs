@@ -21,7 +21,8 @@
 //!   a small mesh (positions, faces of 3–5 sides, tags) that is written as
 //!   OBJ and tessellated end to end on the CPU; every sample of an `Ok`
 //!   result must be finite, and the result streamed in chunks of one face
-//!   and of a few must give the same OBJ bytes.
+//!   and of a few must give the same OBJ bytes, and in chunks of a few the
+//!   same welded PLY bytes (`export::MeshStream`).
 //! * [`tags`]: a stpn tag file for the cube, then the tagged tessellation.
 //! * [`scheme`]: `.tess` source → scheme, stencil table, Plan and all four
 //!   printers.
@@ -30,6 +31,7 @@ use std::fmt::Write as _;
 
 use tessgen_codegen::{Builder, SchemeSource};
 use tessgen_runtime::adaptive::Partitioning;
+use tessgen_runtime::export::{Format, MeshStream};
 use tessgen_runtime::obj::ObjStream;
 use tessgen_runtime::tags::TagFile;
 use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Output, Request, Session};
@@ -85,7 +87,7 @@ pub fn tags(data: &[u8]) -> bool {
         return false;
     };
     let request = Request::uniform("stpn", 2).split_quads(true).tagged(&tags);
-    finished(tessgen_runtime::tessellate::tessellate(&mesh, &request))
+    finished(tessgen_runtime::tessellate::tessellate(&mesh, &request)).is_some()
 }
 
 /// `.tess` source through parsing, checking, the stencil table (valences
@@ -204,9 +206,9 @@ pub fn mesh(data: &[u8]) -> bool {
     let mut session = Session::new();
     let whole = session.run(&v);
     let text = whole.as_ref().map(Output::to_obj).ok();
-    if !finished(whole) {
+    let Some(out) = finished(whole) else {
         return false;
-    }
+    };
     // Streaming changes no byte: the chunks of one face (block) and of a
     // few, written one after the other, are the whole result's OBJ.
     for max_samples in [1, 97] {
@@ -220,7 +222,39 @@ pub fn mesh(data: &[u8]) -> bool {
             panic!("streaming in chunks of {max_samples} changed the OBJ");
         }
     }
+    // The welded binary mesh (`.ply`, `.glb` share the weld) streams to the
+    // same bytes too.
+    {
+        let ply = |write: &mut dyn FnMut(&mut MeshStream) -> Result<(), String>| {
+            let mut m = match MeshStream::new(Format::Ply, &scratch()) {
+                Ok(m) => m,
+                // The temporary directory is not the tessellator's to fuzz.
+                Err(_) => return None,
+            };
+            if let Err(e) = write(&mut m) {
+                panic!("writing the welded mesh failed: {e}");
+            }
+            let mut bytes = Vec::new();
+            m.finish(&mut bytes).ok().map(|()| bytes)
+        };
+        let whole_ply = ply(&mut |m| out.write_mesh(m).map_err(|e| e.to_string()));
+        let chunked = ply(&mut |m| {
+            session
+                .run_chunked(&v, 97, |o| o.write_mesh(m))
+                .map_err(|e| format!("{e:?}"))
+        });
+        if whole_ply.is_some() && chunked.is_some() && whole_ply != chunked {
+            panic!("streaming in chunks of 97 changed the welded PLY");
+        }
+    }
     true
+}
+
+/// A fresh temporary path for a [`MeshStream`]'s vertex and index files.
+fn scratch() -> std::path::PathBuf {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("tessgen-fuzz-{}-{n}", std::process::id()))
 }
 
 /// Positions and 0-based faces of one of the built-in OBJ texts.
@@ -251,12 +285,12 @@ fn base_mesh(obj: &str) -> (Vec<[f32; 3]>, Vec<Vec<usize>>) {
 /// Whether the tessellation succeeded; an `Ok` result must be finite
 /// everywhere (the library turns a non-finite sample into
 /// `Error::NonFiniteSample`, issue 18), else this panics: a finding.
-fn finished(result: Result<Output, tessgen_runtime::tessellate::Error>) -> bool {
-    let Ok(out) = result else { return false };
+fn finished(result: Result<Output, tessgen_runtime::tessellate::Error>) -> Option<Output> {
+    let out = result.ok()?;
     if let Some((face, sample)) = out.first_non_finite() {
         panic!("non-finite sample {sample} of face {face} in an Ok result");
     }
-    true
+    Some(out)
 }
 
 /// The bytes as text, if they are UTF-8 (the loaders take `&str`; a file

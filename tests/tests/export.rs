@@ -185,6 +185,12 @@ fn glb_and_ply_are_welded_watertight_and_stream_byte_for_byte() {
             Request::uniform("pccm", 4),
             None,
         ),
+        (
+            "single crease pccm (feature-adaptive depths)",
+            &crease,
+            Request::uniform("pccm", 4),
+            None,
+        ),
         ("cube pccm adaptive", &cube, adaptive("pccm", 8.0), Some(2)),
         (
             "cube pccm wgpu",
