@@ -15,6 +15,8 @@
 //! lists (storage buffers in the vertex stage; 256-invocation workgroups),
 //! and every other entry, the fragment entry included, builds there.
 //!
+//! A planted WGSL error fails the check (the negative control).
+//!
 //! Node.js and the package come from `scripts/test.sh` (`npm ci` in
 //! `tests/dawn`); a missing one fails the test, it never skips.
 
@@ -119,4 +121,36 @@ fn every_wgsl_entry_point_builds_on_dawn() {
         expected.len(),
         "an unlisted entry fails in compatibility mode:\n{stdout}"
     );
+}
+
+/// The negative control: a WGSL file with a planted type error makes the
+/// check fail and name the file, so a clean run means something.
+#[test]
+fn a_planted_wgsl_error_fails_the_check() {
+    let dir = dawn_dir();
+    assert!(
+        dir.join("node_modules/webgpu").is_dir(),
+        "Dawn is not installed: run `npm ci --prefix tests/dawn` (scripts/test.sh does)"
+    );
+    let wgsl = std::env::temp_dir().join(format!("tessgen-dawn-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&wgsl).expect("temp dir");
+    std::fs::write(
+        wgsl.join("planted.wgsl"),
+        "@compute @workgroup_size(64)\nfn main_cs() { let x: u32 = 1.0f; }\n",
+    )
+    .expect("write wgsl");
+    let run = Command::new("node")
+        .arg(dir.join("check.mjs"))
+        .arg(&wgsl)
+        .env("DAWN_OPTS", "backend=null")
+        .output()
+        .unwrap_or_else(|e| panic!("node: {e} (scripts/test.sh installs Node.js)"));
+    let _ = std::fs::remove_dir_all(&wgsl);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(!run.status.success(), "a planted error passed:\n{stdout}");
+    assert!(
+        stdout.contains("planted.wgsl"),
+        "the failure names the file:\n{stdout}"
+    );
+    assert!(stdout.contains("error"), "{stdout}");
 }

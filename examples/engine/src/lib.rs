@@ -27,6 +27,8 @@ pub struct Report {
     /// Wall time of each frame (animate, prepare, draw, submit, wait).
     pub frame_ms: Vec<f64>,
     pub samples_per_frame: u64,
+    /// Pipelines tessgen had created after the first frame, and at the end.
+    pub pipelines: (usize, usize),
     /// The last frame, RGBA8.
     pub pixels: Vec<u8>,
 }
@@ -125,6 +127,7 @@ pub fn run(
         .fold(0.0, f32::max)
         .max(1e-3);
     let mut frame_ms = Vec::with_capacity(frames);
+    let mut first_pipelines = 0;
     for frame in 0..frames {
         let start = Instant::now();
         // Animation: the control mesh breathes; tessgen rebuilds the patches on the GPU.
@@ -192,6 +195,9 @@ pub fn run(
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| e.to_string())?;
         frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+        if frame == 0 {
+            first_pipelines = gpu.pipelines_created();
+        }
     }
     let slice = readback.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
@@ -206,6 +212,7 @@ pub fn run(
         adapter: gpu.info.name.clone(),
         frame_ms,
         samples_per_frame: surface.samples_per_frame(&surface_mesh),
+        pipelines: (first_pipelines, gpu.pipelines_created()),
         pixels,
     })
 }

@@ -17,11 +17,13 @@ fn main() -> Result<(), String> {
     let mut ms = r.frame_ms.clone();
     ms.sort_by(f64::total_cmp);
     println!(
-        "{}: {frames} frames of {} samples at level {level}: median {:.2} ms, min {:.2} ms",
+        "{}: {frames} frames of {} samples at level {level}: median {:.2} ms, min {:.2} ms; {} pipelines after the first frame, {} at the end",
         r.adapter,
         r.samples_per_frame,
         ms[ms.len() / 2],
-        ms[0]
+        ms[0],
+        r.pipelines.0,
+        r.pipelines.1
     );
     Ok(())
 }

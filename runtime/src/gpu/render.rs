@@ -244,6 +244,7 @@ impl GpuMesh<'_> {
     /// `opts`' formats: triangle lists, no culling (the surface is seen from
     /// both sides), depth test `Less` with depth writes.
     pub(crate) fn surface_pipeline(&self, vs: &str, opts: &SurfaceOptions) -> wgpu::RenderPipeline {
+        self.gpu().count_pipeline();
         self.gpu()
             .device
             .create_render_pipeline(&wgpu::RenderPipelineDescriptor {

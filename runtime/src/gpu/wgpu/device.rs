@@ -111,9 +111,23 @@ pub struct Gpu {
     /// The first error no error scope caught (wgpu's default handler
     /// would panic), reported by the next [`Gpu::scoped`].
     uncaptured: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+    /// Pipelines tessgen created on this device ([`Gpu::pipelines_created`]).
+    pipelines: std::sync::atomic::AtomicUsize,
 }
 
 impl Gpu {
+    /// How many compute and render pipelines tessgen has created on this
+    /// device: an engine's frame loop checks that none is made per frame.
+    pub fn pipelines_created(&self) -> usize {
+        self.pipelines.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Count one pipeline creation.
+    pub(crate) fn count_pipeline(&self) {
+        self.pipelines
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    }
+
     /// Pick an adapter: `TESSGEN_ADAPTER` (substring of the adapter name) if
     /// set, else the first high-performance adapter, software ones included
     /// (Mesa's lavapipe in CI).
@@ -200,6 +214,7 @@ impl Gpu {
             limits,
             lost,
             uncaptured,
+            pipelines: Default::default(),
         }
     }
 

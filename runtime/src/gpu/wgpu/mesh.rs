@@ -221,6 +221,7 @@ impl<'g> GpuMesh<'g> {
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             });
             let pipe = |entry: &str| {
+                gpu.count_pipeline();
                 dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(entry),
                     layout: None,

@@ -79,6 +79,7 @@ impl<'g> GpuMesh<'g> {
             return Ok(p);
         }
         let p = self.gpu.scoped(|| {
+            self.gpu.count_pipeline();
             self.gpu
                 .device
                 .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
