@@ -19,7 +19,8 @@
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
 use super::grid_eval::{
-    cubic_point, patch_normal, quad_border, row_curve_lanes, store_lanes, LevelWeights, HALF, LANES,
+    cubic_point, patch_normal, quad_border, row_curve_lanes, store_lanes, strips, LevelWeights,
+    HALF, LANES,
 };
 use glam::Vec3;
 
@@ -66,15 +67,12 @@ pub(crate) fn acc_patch<const V: bool>(
 ) -> bool {
     let width = level as usize + 1;
     let mut degenerate = false;
-    let mut c0 = 0usize;
-    while c0 < width {
-        if width - c0 <= HALF {
-            degenerate |= acc_strip::<HALF, V>(cp, w, level, c0, pos, nrm);
-            c0 += HALF;
+    for (c0, narrow) in strips(width) {
+        degenerate |= if narrow {
+            acc_strip::<HALF, V>(cp, w, level, c0, pos, nrm)
         } else {
-            degenerate |= acc_strip::<LANES, V>(cp, w, level, c0, pos, nrm);
-            c0 += LANES;
-        }
+            acc_strip::<LANES, V>(cp, w, level, c0, pos, nrm)
+        };
     }
     quad_border::<V, 40>(cp, curve, w, level, pos);
     degenerate

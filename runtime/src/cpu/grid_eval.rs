@@ -254,58 +254,99 @@ pub(crate) fn patch_grid(
             }
         }
         Path::CPatch => {
-            let mut g = [Vec3::ZERO; 24];
-            g.copy_from_slice(&cp[..24]);
-            let mut curve = [0u32; 16];
-            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
-            let degenerate = match isa {
-                Isa::Baseline => cpatch_patch::<false>(&g, &curve, w, level, pos, nrm),
+            let lanes = FormLanes::<24> {
+                base: cpatch_patch::<false>,
                 #[cfg(target_arch = "x86_64")]
-                // SAFETY: as above.
-                Isa::Avx2 | Isa::Avx512 => unsafe {
-                    cpatch_patch_avx2(&g, &curve, w, level, pos, nrm)
-                },
+                avx2: cpatch_patch_avx2,
             };
-            if degenerate {
-                per_sample(kernels, cp, class, level, pos, nrm);
-            }
+            quad_form(lanes, kernels, isa, w, cp, class, level, pos, nrm)
         }
         Path::Acc => {
-            let mut g = [Vec3::ZERO; 40];
-            g.copy_from_slice(&cp[..40]);
-            let mut curve = [0u32; 16];
-            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
-            let degenerate = match isa {
-                Isa::Baseline => acc_patch::<false>(&g, &curve, w, level, pos, nrm),
+            let lanes = FormLanes::<40> {
+                base: acc_patch::<false>,
                 #[cfg(target_arch = "x86_64")]
-                // SAFETY: as above.
-                Isa::Avx2 | Isa::Avx512 => unsafe {
-                    acc_patch_avx2(&g, &curve, w, level, pos, nrm)
-                },
+                avx2: acc_patch_avx2,
             };
-            if degenerate {
-                per_sample(kernels, cp, class, level, pos, nrm);
-            }
+            quad_form(lanes, kernels, isa, w, cp, class, level, pos, nrm)
         }
         Path::Gregory => {
-            let mut g = [Vec3::ZERO; 20];
-            g.copy_from_slice(&cp[..20]);
-            let mut curve = [0u32; 16];
-            curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
-            let degenerate = match isa {
-                Isa::Baseline => gregory_patch::<false>(&g, &curve, w, level, pos, nrm),
+            let lanes = FormLanes::<20> {
+                base: gregory_patch::<false>,
                 #[cfg(target_arch = "x86_64")]
-                // SAFETY: as above.
-                Isa::Avx2 | Isa::Avx512 => unsafe {
-                    gregory_patch_avx2(&g, &curve, w, level, pos, nrm)
-                },
+                avx2: gregory_patch_avx2,
             };
-            if degenerate {
-                per_sample(kernels, cp, class, level, pos, nrm);
-            }
+            quad_form(lanes, kernels, isa, w, cp, class, level, pos, nrm)
         }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
     }
+}
+
+/// One patch of a quad form with its own lanes (`P` control points):
+/// `(points, EDGE_CURVE entries, weights, level, positions, normals)`,
+/// whether a sample's tangents were parallel.
+type FormFn<const P: usize> =
+    fn(&[Vec3; P], &[u32; 16], &LevelWeights, u32, &mut [Vec3], &mut [Vec3]) -> bool;
+
+/// [`FormFn`] compiled with a target feature.
+#[cfg(target_arch = "x86_64")]
+type UnsafeFormFn<const P: usize> =
+    unsafe fn(&[Vec3; P], &[u32; 16], &LevelWeights, u32, &mut [Vec3], &mut [Vec3]) -> bool;
+
+/// A quad form's two compiled copies: the baseline one and the AVX2 one
+/// (which the AVX-512 copy runs too: only full bicubic strips gain from
+/// 16 lanes).
+struct FormLanes<const P: usize> {
+    base: FormFn<P>,
+    /// # Safety
+    /// AVX2 must be available.
+    #[cfg(target_arch = "x86_64")]
+    avx2: UnsafeFormFn<P>,
+}
+
+/// A patch of an extraordinary quad form (`cpatch`, `acc`, `gregory`) on
+/// its lanes, in the copy `isa` names; a patch with a degenerate sample is
+/// redone by the generated `eval` per sample, as the bicubic form's.
+#[allow(clippy::too_many_arguments)]
+fn quad_form<const P: usize>(
+    lanes: FormLanes<P>,
+    kernels: &SchemeKernels,
+    isa: Isa,
+    w: &LevelWeights,
+    cp: &[Vec3],
+    class: u32,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
+    let mut g = [Vec3::ZERO; P];
+    g.copy_from_slice(&cp[..P]);
+    let mut curve = [0u32; 16];
+    curve.copy_from_slice(&kernels.edge_curve[class as usize * 16..][..16]);
+    let degenerate = match isa {
+        Isa::Baseline => (lanes.base)(&g, &curve, w, level, pos, nrm),
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `Isa::Avx2` and `Isa::Avx512` are only produced after
+        // `is_x86_feature_detected!("avx2")`.
+        Isa::Avx2 | Isa::Avx512 => unsafe { (lanes.avx2)(&g, &curve, w, level, pos, nrm) },
+    };
+    if degenerate {
+        per_sample(kernels, cp, class, level, pos, nrm);
+    }
+}
+
+/// The column strips of a grid `width` columns wide for the 8-lane forms:
+/// `(first column, narrow)`, full strips of [`LANES`] and a last one of at
+/// most [`HALF`] columns taking [`HALF`] lanes.
+pub(crate) fn strips(width: usize) -> impl Iterator<Item = (usize, bool)> {
+    let mut c0 = 0usize;
+    std::iter::from_fn(move || {
+        (c0 < width).then(|| {
+            let narrow = width - c0 <= HALF;
+            let at = c0;
+            c0 += if narrow { HALF } else { LANES };
+            (at, narrow)
+        })
+    })
 }
 
 #[cfg(target_arch = "x86_64")]

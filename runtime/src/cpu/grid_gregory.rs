@@ -21,7 +21,8 @@
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
 use super::grid_eval::{
-    cubic, patch_normal, quad_border, row_curve_lanes, store_lanes, LevelWeights, HALF, LANES,
+    cubic, patch_normal, quad_border, row_curve_lanes, store_lanes, strips, LevelWeights, HALF,
+    LANES,
 };
 use glam::Vec3;
 
@@ -42,15 +43,12 @@ pub(crate) fn gregory_patch<const V: bool>(
 ) -> bool {
     let width = level as usize + 1;
     let mut degenerate = false;
-    let mut c0 = 0usize;
-    while c0 < width {
-        if width - c0 <= HALF {
-            degenerate |= gregory_strip::<HALF, V>(cp, w, level, c0, pos, nrm);
-            c0 += HALF;
+    for (c0, narrow) in strips(width) {
+        degenerate |= if narrow {
+            gregory_strip::<HALF, V>(cp, w, level, c0, pos, nrm)
         } else {
-            degenerate |= gregory_strip::<LANES, V>(cp, w, level, c0, pos, nrm);
-            c0 += LANES;
-        }
+            gregory_strip::<LANES, V>(cp, w, level, c0, pos, nrm)
+        };
     }
     quad_border::<V, 20>(cp, curve, w, level, pos);
     degenerate
