@@ -12,7 +12,7 @@
 //! its row curves, in the same order (no FMA contraction, no reassociation:
 //! Rust never contracts `a * b + c`, and LLVM vectorises these loops only
 //! across samples, never within one sample's sums). A `tri_cubic` patch
-//! (the triangle schemes) has no row invariant but the same lanes over the
+//! (the triangle schemes, [`super::grid_tri`]) has no row invariant but the same lanes over the
 //! samples of a row. Border samples get their positions from the shared
 //! edge evaluator (`tessgen_edge`'s operations, lanes over `t`) in their
 //! own loop, after the interior loop wrote the surface everywhere: the
@@ -39,6 +39,9 @@
 use super::grid_acc::acc_patch;
 use super::grid_cpatch::cpatch_patch;
 use super::grid_gregory::gregory_patch;
+use super::grid_tri::tri_cubic_patch;
+#[cfg(target_arch = "x86_64")]
+use super::grid_tri::tri_cubic_patch_avx2;
 use crate::kernels::common::SchemeKernels;
 use glam::Vec3;
 
@@ -775,7 +778,7 @@ pub(crate) fn quad_border<const V: bool, const P: usize>(
 /// of the class) of a 16-point patch. (Spelled out: `array::map` is not
 /// always inlined here, and costs a call per edge.)
 #[inline(always)]
-fn edge_points<const P: usize, const C: usize>(
+pub(crate) fn edge_points<const P: usize, const C: usize>(
     g: &[Vec3; P],
     curve: &[u32; C],
     e: usize,
@@ -790,7 +793,7 @@ fn edge_points<const P: usize, const C: usize>(
 /// themselves at `t = 0` and `t = level`; those lanes are overwritten with
 /// them after the de Casteljau steps, which is the generated select.
 #[inline(always)]
-fn edge_run<const V: bool>(
+pub(crate) fn edge_run<const V: bool>(
     b: &[Vec3; 4],
     w: &LevelWeights,
     level: u32,
@@ -840,183 +843,4 @@ fn edge_lanes(b: &[f32; 4], l: &[f32; LANES], r: &[f32; LANES], out: &mut [f32; 
         let d1 = (c1 * l) + (c2 * r);
         out[k] = (d0 * l) + (d1 * r);
     }
-}
-
-/// A `tri_cubic` patch's grid: the surface everywhere, then the border
-/// positions from the edge evaluator.
-#[inline(always)]
-fn tri_cubic_patch<const V: bool>(
-    c: &[Vec3; 16],
-    curve: &[u32; 12],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) {
-    tri_cubic_interior::<V>(c, w, level, pos, nrm);
-    tri_border::<V>(c, curve, w, level, pos);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn tri_cubic_patch_avx2(
-    c: &[Vec3; 16],
-    curve: &[u32; 12],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) {
-    tri_cubic_patch::<true>(c, curve, w, level, pos, nrm)
-}
-
-/// The generated `triangle_surface` at every grid point of a `tri_cubic`
-/// patch `c` (16 points): per row `iv` (`w2 = iv/N` shared), lanes over
-/// `iu` with `w0 = (N − iu − iv)/N`, `w1 = iu/N`; the three de Casteljau
-/// steps over the 10-point net and the quadratic normal field, then
-/// `tessgen_normalize` — lane by lane, the generated order.
-#[inline(always)]
-fn tri_cubic_interior<const V: bool>(
-    c: &[Vec3; 16],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) {
-    // The net's x, y and z, once per patch.
-    let mut comp = [[0.0f32; 16]; 3];
-    for (k, p) in c.iter().enumerate() {
-        (comp[0][k], comp[1][k], comp[2][k]) = (p.x, p.y, p.z);
-    }
-    let mut base = 0usize;
-    for iv in 0..=level {
-        let m = (level - iv) as usize + 1;
-        let (dst_p, dst_n) = (&mut pos[base..base + m], &mut nrm[base..base + m]);
-        let mut o = 0usize;
-        while o < m {
-            if m - o <= HALF {
-                tri_cubic_chunk::<HALF, V>(c, &comp, w, iv, o, dst_p, dst_n);
-                o += HALF;
-            } else {
-                tri_cubic_chunk::<LANES, V>(c, &comp, w, iv, o, dst_p, dst_n);
-                o += LANES;
-            }
-        }
-        base += m;
-    }
-}
-
-/// Samples `o .. o + L` (clamped to the row) of row `iv` of a `tri_cubic`
-/// patch's grid; `dst_p`, `dst_n` are the row.
-#[inline(always)]
-fn tri_cubic_chunk<const L: usize, const V: bool>(
-    c: &[Vec3; 16],
-    comp: &[[f32; 16]; 3],
-    w: &LevelWeights,
-    iv: u32,
-    o: usize,
-    dst_p: &mut [Vec3],
-    dst_n: &mut [Vec3],
-) {
-    let m = dst_p.len();
-    // w2 = iv/N; per lane iu = o + k: w1 = iu/N, w0 = ((N − iu) − iv)/N =
-    // l[iu + iv] (the same integer, the same division). Lanes past the row
-    // read further weights and are not stored.
-    let w2 = w.r[iv as usize];
-    let w0 = w.l_from::<L>(o + iv as usize);
-    let w1 = w.r_from::<L>(o);
-    let mut out = [[0.0f32; L]; 6];
-    for (ca, oa) in comp.iter().zip(out.iter_mut()) {
-        tri_point_lanes(ca, &w0, &w1, w2, oa);
-    }
-    tri_normal_lanes(c, &w0, &w1, w2, &mut out);
-    let n = (m - o).min(L);
-    store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
-    store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
-}
-
-/// One component of `triangle_surface_at`'s point, per lane: the 10-point
-/// net `b0 bn0 bp0 b1 bn1 bp1 b2 bn2 bp2 center` (slots 0 1 2 5 6 7 10 11 12
-/// 15), three steps of `(x·w0 + y·w1) + z·w2`.
-#[inline(always)]
-fn tri_point_lanes<const L: usize>(
-    c: &[f32; 16],
-    w0: &[f32; L],
-    w1: &[f32; L],
-    w2: f32,
-    out: &mut [f32; L],
-) {
-    let (b0, bn0, bp0) = (c[0], c[1], c[2]);
-    let (b1, bn1, bp1) = (c[5], c[6], c[7]);
-    let (b2, bn2, bp2) = (c[10], c[11], c[12]);
-    let center = c[15];
-    for k in 0..L {
-        let (w0, w1) = (w0[k], w1[k]);
-        let t = |x: f32, y: f32, z: f32| ((x * w0) + (y * w1)) + (z * w2);
-        let s2_200 = t(b0, bn0, bp0);
-        let s2_110 = t(bn0, bp1, center);
-        let s2_101 = t(bp0, center, bn2);
-        let s2_020 = t(bp1, b1, bn1);
-        let s2_011 = t(center, bn1, bp2);
-        let s2_002 = t(bn2, bp2, b2);
-        let s1_100 = t(s2_200, s2_110, s2_101);
-        let s1_010 = t(s2_110, s2_020, s2_011);
-        let s1_001 = t(s2_101, s2_011, s2_002);
-        out[k] = t(s1_100, s1_010, s1_001);
-    }
-}
-
-/// `triangle_surface_at`'s normal per lane: `tessgen_normalize` of
-/// `((((n3·(w0·w0) + n4·(w0·w1)) + n8·(w1·w1)) + n9·(w1·w2)) + n13·(w2·w2))
-/// + n14·(w2·w0)`, into `out[3..6]`.
-#[inline(always)]
-fn tri_normal_lanes<const L: usize>(
-    c: &[Vec3; 16],
-    w0: &[f32; L],
-    w1: &[f32; L],
-    w2: f32,
-    out: &mut [[f32; L]; 6],
-) {
-    let (n3, n4, n8, n9, n13, n14) = (c[3], c[4], c[8], c[9], c[13], c[14]);
-    for k in 0..L {
-        let (w0, w1) = (w0[k], w1[k]);
-        let (q00, q01, q11, q12, q22, q20) = (w0 * w0, w0 * w1, w1 * w1, w1 * w2, w2 * w2, w2 * w0);
-        let f = |a: f32, b: f32, c: f32, d: f32, e: f32, g: f32| {
-            (((((a * q00) + (b * q01)) + (c * q11)) + (d * q12)) + (e * q22)) + (g * q20)
-        };
-        let x = f(n3.x, n4.x, n8.x, n9.x, n13.x, n14.x);
-        let y = f(n3.y, n4.y, n8.y, n9.y, n13.y, n14.y);
-        let z = f(n3.z, n4.z, n8.z, n9.z, n13.z, n14.z);
-        let len2 = ((x * x) + (y * y)) + (z * z);
-        let len = len2.sqrt();
-        let ok = len2 > 0.0f32;
-        out[3][k] = if ok { x / len } else { x };
-        out[4][k] = if ok { y / len } else { y };
-        out[5][k] = if ok { z / len } else { z };
-    }
-}
-
-/// Border positions of a triangle patch from the shared edge evaluator,
-/// with the generated `eval`'s edge choice: `iv = 0` is edge 0 (`t = iu`),
-/// else `iu + iv = N` edge 1 (`t = iv`), else `iu = 0` edge 2 (`t = N − iv`).
-/// `curve` is the class's 12 `EDGE_CURVE` entries.
-#[inline(always)]
-fn tri_border<const V: bool>(
-    c: &[Vec3; 16],
-    curve: &[u32; 12],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-) {
-    let n = level as usize;
-    let b = |e: usize| edge_points(c, curve, e);
-    // First sample of row iv: Σ_{r<iv} (N + 1 − r).
-    let row = |iv: usize| iv * (n + 1) - iv * iv.saturating_sub(1) / 2;
-    edge_run::<V>(&b(0), w, level, 0..=level, |t, p| pos[t] = p);
-    edge_run::<V>(&b(1), w, level, 1..=level, |iv, p| {
-        pos[row(iv) + (n - iv)] = p
-    });
-    edge_run::<V>(&b(2), w, level, 1..=level.saturating_sub(1), |t, p| {
-        pos[row(n - t)] = p
-    });
 }

@@ -18,6 +18,7 @@ mod grid_acc;
 mod grid_cpatch;
 mod grid_eval;
 mod grid_gregory;
+mod grid_tri;
 mod patch_flat;
 mod vertex_flat;
 
