@@ -59,33 +59,21 @@ pub(crate) fn write_streamed(
     let mut stream = ObjStream::new(BufWriter::with_capacity(1 << 20, file));
     let mut written = Written::default();
     let start = Instant::now();
-    let result = tessellate::Session::new().run_chunked(validated, 0, |chunk| match chunk {
-        chunk if mesh.is_some() => {
-            let m = mesh
-                .as_mut()
-                .ok_or_else(|| std::io::Error::other("no mesh stream"))?;
-            let before = m.triangle_count();
+    let result = tessellate::Session::new().run_chunked(validated, 0, |chunk| {
+        if let Some(m) = mesh.as_mut() {
             count(&mut written, chunk);
+            let before = m.triangle_count();
             chunk.write_mesh(m)?;
             written.triangles += (m.triangle_count() - before) as usize;
             Ok(())
-        }
-        soupy if soup => {
-            written.triangles += soupy.write_soup(&mut stream)?;
+        } else if soup {
+            written.triangles += chunk.write_soup(&mut stream)?;
             Ok(())
-        }
-        Output::Grid(t) => {
-            written.faces += t.faces;
-            written.samples += t.positions.len();
-            stream.write(t)
-        }
-        // Polygon grids come window by window, captured triangles whole:
-        // counted over every chunk, written patch by patch.
-        other => {
-            let (patches, vertices, triangles) = other.counts();
-            let sum = written.other.get_or_insert((0, 0, 0));
-            (sum.0, sum.1, sum.2) = (sum.0 + patches, sum.1 + vertices, sum.2 + triangles);
-            other.write_obj(&mut stream)
+        } else {
+            // Polygon grids come window by window, captured triangles
+            // whole: counted over every chunk, written patch by patch.
+            count(&mut written, chunk);
+            chunk.write_obj(&mut stream)
         }
     });
     written.ms = start.elapsed().as_secs_f64() * 1e3;

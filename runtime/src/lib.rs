@@ -36,6 +36,7 @@
 //! ```
 
 pub mod abi;
+pub mod camera;
 pub mod check;
 pub mod cpu;
 pub mod export;

@@ -17,9 +17,8 @@ mod common;
 
 use glam::Vec3;
 use std::collections::HashMap;
-use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::export::{Format, MeshStream};
-use tessgen_runtime::tessellate::{AdaptiveRequest, Backend, EdgeMetric, Request, Session};
+use tessgen_runtime::tessellate::{Backend, Request, Session};
 use tessgen_runtime::Mesh;
 
 fn scratch(tag: &str) -> std::path::PathBuf {
@@ -126,21 +125,6 @@ fn topology(vertices: usize, tris: &[[u32; 3]]) -> (usize, usize, i64) {
     (open, over, euler)
 }
 
-fn adaptive(scheme: &str, max: f32) -> Request<'static> {
-    Request::adaptive(
-        scheme,
-        AdaptiveRequest {
-            metric: EdgeMetric::Random {
-                seed: 7,
-                lo: 1.0,
-                hi: max,
-            },
-            partitioning: Partitioning::Integer,
-            max_factor: max,
-        },
-    )
-}
-
 #[test]
 fn glb_and_ply_are_welded_watertight_and_stream_byte_for_byte() {
     let mut session = Session::new();
@@ -149,14 +133,7 @@ fn glb_and_ply_are_welded_watertight_and_stream_byte_for_byte() {
     let tent = common::mesh("catmark_tent");
     let nonquads = common::mesh("catmark_nonquads");
     let crease = common::mesh("catmark_single_crease");
-    let mut holed = common::mesh("catmark_cube");
-    holed.tags.push(tessgen_runtime::mesh::Tag {
-        name: "hole".into(),
-        ints: vec![1, 4],
-        floats: vec![],
-        strings: vec![],
-        line: 0,
-    });
+    let holed = common::holed("catmark_cube", &[1, 4]);
     // (what, mesh, request, Euler characteristic of a closed input)
     let cases: Vec<(&str, &Mesh, Request<'_>, Option<i64>)> = vec![
         ("cube pccm", &cube, Request::uniform("pccm", 5), Some(2)),
@@ -191,7 +168,12 @@ fn glb_and_ply_are_welded_watertight_and_stream_byte_for_byte() {
             Request::uniform("pccm", 4),
             None,
         ),
-        ("cube pccm adaptive", &cube, adaptive("pccm", 8.0), Some(2)),
+        (
+            "cube pccm adaptive",
+            &cube,
+            common::random_adaptive("pccm", 7, 1.0, 8.0, 8.0),
+            Some(2),
+        ),
         (
             "cube pccm wgpu",
             &cube,

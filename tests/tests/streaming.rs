@@ -10,10 +10,9 @@
 mod common;
 
 use common::displacement;
-use tessgen_runtime::adaptive::Partitioning;
 use tessgen_runtime::displace::Ownership;
 use tessgen_runtime::obj::{to_obj, ObjStream};
-use tessgen_runtime::tessellate::{AdaptiveRequest, Backend, EdgeMetric, Output, Request, Session};
+use tessgen_runtime::tessellate::{Backend, Output, Request, Session};
 use tessgen_runtime::Mesh;
 
 /// The OBJ of `request` on `mesh`, streamed in chunks of `max_samples`,
@@ -142,18 +141,7 @@ fn streamed_obj_is_the_whole_obj() {
 
 /// An adaptive request with random factors in `[1, max]` per edge.
 fn adaptive(scheme: &str, max: f32) -> Request<'static> {
-    Request::adaptive(
-        scheme,
-        AdaptiveRequest {
-            metric: EdgeMetric::Random {
-                seed: 7,
-                lo: 1.0,
-                hi: max,
-            },
-            partitioning: Partitioning::Integer,
-            max_factor: max,
-        },
-    )
+    common::random_adaptive(scheme, 7, 1.0, max, max)
 }
 
 /// Adaptive requests stream on the CPU and on wgpu: every face classified
@@ -171,14 +159,7 @@ fn adaptive_streams_in_face_windows() {
     let d = displacement(Ownership::LowestFace, 0.5);
     let righthanded = common::mesh("catmark_righthanded");
     let cube = common::mesh("catmark_cube");
-    let mut holed = common::mesh("catmark_cube");
-    holed.tags.push(tessgen_runtime::mesh::Tag {
-        name: "hole".into(),
-        ints: vec![1, 4],
-        floats: vec![],
-        strings: vec![],
-        line: 0,
-    });
+    let holed = common::holed("catmark_cube", &[1, 4]);
     let creased = common::mesh("catmark_single_crease");
     let tent = common::mesh("catmark_tent");
     let cases: Vec<(&str, &Mesh, Request<'_>)> = vec![
@@ -263,14 +244,7 @@ fn captured_triangles_stream_in_face_windows() {
     let mut session = Session::new();
     let righthanded = common::mesh("catmark_righthanded");
     let cube = common::mesh("catmark_cube");
-    let mut holed = common::mesh("catmark_cube");
-    holed.tags.push(tessgen_runtime::mesh::Tag {
-        name: "hole".into(),
-        ints: vec![2],
-        floats: vec![],
-        strings: vec![],
-        line: 0,
-    });
+    let holed = common::holed("catmark_cube", &[2]);
     let cases: Vec<(&str, &Mesh, Request<'_>, Backend, usize)> = vec![
         (
             "righthanded pccm adaptive",
@@ -369,14 +343,7 @@ fn refined_meshes_stream_in_block_windows() {
     let nonquads = common::mesh("catmark_nonquads");
     let tris = common::mesh("catmark_smoothtris0");
     let crease = common::mesh("catmark_single_crease");
-    let mut holed = common::mesh("catmark_nonquads");
-    holed.tags.push(tessgen_runtime::mesh::Tag {
-        name: "hole".into(),
-        ints: vec![0, 3],
-        floats: vec![],
-        strings: vec![],
-        line: 0,
-    });
+    let holed = common::holed("catmark_nonquads", &[0, 3]);
     let cases: Vec<(&str, &Mesh, Request<'_>, Vec<Backend>)> = vec![
         (
             "nonquads pccm",
@@ -491,14 +458,7 @@ fn feature_adaptive_refinements_stream_in_block_windows() {
     let xord = common::mesh("catmark_xord_interior");
     let pawn = common::mesh("catmark_pawn");
     let nonquads = common::mesh("catmark_nonquads");
-    let mut holed = common::mesh("catmark_nonquads");
-    holed.tags.push(tessgen_runtime::mesh::Tag {
-        name: "hole".into(),
-        ints: vec![0, 3],
-        floats: vec![],
-        strings: vec![],
-        line: 0,
-    });
+    let holed = common::holed("catmark_nonquads", &[0, 3]);
     let every = vec![
         Backend::Cpu,
         Backend::Wgpu,

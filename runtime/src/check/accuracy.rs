@@ -496,19 +496,6 @@ pub struct Deviation {
     pub normal_deg: Vec<f64>,
 }
 
-impl Deviation {
-    /// The largest finite distance and normal angle.
-    pub fn max(&self) -> (f64, f64) {
-        let m = |v: &[f64]| {
-            v.iter()
-                .copied()
-                .filter(|x| !x.is_nan())
-                .fold(0.0, f64::max)
-        };
-        (m(&self.distance_pct), m(&self.normal_deg))
-    }
-}
-
 /// [`Deviation`] of `request`'s scheme on `mesh` (its level is replaced
 /// by the limit samples' grid).
 pub fn deviation(

@@ -14,8 +14,9 @@
 //! top, Lambert-shaded by the scheme's own normals so the shape stays
 //! readable; samples without a value are grey.
 
+use crate::camera::Camera;
 use crate::cpu::Tessellation;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 
 /// An RGB8 image, row-major from the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -84,15 +85,21 @@ pub fn render(grid: &Tessellation, values: &[f64], opts: &HeatOptions) -> Image 
     if lo.x.is_finite() && hi.x.is_finite() {
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(1e-6);
-        let fov = 35.0f32.to_radians();
-        let dist = radius / (fov * 0.5).sin() * 0.95;
+        let fov_y = 35.0f32;
+        let dist = radius / (fov_y.to_radians() * 0.5).sin() * 0.95;
         let eye = center + opts.view.normalize_or(Vec3::Z) * dist;
         let up = if opts.view.normalize_or(Vec3::Z).cross(Vec3::Y).length() < 1e-3 {
             Vec3::Z
         } else {
             Vec3::Y
         };
-        let vp = view_proj(eye, center, up, fov, plot_w as f32 / h as f32);
+        let camera = Camera {
+            eye,
+            target: center,
+            up,
+            fov_y,
+        };
+        let vp = camera.view_proj(plot_w as f32 / h as f32);
         let light = (eye - center).normalize_or(Vec3::Z);
         let per = grid.grid_len();
         let local = grid.local_triangles();
@@ -127,30 +134,6 @@ pub fn render(grid: &Tessellation, values: &[f64], opts: &HeatOptions) -> Image 
     }
     colour_bar(&mut img, plot_w, opts);
     img
-}
-
-/// Right-handed look-at view and perspective projection (depth 0..1).
-fn view_proj(eye: Vec3, target: Vec3, up: Vec3, fov_y: f32, aspect: f32) -> Mat4 {
-    let dist = (eye - target).length().max(1e-6);
-    let (near, far) = (dist * 0.01, dist * 10.0);
-    let f = (target - eye).normalize_or(Vec3::NEG_Z);
-    let s = f.cross(up).normalize_or(Vec3::X);
-    let u = s.cross(f);
-    let view = Mat4::from_cols(
-        Vec4::new(s.x, u.x, -f.x, 0.0),
-        Vec4::new(s.y, u.y, -f.y, 0.0),
-        Vec4::new(s.z, u.z, -f.z, 0.0),
-        Vec4::new(-s.dot(eye), -u.dot(eye), f.dot(eye), 1.0),
-    );
-    let h = 1.0 / (fov_y * 0.5).tan();
-    let r = far / (near - far);
-    let proj = Mat4::from_cols(
-        Vec4::new(h / aspect, 0.0, 0.0, 0.0),
-        Vec4::new(0.0, h, 0.0, 0.0),
-        Vec4::new(0.0, 0.0, r, -1.0),
-        Vec4::new(0.0, 0.0, r * near, 0.0),
-    );
-    proj * view
 }
 
 /// Fill triangle `s` (screen x, y, depth) where it is nearest, colouring

@@ -427,6 +427,16 @@ impl AdaptiveTessellation {
         out
     }
 
+    /// The triangles of one grid at `level` over its local sample indices
+    /// ([`crate::grid`]'s layout for this domain).
+    pub fn local_triangles(&self, level: u32) -> Vec<[u32; 3]> {
+        if self.sides == 3 {
+            crate::grid::tri_grid_triangles(level)
+        } else {
+            crate::grid::grid_triangles(level)
+        }
+    }
+
     /// Append grid `g`'s triangles as world positions to `out`; `local`
     /// keeps each level's local triangles, built on first use.
     pub fn grid_triangles(
@@ -436,13 +446,7 @@ impl AdaptiveTessellation {
         out: &mut Vec<[Vec3; 3]>,
     ) {
         let (l, base) = (self.levels[g], self.offsets[g]);
-        let tris = local.entry(l).or_insert_with(|| {
-            if self.sides == 3 {
-                crate::grid::tri_grid_triangles(l)
-            } else {
-                crate::grid::grid_triangles(l)
-            }
-        });
+        let tris = local.entry(l).or_insert_with(|| self.local_triangles(l));
         out.extend(
             tris.iter()
                 .map(|t| t.map(|k| self.positions[base + k as usize])),

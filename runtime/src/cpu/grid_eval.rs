@@ -352,44 +352,28 @@ pub(crate) fn strips(width: usize) -> impl Iterator<Item = (usize, bool)> {
     })
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn acc_patch_avx2(
-    g: &[Vec3; 40],
-    curve: &[u32; 16],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) -> bool {
-    acc_patch::<true>(g, curve, w, level, pos, nrm)
+/// `$name`: the lanes `$lanes::<true>` of a `$p`-point form compiled with
+/// AVX2 enabled (the AVX2 and AVX-512 copies of [`FormLanes`]).
+macro_rules! avx2_copy {
+    ($name:ident, $lanes:ident, $p:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn $name(
+            g: &[Vec3; $p],
+            curve: &[u32; 16],
+            w: &LevelWeights,
+            level: u32,
+            pos: &mut [Vec3],
+            nrm: &mut [Vec3],
+        ) -> bool {
+            $lanes::<true>(g, curve, w, level, pos, nrm)
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn gregory_patch_avx2(
-    g: &[Vec3; 20],
-    curve: &[u32; 16],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) -> bool {
-    gregory_patch::<true>(g, curve, w, level, pos, nrm)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn cpatch_patch_avx2(
-    g: &[Vec3; 24],
-    curve: &[u32; 16],
-    w: &LevelWeights,
-    level: u32,
-    pos: &mut [Vec3],
-    nrm: &mut [Vec3],
-) -> bool {
-    cpatch_patch::<true>(g, curve, w, level, pos, nrm)
-}
+avx2_copy!(cpatch_patch_avx2, cpatch_patch, 24);
+avx2_copy!(acc_patch_avx2, acc_patch, 40);
+avx2_copy!(gregory_patch_avx2, gregory_patch, 20);
 
 /// The generated `eval` at every grid point, row by row.
 fn per_sample(

@@ -25,7 +25,7 @@ pub mod ply;
 use glam::Vec3;
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{BufWriter, Read, Write};
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
 /// An output format, by file extension.
@@ -105,14 +105,7 @@ impl Part {
             w.flush()?;
         }
         let mut f = File::open(&self.path)?;
-        let mut buf = vec![0u8; 1 << 20];
-        loop {
-            let n = f.read(&mut buf)?;
-            if n == 0 {
-                return Ok(());
-            }
-            to.write_all(&buf[..n])?;
-        }
+        std::io::copy(&mut f, to).map(|_| ())
     }
 }
 

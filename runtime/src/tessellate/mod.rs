@@ -211,13 +211,7 @@ impl Output {
                 let mut local: std::collections::BTreeMap<u32, Vec<[u32; 3]>> = Default::default();
                 for g in 0..a.levels.len() {
                     let l = a.levels[g];
-                    let tris = local.entry(l).or_insert_with(|| {
-                        if a.sides == 3 {
-                            crate::grid::tri_grid_triangles(l)
-                        } else {
-                            crate::grid::grid_triangles(l)
-                        }
-                    });
+                    let tris = local.entry(l).or_insert_with(|| a.local_triangles(l));
                     let end = a.offsets.get(g + 1).copied().unwrap_or(a.positions.len());
                     let r = a.offsets[g]..end;
                     mesh.patch(&a.positions[r.clone()], &a.normals[r], tris)?;

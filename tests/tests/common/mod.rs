@@ -158,6 +158,20 @@ pub fn grid(
         .map(|o| o.into_grid().expect("a uniform CPU request gives grids"))
 }
 
+/// The shared mesh `name` with its faces `faces` (0-based) tagged as
+/// holes (`t hole`).
+pub fn holed(name: &str, faces: &[i64]) -> Mesh {
+    let mut m = mesh(name);
+    m.tags.push(tessgen_runtime::mesh::Tag {
+        name: "hole".into(),
+        ints: faces.to_vec(),
+        floats: vec![],
+        strings: vec![],
+        line: 0,
+    });
+    m
+}
+
 /// An adaptive request for `scheme` with random per-edge factors in
 /// `[lo, hi]` (seeded, integer partitioning), factors clamped to
 /// `max_factor`: what most adaptive tests run.
