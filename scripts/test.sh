@@ -33,6 +33,8 @@ export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 
 export INSTA_UPDATE=no
 export CARGO_TERM_COLOR=never
+# A CI run builds once: incremental caches would only take disk.
+export CARGO_INCREMENTAL=0
 
 # Dawn (npm `webgpu`, pinned by tests/dawn/package-lock.json) for tests/tests/dawn.rs.
 if [ ! -d tests/dawn/node_modules/webgpu ]; then
@@ -47,4 +49,5 @@ cargo clippy --workspace --all-targets -- -D warnings
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== tessgen generate --check --out generated"
-cargo run --quiet -p tessgen -- generate --check --out generated
+# The test profile: the CLI binary `cargo test` just built, not a second build.
+cargo run --quiet --profile test -p tessgen -- generate --check --out generated
