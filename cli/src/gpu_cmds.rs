@@ -62,38 +62,53 @@ fn gpu_input(
     ))
 }
 
-/// What `render` draws: the mesh with its tags applied, refined into one
-/// mesh where it needs it (non-quads, semi-sharp creases: uniform steps,
-/// [`Request::one_mesh`](tessgen_runtime::tessellate::Request::one_mesh),
+/// What `render` and `view` draw: the mesh with its tags applied, refined
+/// into one mesh where it needs it (non-quads, semi-sharp creases: uniform
+/// steps, [`Request::one_mesh`](tessgen_runtime::tessellate::Request::one_mesh),
 /// so the patches meet without T-junctions), its topology marking holes;
 /// the per-patch level that keeps the base faces' sample density; the
 /// notes on what is not applied exactly.
-struct RenderInput {
-    topo: tessgen_runtime::Topology,
-    positions: Vec<glam::Vec3>,
-    level: u32,
-    notes: Vec<String>,
+pub(crate) struct SurfaceInput {
+    pub topo: tessgen_runtime::Topology,
+    pub positions: Vec<glam::Vec3>,
+    /// The mesh evaluated (refined or the input): its `vt` for displacement.
+    pub mesh: tessgen_runtime::Mesh,
+    /// Uniform refinement steps before the patches (0: none).
+    pub steps: u32,
+    /// The level of a patch for the requested level of a base face.
+    pub level: u32,
+    pub notes: Vec<String>,
 }
 
-fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
+impl SurfaceInput {
+    /// The level of a patch for level `n` of a base face (a refined face
+    /// is 2^-steps of it).
+    pub fn leaf_level(&self, n: u32) -> u32 {
+        (n >> self.steps).max(1)
+    }
+}
+
+pub(crate) fn surface_input(
+    path: &std::path::Path,
+    scheme: &str,
+    level: u32,
+    adaptive: Option<f32>,
+) -> Result<SurfaceInput, String> {
     use tessgen_runtime::tessellate::{AdaptiveRequest, EdgeMetric, Request};
-    let mesh = load_mesh(&args.mesh)?;
-    let at = |e: String| format!("{}: {e}", args.mesh.display());
+    let mesh = load_mesh(path)?;
+    let at = |e: String| format!("{}: {e}", path.display());
     // Before validation, whose triangle-scheme errors suggest options
     // `render` does not have (--split-quads).
     let quads = |k: &tessgen_runtime::kernels::common::SchemeKernels| k.sides == 4;
-    if !tessgen_runtime::kernels::scheme(&args.scheme).is_some_and(quads) {
-        return Err(at(format!(
-            "`render` takes quad schemes, not {}",
-            args.scheme
-        )));
+    if !tessgen_runtime::kernels::scheme(scheme).is_some_and(quads) {
+        return Err(at(format!("`render` takes quad schemes, not {scheme}")));
     }
-    let request = match args.adaptive {
-        None => Request::uniform(&args.scheme, args.level),
+    let request = match adaptive {
+        None => Request::uniform(scheme, level),
         // The metric is resolved on the refined topology below; only the
         // refinement of an adaptive request matters here.
-        Some(_) => Request::adaptive(
-            &args.scheme,
+        Some(max_factor) => Request::adaptive(
+            scheme,
             AdaptiveRequest {
                 metric: EdgeMetric::Random {
                     seed: 0,
@@ -101,7 +116,7 @@ fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
                     hi: 1.0,
                 },
                 partitioning: tessgen_runtime::adaptive::Partitioning::Integer,
-                max_factor: args.max_factor,
+                max_factor,
             },
         ),
     }
@@ -110,16 +125,18 @@ fn render_input(args: &RenderArgs) -> Result<RenderInput, String> {
     let topo = v
         .topology()
         .cloned()
-        .ok_or_else(|| at(format!("`render` takes quad schemes, not {}", args.scheme)))?;
-    Ok(RenderInput {
+        .ok_or_else(|| at(format!("`render` takes quad schemes, not {scheme}")))?;
+    let run = v.run_mesh();
+    Ok(SurfaceInput {
         topo,
-        positions: v
-            .run_mesh()
+        positions: run
             .positions
             .iter()
             .map(|p| glam::Vec3::from_array(*p))
             .collect(),
-        level: v.refined().map_or(args.level, |r| r.leaf_level.max(1)),
+        mesh: run.clone(),
+        steps: v.refined().map_or(0, |r| r.refinement.levels),
+        level: v.refined().map_or(level, |r| r.leaf_level.max(1)),
         notes: v.notes().to_vec(),
     })
 }
@@ -128,12 +145,18 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
     use tessgen_runtime::render::{Camera, RenderOptions};
     let (w, h) = parse_size(&args.size)?;
     let dir = parse_camera(&args.camera)?;
-    let RenderInput {
+    let SurfaceInput {
         topo,
         positions,
         level,
         notes,
-    } = render_input(args)?;
+        ..
+    } = surface_input(
+        &args.mesh,
+        &args.scheme,
+        args.level,
+        args.adaptive.as_ref().map(|_| args.max_factor),
+    )?;
     crate::warn_notes(&notes);
     let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
     for p in &positions {

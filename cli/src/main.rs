@@ -45,6 +45,7 @@ enum Command {
     Bench(BenchArgs),
     Compare(CompareArgs),
     Refine(refine::RefineArgs),
+    View(view::ViewArgs),
 }
 
 /// Render a mesh's smooth surface offscreen to a PNG with the generated WGSL (ordinary patches orange, extraordinary blue).
@@ -310,7 +311,7 @@ fn parse_partitioning(s: &str) -> Result<Partitioning, String> {
 type CmdResult = Result<ExitCode, String>;
 
 /// A built-in scheme name; `gregory-osd` and `gregory_osd` are the same.
-fn parse_scheme(name: &str) -> Result<String, String> {
+pub(crate) fn parse_scheme(name: &str) -> Result<String, String> {
     match kernels::scheme(name) {
         Some(k) => Ok(k.name.to_string()),
         None => Err(format!(
@@ -328,6 +329,7 @@ mod inspect;
 use inspect::inspect;
 mod compare;
 mod refine;
+mod view;
 mod stream;
 use compare::{compare, CompareArgs};
 
@@ -340,6 +342,7 @@ fn main() -> ExitCode {
         Command::Refine(args) => refine::refine_cmd(args),
         Command::Tessellate(args) => tessellate(args),
         Command::Render(args) => gpu_cmds::render(args),
+        Command::View(args) => view::view(args),
         Command::Bench(args) => gpu_cmds::bench(args),
         Command::Compare(args) => compare(args),
     };

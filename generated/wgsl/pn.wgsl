@@ -22,7 +22,7 @@ struct Params {
     level: u32,
     // offset 84: first sample written by eval_main
     out_base: u32,
-    // offset 88: bit 0: shade_fs darkens patch boundaries (wireframe overlay); other bits 0
+    // offset 88: shade_fs options: FLAG_WIREFRAME darkens patch boundaries (wireframe overlay), FLAG_PLAIN colours every class alike; other bits 0
     flags: u32,
     // offset 92: padding
     pad1: u32,
@@ -959,15 +959,18 @@ fn eval_vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) inst: u32) -
     return out;
 }
 
-// Two-sided Lambert under a fixed light; ordinary classes orange, the others blue.
+// Two-sided Lambert under a fixed light; ordinary classes orange, the others blue (grey with FLAG_PLAIN).
 @fragment
 fn shade_fs(input: VsOut) -> @location(0) vec4<f32> {
     var base: vec3<f32> = vec3<f32>(0.2f, 0.4f, 1.0f);
+    if ((params.flags & 2u) != 0u) {
+        base = vec3<f32>(0.75f, 0.75f, 0.72f);
+    }
     let n: vec3<f32> = tessgen_normalize(input.normal);
     let light: vec3<f32> = normalize(vec3<f32>(0.3f, 0.5f, 0.8f));
     let lambert: f32 = abs(dot(n, light));
     var color: vec3<f32> = (base * (0.2f + (0.8f * lambert)));
-    // Wireframe overlay of patch boundaries (params.flags bit 0).
+    // Wireframe overlay of patch boundaries (params.flags & FLAG_WIREFRAME).
     if ((params.flags & 1u) != 0u) {
         let edge: f32 = min(min(input.uv.x, (1.0f - input.uv.x)), min(input.uv.y, (1.0f - input.uv.y)));
         if (edge < (1.5f * fwidth(edge))) {

@@ -138,7 +138,7 @@ pub const PARAMS: &[(&str, &str)] = &[
     ("cp_base", "first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]"),
     ("level", "tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N"),
     ("out_base", "first sample written by eval_main"),
-    ("flags", "bit 0: shade_fs darkens patch boundaries (wireframe overlay); other bits 0"),
+    ("flags", "shade_fs options: FLAG_WIREFRAME darkens patch boundaries (wireframe overlay), FLAG_PLAIN colours every class alike; other bits 0"),
     ("pad1", "padding"),
 ];
 
@@ -185,6 +185,14 @@ pub const BUCKET_DRAW_WORDS: u32 = 5;
 /// `16·r + j` holds the patches of class range r whose bucket is `2^j`
 /// (levels up to 2^15).
 pub const BUCKET_SLOTS: u32 = 16;
+
+/// `Params.flags` bit: `shade_fs` darkens patch boundaries (a wireframe of
+/// the base faces).
+pub const FLAG_WIREFRAME: u32 = 1;
+
+/// `Params.flags` bit: `shade_fs` colours every patch class alike (grey)
+/// instead of ordinary orange / extraordinary blue.
+pub const FLAG_PLAIN: u32 = 2;
 /// Largest x workgroup count of one GPU-driven evaluation dispatch
 /// (WebGPU allows 65,535 per dimension): a bucket needing more runs as
 /// y = ⌈workgroups / INDIRECT_X⌉ rows of x = ⌈workgroups / y⌉.
@@ -544,6 +552,8 @@ pub fn rust_module(plan: &Plan) -> String {
         ("BUCKET_DISPATCH_WORDS", "`u32` per bucket slot in `bucket_dispatch`.", BUCKET_DISPATCH_WORDS),
         ("BUCKET_DRAW_WORDS", "`u32` per bucket slot in `bucket_draw`.", BUCKET_DRAW_WORDS),
         ("BUCKET_SLOTS", "Bucket slots per class range of the GPU-driven buckets.", BUCKET_SLOTS),
+        ("FLAG_WIREFRAME", "`Params.flags` bit: `shade_fs` darkens patch boundaries (wireframe overlay).", FLAG_WIREFRAME),
+        ("FLAG_PLAIN", "`Params.flags` bit: `shade_fs` colours every patch class alike (grey).", FLAG_PLAIN),
         ("INDIRECT_X", "Largest x workgroup count of one GPU-driven evaluation dispatch.", INDIRECT_X),
         ("BUCKET_CHUNK", "Patches per chunk (and workgroup size) of the bucket compaction.", BUCKET_CHUNK),
         ("SECTOR_WORDS", "`u32` per sector record in `sectors`: kind (0 crease, 1 corner), faces m, ring positions written, first ring position, partial-ring start.", SECTOR_WORDS),

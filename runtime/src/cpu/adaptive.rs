@@ -313,30 +313,14 @@ pub fn edge_inputs<'m>(
     if !max_level.is_power_of_two() || max_level > crate::cpu::MAX_LEVEL {
         return Err(AdaptiveError::MaxLevel { got: max_level });
     }
-    if !(a.min.is_finite() && a.max.is_finite() && a.min <= a.max) {
-        return Err(AdaptiveError::Clamp {
-            min: a.min,
-            max: a.max,
-        });
-    }
     let (mut ids, mut edges) = mesh.edge_ids();
     if let Metric::PerFaceEdge(_) = &a.metric {
         // Negative control: every face edge its own id.
         edges = ids.len() as u32;
         ids = (0..edges).collect();
     }
+    check_settings(a, edges as usize)?;
     let factors = a.edge_factors();
-    if let Metric::Buffer(_) | Metric::PerFaceEdge(_) = &a.metric {
-        if factors.len() != edges as usize {
-            return Err(AdaptiveError::EdgeFactorCount {
-                expected: edges as usize,
-                got: factors.len(),
-            });
-        }
-        if let Some((edge, &factor)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
-            return Err(AdaptiveError::BadFactor { edge, factor });
-        }
-    }
     Ok(EdgeInputs {
         face_edges: ids,
         edge_factors: if factors.is_empty() {
@@ -346,6 +330,32 @@ pub fn edge_inputs<'m>(
         },
         params: a.params(),
     })
+}
+
+/// The checks of an adaptive configuration that do not need the mesh: the
+/// clamp range finite and ordered, explicit factors (if the metric has
+/// them) `edges` of them and finite. [`edge_inputs`] makes them, and a
+/// renderer that changes the metric per frame makes them again.
+pub fn check_settings(a: &Adaptive, edges: usize) -> Result<(), AdaptiveError> {
+    if !(a.min.is_finite() && a.max.is_finite() && a.min <= a.max) {
+        return Err(AdaptiveError::Clamp {
+            min: a.min,
+            max: a.max,
+        });
+    }
+    let factors = a.edge_factors();
+    if let Metric::Buffer(_) | Metric::PerFaceEdge(_) = &a.metric {
+        if factors.len() != edges {
+            return Err(AdaptiveError::EdgeFactorCount {
+                expected: edges,
+                got: factors.len(),
+            });
+        }
+        if let Some((edge, &factor)) = factors.iter().enumerate().find(|(_, f)| !f.is_finite()) {
+            return Err(AdaptiveError::BadFactor { edge, factor });
+        }
+    }
+    Ok(())
 }
 
 /// A tessellation with one power-of-two level per patch (its *bucket*: the

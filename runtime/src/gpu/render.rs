@@ -4,9 +4,7 @@
 //! normals — ordinary patches orange, extraordinary ones blue, as in the
 //! PCCM paper's figures. Renders offscreen and reads the image back.
 
-use crate::abi;
-use crate::gpu::pattern;
-use crate::gpu::renderer::{SurfaceOptions, SurfaceRenderer};
+use crate::gpu::renderer::{AdaptiveSurfaceRenderer, SurfaceOptions, SurfaceRenderer};
 use crate::gpu::wgpu::{GpuError, GpuMesh};
 
 pub use crate::camera::Camera;
@@ -84,6 +82,7 @@ impl GpuMesh<'_> {
                 samples: 1,
                 level: opts.level,
                 wireframe: opts.wireframe,
+                plain: false,
             },
         )?;
         let (w, h) = (opts.width.max(1), opts.height.max(1));
@@ -109,84 +108,23 @@ impl GpuMesh<'_> {
         a: &crate::cpu::adaptive::Adaptive,
         max_level: u32,
     ) -> Result<Image, GpuError> {
-        let inp = self.adaptive_inputs(mesh.into(), a, max_level)?;
-        let b = self.bucket_buffers(&inp)?;
-        let phases = self.bucket_phases(max_level, b.slots, true);
-        let slots = self.bucket_slots(max_level);
-        // One index buffer per level 2^j: exactly the cells of the grid
-        // (the plan pass writes 6·L² (quads) or 3·L² (triangles) indices).
-        let levels: Vec<u32> = (0..crate::gpu::wgpu::SLOTS)
-            .map(|j| 1u32 << j)
-            .take_while(|&l| l <= max_level)
-            .collect();
-        let patterns: Vec<Vec<u32>> = levels
-            .iter()
-            .map(|&l| {
-                if self.scheme.sides == 3 {
-                    crate::grid::tri_grid_triangles(l).concat()
-                } else {
-                    pattern::scanline_indices(l)
-                }
-            })
-            .collect();
-        let (w, h) = (opts.width.max(1), opts.height.max(1));
-        let view_proj = opts.camera.view_proj(w as f32 / h as f32);
-        let (pipeline, index_buffers, draws) = self.gpu().scoped(|| {
-            let pipeline = self.surface_pipeline(
-                "eval_adaptive_indirect_vs",
-                &SurfaceOptions {
-                    color: COLOR,
-                    depth: Some(DEPTH),
-                    samples: 1,
-                    level: 1,
-                    wireframe: opts.wireframe,
-                },
-            );
-            let index_buffers: Vec<wgpu::Buffer> =
-                patterns.iter().map(|p| self.index_buffer(p)).collect();
-            let layout = pipeline.get_bind_group_layout(0);
-            let extra = b.bindings();
-            let draws: Vec<(wgpu::BindGroup, usize, u64)> = slots
-                .iter()
-                .map(|&(slot, class, level)| {
-                    let p = self.slot_params(
-                        view_proj,
-                        b.slots,
-                        class,
-                        level,
-                        slot,
-                        u32::from(opts.wireframe),
-                    );
-                    (
-                        self.bind_group_with(
-                            "eval_adaptive_indirect_vs",
-                            &layout,
-                            &p,
-                            None,
-                            &extra,
-                        ),
-                        level.trailing_zeros() as usize,
-                        (abi::BUCKET_DRAW_WORDS * abi::ELEMENT_BYTES) as u64 * slot as u64,
-                    )
-                })
-                .collect();
-            (pipeline, index_buffers, draws)
-        })?;
-        self.render_with(
-            opts,
-            |enc| self.encode_phases(enc, &phases, &b, None),
-            |pass| {
-                pass.set_pipeline(&pipeline);
-                for (group, pattern, offset) in &draws {
-                    pass.set_index_buffer(
-                        index_buffers[*pattern].slice(..),
-                        wgpu::IndexFormat::Uint32,
-                    );
-                    pass.set_bind_group(0, group, &[]);
-                    pass.draw_indexed_indirect(&b.draw, *offset);
-                }
+        let surface = AdaptiveSurfaceRenderer::new(
+            self,
+            mesh,
+            a,
+            max_level,
+            &SurfaceOptions {
+                color: COLOR,
+                depth: Some(DEPTH),
+                samples: 1,
+                level: 1,
+                wireframe: opts.wireframe,
+                plain: false,
             },
-        )
+        )?;
+        let (w, h) = (opts.width.max(1), opts.height.max(1));
+        surface.prepare(self, opts.camera.view_proj(w as f32 / h as f32));
+        self.render_with(opts, |enc| surface.encode(self, enc), |pass| surface.draw(pass))
     }
 
     /// The render pipeline of vertex entry `vs` (`eval_vs`,

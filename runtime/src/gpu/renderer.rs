@@ -31,6 +31,9 @@ pub struct SurfaceOptions {
     pub level: u32,
     /// Darken patch boundaries (a wireframe of the base faces).
     pub wireframe: bool,
+    /// One grey for every patch class instead of the class colours
+    /// (ordinary orange, extraordinary blue).
+    pub plain: bool,
 }
 
 impl SurfaceOptions {
@@ -42,7 +45,14 @@ impl SurfaceOptions {
             samples: 1,
             level,
             wireframe: false,
+            plain: false,
         }
+    }
+
+    /// `shade_fs`'s `Params.flags` for these options (bits from the ABI).
+    pub fn flags(&self) -> u32 {
+        let bit = |on: bool, b: u32| if on { b } else { 0 };
+        bit(self.wireframe, abi::FLAG_WIREFRAME) | bit(self.plain, abi::FLAG_PLAIN)
     }
 }
 
@@ -93,7 +103,7 @@ impl SurfaceRenderer {
                         c.cp_base,
                         opts.level,
                         0,
-                        u32::from(opts.wireframe),
+                        opts.flags(),
                     );
                     ClassDraw {
                         group: mesh.bind_group("eval_vs", &layout, &params, None),
@@ -136,6 +146,12 @@ impl SurfaceRenderer {
         self.opts.wireframe = on;
     }
 
+    /// Colour every class alike or not (takes effect at the next
+    /// [`SurfaceRenderer::prepare`]).
+    pub fn set_plain(&mut self, on: bool) {
+        self.opts.plain = on;
+    }
+
     /// This frame's camera: `view_proj` (column-major, clip from world,
     /// depth 0..1) into every class's uniforms, through the mesh's queue.
     pub fn prepare(&self, mesh: &GpuMesh<'_>, view_proj: Mat4) {
@@ -150,7 +166,7 @@ impl SurfaceRenderer {
                 0,
             );
             let at = abi::params::FLAGS;
-            bytes[at..at + 4].copy_from_slice(&u32::from(self.opts.wireframe).to_le_bytes());
+            bytes[at..at + 4].copy_from_slice(&self.opts.flags().to_le_bytes());
             mesh.gpu().queue.write_buffer(&d.params, 0, &bytes);
         }
     }
@@ -180,4 +196,202 @@ fn pattern_buffer(mesh: &GpuMesh<'_>, level: u32) -> (wgpu::Buffer, u32) {
         pattern::cache_friendly_indices(level, 20)
     };
     (mesh.index_buffer(&indices), indices.len() as u32)
+}
+
+/// One bucket slot's indirect draw: its uniforms (rewritten per frame),
+/// the bind group with the bucket buffers, the index buffer of its level
+/// and where its `draw_indexed_indirect` arguments are.
+struct SlotDraw {
+    params: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    pattern: usize,
+    offset: u64,
+    slot: u32,
+    class: u32,
+    level: u32,
+}
+
+/// Adaptive tessellation drawn every frame, with the buckets built on the
+/// GPU (the passes of [`GpuMesh::evaluate_adaptive_gpu_driven`]: classify,
+/// count, plan, scatter) and drawn by indirect draws of
+/// `eval_adaptive_indirect_vs`, one per bucket slot: nothing is read back.
+/// The bucket buffers, the pipelines, one index buffer per level `2^j` and
+/// the per-slot bind groups are made once ([`AdaptiveSurfaceRenderer::new`]);
+/// per frame the caller may change the metric ([`set_adaptive`]: a screen
+/// metric follows the camera), hands over the camera ([`prepare`]),
+/// records the bucket passes into its encoder before its render pass
+/// ([`encode`]) and the draws into the pass ([`draw`]).
+///
+/// [`set_adaptive`]: AdaptiveSurfaceRenderer::set_adaptive
+/// [`prepare`]: AdaptiveSurfaceRenderer::prepare
+/// [`encode`]: AdaptiveSurfaceRenderer::encode
+/// [`draw`]: AdaptiveSurfaceRenderer::draw
+pub struct AdaptiveSurfaceRenderer {
+    buckets: super::wgpu::Buckets,
+    phases: Vec<(&'static str, Vec<(wgpu::Buffer, super::wgpu::Run)>)>,
+    pipeline: wgpu::RenderPipeline,
+    patterns: Vec<wgpu::Buffer>,
+    draws: Vec<SlotDraw>,
+    /// Explicit factors the buckets hold room for (one per edge id).
+    edges: usize,
+    max_level: u32,
+    opts: SurfaceOptions,
+}
+
+impl AdaptiveSurfaceRenderer {
+    /// Build the buckets of `topo` (the mesh `mesh` was uploaded from) for
+    /// `a` and levels up to `max_level` (a power of two), and the pipeline
+    /// of `opts`' formats (`opts.level` is not used: each patch's level is
+    /// its bucket).
+    pub fn new<'m>(
+        mesh: &GpuMesh<'_>,
+        topo: impl Into<crate::cpu::adaptive::AdaptiveMesh<'m>>,
+        a: &crate::cpu::adaptive::Adaptive,
+        max_level: u32,
+        opts: &SurfaceOptions,
+    ) -> Result<AdaptiveSurfaceRenderer, GpuError> {
+        let mut inp = mesh.adaptive_inputs(topo.into(), a, max_level)?;
+        // Room for explicit factors whatever metric `set_adaptive` brings.
+        let edges = inp.face_edges.iter().max().map_or(0, |&e| e as usize + 1);
+        inp.edge_factors.resize(edges.max(1), 0.0);
+        let buckets = mesh.bucket_buffers(&inp)?;
+        let phases = mesh.bucket_phases(max_level, buckets.slots, true);
+        let opts = SurfaceOptions {
+            samples: opts.samples.max(1),
+            ..*opts
+        };
+        mesh.gpu().scoped(|| {
+            let pipeline = mesh.surface_pipeline("eval_adaptive_indirect_vs", &opts);
+            // One index buffer per level 2^j: exactly the cells of the grid
+            // (the plan pass writes 6·L² (quads) or 3·L² (triangles) indices).
+            let patterns = (0..super::wgpu::SLOTS)
+                .map(|j| 1u32 << j)
+                .take_while(|&l| l <= max_level)
+                .map(|l| {
+                    let indices = if mesh.scheme.sides == 3 {
+                        crate::grid::tri_grid_triangles(l).concat()
+                    } else {
+                        pattern::scanline_indices(l)
+                    };
+                    mesh.index_buffer(&indices)
+                })
+                .collect();
+            let layout = pipeline.get_bind_group_layout(0);
+            let extra = buckets.bindings();
+            let draws = mesh
+                .bucket_slots(max_level)
+                .into_iter()
+                .map(|(slot, class, level)| {
+                    let params = mesh.slot_params(
+                        Mat4::IDENTITY,
+                        buckets.slots,
+                        class,
+                        level,
+                        slot,
+                        opts.flags(),
+                    );
+                    SlotDraw {
+                        group: mesh.bind_group_with(
+                            "eval_adaptive_indirect_vs",
+                            &layout,
+                            &params,
+                            None,
+                            &extra,
+                        ),
+                        params,
+                        pattern: level.trailing_zeros() as usize,
+                        offset: (abi::BUCKET_DRAW_WORDS * abi::ELEMENT_BYTES) as u64 * slot as u64,
+                        slot,
+                        class,
+                        level,
+                    }
+                })
+                .collect();
+            AdaptiveSurfaceRenderer {
+                buckets,
+                phases,
+                pipeline,
+                patterns,
+                draws,
+                edges,
+                max_level,
+                opts,
+            }
+        })
+    }
+
+    /// The largest level a patch can take.
+    pub fn max_level(&self) -> u32 {
+        self.max_level
+    }
+
+    /// Another metric or clamp range for the next frames (checked as
+    /// [`crate::cpu::adaptive::edge_inputs`] checks them; explicit factors
+    /// one per edge id of the mesh the renderer was made for; a per-face-edge
+    /// metric only if it was made with one).
+    pub fn set_adaptive(
+        &self,
+        mesh: &GpuMesh<'_>,
+        a: &crate::cpu::adaptive::Adaptive,
+    ) -> Result<(), GpuError> {
+        crate::cpu::adaptive::check_settings(a, self.edges)?;
+        self.buckets
+            .write_inputs(&mesh.gpu().queue, &a.params(), a.edge_factors());
+        Ok(())
+    }
+
+    /// The options it was built with (wireframe and plain as last set).
+    pub fn options(&self) -> &SurfaceOptions {
+        &self.opts
+    }
+
+    /// Darken patch boundaries or not (takes effect at the next
+    /// [`AdaptiveSurfaceRenderer::prepare`]).
+    pub fn set_wireframe(&mut self, on: bool) {
+        self.opts.wireframe = on;
+    }
+
+    /// Colour every class alike or not (takes effect at the next
+    /// [`AdaptiveSurfaceRenderer::prepare`]).
+    pub fn set_plain(&mut self, on: bool) {
+        self.opts.plain = on;
+    }
+
+    /// This frame's camera into every slot's uniforms.
+    pub fn prepare(&self, mesh: &GpuMesh<'_>, view_proj: Mat4) {
+        for d in &self.draws {
+            let mut bytes = crate::gpu::upload::params_bytes(
+                view_proj,
+                self.buckets.slots,
+                0,
+                d.class,
+                0,
+                d.level,
+                d.slot,
+            );
+            let at = abi::params::FLAGS;
+            bytes[at..at + 4].copy_from_slice(&self.opts.flags().to_le_bytes());
+            mesh.gpu().queue.write_buffer(&d.params, 0, &bytes);
+        }
+    }
+
+    /// Record the bucket passes (compute) into `enc`, before the render
+    /// pass that [`AdaptiveSurfaceRenderer::draw`] records into.
+    pub fn encode(
+        &self,
+        mesh: &GpuMesh<'_>,
+        enc: &mut wgpu::CommandEncoder,
+    ) -> Result<(), GpuError> {
+        mesh.encode_phases(enc, &self.phases, &self.buckets, None)
+    }
+
+    /// Record the indirect draws (one per bucket slot) into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        for d in &self.draws {
+            pass.set_index_buffer(self.patterns[d.pattern].slice(..), wgpu::IndexFormat::Uint32);
+            pass.set_bind_group(0, &d.group, &[]);
+            pass.draw_indexed_indirect(&self.buckets.draw, d.offset);
+        }
+    }
 }

@@ -352,6 +352,8 @@ fn sample_out(f: &mut Function, sample: Expr, result: LocalId) -> Vec<Stmt> {
 /// Base colours of the rendering entry point.
 const ORDINARY_RGB: [f32; 3] = [1.0, 0.55, 0.1];
 const EXTRAORDINARY_RGB: [f32; 3] = [0.2, 0.4, 1.0];
+/// `shade_fs` with `FLAG_PLAIN`: every class this grey.
+const PLAIN_RGB: [f32; 3] = [0.75, 0.75, 0.72];
 
 fn rgb(c: [f32; 3]) -> Expr {
     Expr::Call(Builtin::Vec3, c.map(f).to_vec())
@@ -360,7 +362,7 @@ fn rgb(c: [f32; 3]) -> Expr {
 fn shade_fs(entries: &Entries) -> EntryItem {
     let mut fs = Function::new(
         "shade_fs",
-        "Two-sided Lambert under a fixed light; ordinary classes orange, the others blue.",
+        "Two-sided Lambert under a fixed light; ordinary classes orange, the others blue (grey with FLAG_PLAIN).",
     );
     let base = fs.local("base", Ty::Vec3);
     let n = fs.local("n", Ty::Vec3);
@@ -381,6 +383,12 @@ fn shade_fs(entries: &Entries) -> EntryItem {
             ));
         }
     }
+    let flag = |bit: u32| bin(BinOp::Ne, bin(BinOp::BitAnd, param("flags"), u(bit)), u(0));
+    fs.body.push(Stmt::If(
+        flag(crate::plan::abi::FLAG_PLAIN),
+        vec![Stmt::Assign(base, rgb(PLAIN_RGB))],
+        vec![],
+    ));
     fs.body.extend([
         Stmt::Let(
             n,
@@ -401,9 +409,9 @@ fn shade_fs(entries: &Entries) -> EntryItem {
             ),
         ),
         Stmt::Var(color, mul(l(base), add(f(0.2), mul(f(0.8), l(lambert))))),
-        Stmt::Comment("Wireframe overlay of patch boundaries (params.flags bit 0).".into()),
+        Stmt::Comment("Wireframe overlay of patch boundaries (params.flags & FLAG_WIREFRAME).".into()),
         Stmt::If(
-            bin(BinOp::Ne, bin(BinOp::BitAnd, param("flags"), u(1)), u(0)),
+            flag(crate::plan::abi::FLAG_WIREFRAME),
             vec![
                 Stmt::Let(
                     edge,

@@ -41,6 +41,19 @@ pub(crate) struct Buckets {
 }
 
 impl Buckets {
+    /// Rewrite the metric's inputs in place: the `adaptive` parameters and
+    /// (explicit metrics) the factors, which must fit the buffer the
+    /// buckets were made with. Every other buffer is rewritten whole by
+    /// the next run of the phases (assignments, no atomics), so the
+    /// buckets can run again every frame.
+    pub(crate) fn write_inputs(&self, queue: &wgpu::Queue, params: &[f32], factors: &[f32]) {
+        use crate::gpu::upload::f32_bytes;
+        queue.write_buffer(&self.params, 0, &f32_bytes(params));
+        if !factors.is_empty() {
+            queue.write_buffer(&self.edge_factors, 0, &f32_bytes(factors));
+        }
+    }
+
     /// The per-call bindings: the edge inputs, the levels, the lists
     /// (also as `bucket_patches`, what the evaluation and the draws read)
     /// and the indirect arguments.

@@ -21,7 +21,7 @@ mod mesh;
 mod pass;
 
 pub use adaptive::Classified;
-pub(crate) use buckets::{CHUNK, SLOTS};
+pub(crate) use buckets::{Buckets, Run, CHUNK, SLOTS};
 pub use device::{Gpu, GpuError, Limits};
 
 pub use crate::gpu::upload::ClassRange;

@@ -199,7 +199,7 @@ impl<'g> GpuMesh<'g> {
     }
 
     /// Map a MAP_READ buffer and copy its bytes out.
-    pub(crate) fn read_bytes(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+    pub fn read_bytes(&self, staging: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         self.with_mapped(staging, |bytes| bytes.to_vec())
     }
 
