@@ -14,6 +14,13 @@ command -v glslangValidator >/dev/null 2>&1 || need_apt+=(glslang-tools)
 command -v spirv-val >/dev/null 2>&1 || need_apt+=(spirv-tools)
 ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1 || need_apt+=(mesa-vulkan-drivers)
 ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1' || need_apt+=(libvulkan1)
+#   Xvfb and the X11 libraries winit   an X server and the client libraries winit loads at
+#   loads (xvfb, libx11-xcb1, …)       run time, for `tessgen view`'s window test (cli/tests/view.rs)
+command -v Xvfb >/dev/null 2>&1 || need_apt+=(xvfb)
+for lib_pkg in libX11-xcb.so.1:libx11-xcb1 libxkbcommon-x11.so.0:libxkbcommon-x11-0 \
+               libXcursor.so.1:libxcursor1 libXrandr.so.2:libxrandr2 libXi.so.6:libxi6; do
+  ldconfig -p 2>/dev/null | grep -q "${lib_pkg%%:*}" || need_apt+=("${lib_pkg##*:}")
+done
 #   node + npm (nodejs, npm)          run Dawn, Chrome's WebGPU, on the emitted WGSL (tests/dawn)
 command -v node >/dev/null 2>&1 || need_apt+=(nodejs)
 command -v npm >/dev/null 2>&1 || need_apt+=(npm)

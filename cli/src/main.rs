@@ -329,8 +329,8 @@ mod inspect;
 use inspect::inspect;
 mod compare;
 mod refine;
-mod view;
 mod stream;
+mod view;
 use compare::{compare, CompareArgs};
 
 fn main() -> ExitCode {

@@ -439,6 +439,12 @@ fn cases() -> Vec<Case> {
             .data(CUBE).file("f", "a file\n"),
         render("render_triangle_scheme", "--scheme pn",
             "tessgen: error: catmark_cube.obj: `render` takes quad schemes, not pn"),
+        case("view_unknown_key", "view catmark_cube.obj --keys tab,ctrl+z",
+            "error: invalid value 'tab,ctrl+z' for '--keys <KEYS>': unknown key `ctrl+z` (known: tab shift+tab + = - a m ] [ w c d . comma left right up down pageup pagedown r p h f1 u escape q)")
+            .data(CUBE).code(2),
+        case("view_no_display", "view catmark_cube.obj --frames 1",
+            "tessgen: error: cannot open a window: neither DISPLAY nor WAYLAND_DISPLAY is set (without a display, run it under Xvfb: xvfb-run tessgen view …)")
+            .data(CUBE).env("DISPLAY", "").env("WAYLAND_DISPLAY", "").env("WAYLAND_SOCKET", ""),
         render("render_size_syntax", "--size 800", "tessgen: error: --size \"800\": expected WxH, e.g. 800x600"),
         render("render_size_width", "--size ax600", "tessgen: error: --size \"ax600\": bad width"),
         render("render_size_height", "--size 800xb", "tessgen: error: --size \"800xb\": bad height"),

@@ -28,7 +28,7 @@ struct Params {
     uint cp_base; // offset 76: first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]
     uint level; // offset 80: tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N
     uint out_base; // offset 84: first sample written by eval_main
-    uint flags; // offset 88: shade_fs options: FLAG_WIREFRAME darkens patch boundaries (wireframe overlay), FLAG_PLAIN colours every class alike; other bits 0
+    uint flags; // offset 88: shade_fs options: bit 0 (FLAG_WIREFRAME) darkens patch boundaries (wireframe overlay), bit 1 (FLAG_PLAIN) colours every class alike; other bits 0
     uint pad1; // offset 92: padding
 };
 

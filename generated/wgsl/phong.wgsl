@@ -22,7 +22,7 @@ struct Params {
     level: u32,
     // offset 84: first sample written by eval_main
     out_base: u32,
-    // offset 88: shade_fs options: FLAG_WIREFRAME darkens patch boundaries (wireframe overlay), FLAG_PLAIN colours every class alike; other bits 0
+    // offset 88: shade_fs options: bit 0 (FLAG_WIREFRAME) darkens patch boundaries (wireframe overlay), bit 1 (FLAG_PLAIN) colours every class alike; other bits 0
     flags: u32,
     // offset 92: padding
     pad1: u32,

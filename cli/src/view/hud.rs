@@ -28,7 +28,11 @@ impl TextBox {
         let mut rgba = [0u8, 0, 0, 150].repeat((width * height) as usize);
         for (row, line) in lines.iter().enumerate() {
             for (col, ch) in line.chars().enumerate() {
-                let glyph = font8x8::legacy::BASIC_LEGACY[if ch.is_ascii() { ch as usize } else { b'?' as usize }];
+                let glyph = font8x8::legacy::BASIC_LEGACY[if ch.is_ascii() {
+                    ch as usize
+                } else {
+                    b'?' as usize
+                }];
                 for (gy, bits) in glyph.iter().enumerate() {
                     for gx in 0..CELL {
                         if bits & (1 << gx) == 0 {
@@ -233,13 +237,20 @@ mod tests {
     fn text_box_draws_glyph_pixels_on_a_translucent_background() {
         let b = TextBox::new(&["A".to_string(), "".to_string()], 1);
         assert_eq!((b.width, b.height), (8 + 8, 2 * 10 + 8));
-        let white = b.rgba.chunks_exact(4).filter(|p| p == &[255, 255, 255, 255]).count();
+        let white = b
+            .rgba
+            .chunks_exact(4)
+            .filter(|p| p == &[255, 255, 255, 255])
+            .count();
         let glyph: u32 = font8x8::legacy::BASIC_LEGACY[b'A' as usize]
             .iter()
             .map(|r| r.count_ones())
             .sum();
         assert_eq!(white as u32, glyph);
-        assert!(b.rgba.chunks_exact(4).all(|p| p[3] == 255 || p == [0, 0, 0, 150]));
+        assert!(b
+            .rgba
+            .chunks_exact(4)
+            .all(|p| p[3] == 255 || p == [0, 0, 0, 150]));
         let big = TextBox::new(&["A".to_string()], 2);
         let white2 = big.rgba.chunks_exact(4).filter(|p| p[0] == 255).count();
         assert_eq!(white2 as u32, 4 * glyph);

@@ -45,7 +45,12 @@ pub(crate) struct ViewArgs {
     #[arg(long, value_name = "WxH", default_value = "1024x768")]
     pub size: String,
     /// Camera direction as azimuth,elevation in degrees (as `render`).
-    #[arg(long, value_name = "AZ,EL", default_value = "35,25", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "AZ,EL",
+        default_value = "35,25",
+        allow_hyphen_values = true
+    )]
     pub camera: String,
     /// Start with the wireframe of the base faces.
     #[arg(long)]
@@ -57,8 +62,8 @@ pub(crate) struct ViewArgs {
     #[arg(long)]
     pub no_hud: bool,
     /// Scripted keys, comma-separated (`tab,w,+,a`; `comma` for ,): one applied per frame from the second frame on, as if pressed.
-    #[arg(long, value_name = "KEYS")]
-    pub keys: Option<String>,
+    #[arg(long, value_name = "KEYS", value_parser = state::parse_keys)]
+    pub keys: Option<state::Keys>,
     /// Quit after this many frames.
     #[arg(long, value_name = "N")]
     pub frames: Option<u64>,
@@ -76,10 +81,7 @@ const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const MAX_ADAPTIVE_LEVEL: u32 = 64;
 
 pub(crate) fn view(args: &ViewArgs) -> CmdResult {
-    let keys = match &args.keys {
-        Some(k) => state::parse_keys(k)?,
-        None => Vec::new(),
-    };
+    let keys = args.keys.clone().map_or(Vec::new(), |k| k.0);
     let (w, h) = parse_size(&args.size)?;
     let dir = parse_camera(&args.camera)?;
     // Bad input fails here, before a window opens.
@@ -101,9 +103,14 @@ pub(crate) fn view(args: &ViewArgs) -> CmdResult {
     let mut settings = Settings::new(&args.scheme, args.level, all_regular, home);
     settings.wireframe = args.wireframe;
     settings.hud = !args.no_hud;
-    let event_loop = EventLoop::new().map_err(|e| {
-        format!("cannot open a window: {e} (no display? set DISPLAY, or run under Xvfb)")
-    })?;
+    #[cfg(all(unix, not(target_os = "macos")))]
+    if ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .all(|v| std::env::var_os(v).is_none_or(|s| s.is_empty()))
+    {
+        return Err("cannot open a window: neither DISPLAY nor WAYLAND_DISPLAY is set (without a display, run it under Xvfb: xvfb-run tessgen view …)".into());
+    }
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
     let mut app = App {
         args,
         size: (w, h),
@@ -365,8 +372,15 @@ impl App<'_> {
                 scale: s.displace_scale * (hi - lo).length(),
                 ownership: Ownership::LowestFace,
             };
-            GpuMesh::new_displaced(gpu, &input.mesh, &input.topo, &input.positions, s.scheme(), &d)
-                .map_err(at)?
+            GpuMesh::new_displaced(
+                gpu,
+                &input.mesh,
+                &input.topo,
+                &input.positions,
+                s.scheme(),
+                &d,
+            )
+            .map_err(at)?
         } else {
             GpuMesh::new(gpu, &input.topo, &input.positions, s.scheme()).map_err(at)?
         };
@@ -399,7 +413,12 @@ impl App<'_> {
         let opts = self.options(level);
         let shot = format!("tessgen-view-{}.png", self.frames);
         let upload = match change {
-            Change::Upload => Some(self.view.as_ref().map(|v| v.gpu).map(|g| self.surface_for(g))),
+            Change::Upload => Some(
+                self.view
+                    .as_ref()
+                    .map(|v| v.gpu)
+                    .map(|g| self.surface_for(g)),
+            ),
             _ => None,
         };
         let Some(view) = self.view.as_mut() else {
@@ -493,12 +512,21 @@ impl View {
 
     /// Draw and present one frame; with `shoot`, also composite it into an
     /// RGBA8 texture and return it read back.
-    fn draw(&mut self, s: &Settings, (w, h): (u32, u32), shoot: bool) -> Result<Option<Image>, String> {
+    fn draw(
+        &mut self,
+        s: &Settings,
+        (w, h): (u32, u32),
+        shoot: bool,
+    ) -> Result<Option<Image>, String> {
         let gpu = self.gpu;
         let now = Instant::now();
         let ms = now.duration_since(self.last).as_secs_f64() * 1e3;
         self.last = now;
-        self.frame_ms = if self.frame_ms == 0.0 { ms } else { 0.9 * self.frame_ms + 0.1 * ms };
+        self.frame_ms = if self.frame_ms == 0.0 {
+            ms
+        } else {
+            0.9 * self.frame_ms + 0.1 * ms
+        };
         let camera = self.camera(s);
         let view_proj = camera.view_proj(w as f32 / h as f32);
         let surface = &mut self.drawn;
@@ -540,9 +568,13 @@ impl View {
         }
         // The HUD: rewritten a few times a second (frame time) or at once
         // after a key.
-        if self.hud_at.is_none_or(|t| now.duration_since(t).as_millis() > 250) {
+        if self
+            .hud_at
+            .is_none_or(|t| now.duration_since(t).as_millis() > 250)
+        {
             let text = if s.hud {
-                let samples = (!s.adaptive).then(|| surface.uniform.samples_per_frame(&surface.mesh));
+                let samples =
+                    (!s.adaptive).then(|| surface.uniform.samples_per_frame(&surface.mesh));
                 let mut lines = vec![format!("tessgen view  {}  on {}", self.name, gpu.info.name)];
                 lines.extend(s.status(surface.level, samples, self.frame_ms));
                 if let Some(m) = &self.message {
@@ -581,7 +613,9 @@ impl View {
         let depth_view = depth.create_view(&Default::default());
         let mut enc = gpu
             .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("view") });
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("view"),
+            });
         let surface = &self.drawn;
         if let (true, Some(r)) = (s.adaptive, &surface.adaptive) {
             r.encode(&surface.mesh, &mut enc).map_err(err)?;
@@ -615,7 +649,8 @@ impl View {
                 _ => surface.uniform.draw(&mut pass),
             }
         }
-        self.composite.encode(&gpu.device, &mut enc, &color_view, &out);
+        self.composite
+            .encode(&gpu.device, &mut enc, &color_view, &out);
         let shot = shoot.then(|| {
             let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("view screenshot"),
@@ -627,8 +662,12 @@ impl View {
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
                 view_formats: &[],
             });
-            self.shot
-                .encode(&gpu.device, &mut enc, &color_view, &tex.create_view(&Default::default()));
+            self.shot.encode(
+                &gpu.device,
+                &mut enc,
+                &color_view,
+                &tex.create_view(&Default::default()),
+            );
             let row = (4 * w).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
                 * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
             let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {

@@ -142,8 +142,12 @@ pub(crate) fn action_for(key: &str) -> Option<Action> {
     KEYS.iter().find(|(k, _, _)| *k == key).map(|(_, a, _)| *a)
 }
 
+/// A scripted key sequence (`--keys`).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Keys(pub Vec<Action>);
+
 /// `--keys`: comma-separated key names (`,` itself is `comma`), each known.
-pub(crate) fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
+pub(crate) fn parse_keys(s: &str) -> Result<Keys, String> {
     s.split(',')
         .filter(|k| !k.trim().is_empty())
         .map(|k| {
@@ -153,7 +157,7 @@ pub(crate) fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
             };
             action_for(k).ok_or_else(|| {
                 format!(
-                    "--keys: unknown key `{k}` (known: {})",
+                    "unknown key `{k}` (known: {})",
                     KEYS.iter()
                         .map(|(k, _, _)| if *k == "," { "comma" } else { k })
                         .collect::<Vec<_>>()
@@ -161,7 +165,8 @@ pub(crate) fn parse_keys(s: &str) -> Result<Vec<Action>, String> {
                 )
             })
         })
-        .collect()
+        .collect::<Result<_, _>>()
+        .map(Keys)
 }
 
 impl Settings {
@@ -229,12 +234,12 @@ impl Settings {
                 let finer = a == Action::MetricFiner;
                 self.metric = match self.metric {
                     // Fewer pixels per segment: more segments.
-                    MetricKind::Screen(px) => {
-                        MetricKind::Screen(if finer { px / 2.0 } else { px * 2.0 }.clamp(0.5, 256.0))
-                    }
-                    MetricKind::Distance(k) => {
-                        MetricKind::Distance(if finer { k * 2.0 } else { k / 2.0 }.clamp(0.125, 1024.0))
-                    }
+                    MetricKind::Screen(px) => MetricKind::Screen(
+                        if finer { px / 2.0 } else { px * 2.0 }.clamp(0.5, 256.0),
+                    ),
+                    MetricKind::Distance(k) => MetricKind::Distance(
+                        if finer { k * 2.0 } else { k / 2.0 }.clamp(0.125, 1024.0),
+                    ),
                 };
                 Change::Frame
             }
@@ -251,7 +256,11 @@ impl Settings {
                 Change::Upload
             }
             Action::DisplaceMore | Action::DisplaceLess => {
-                let f = if a == Action::DisplaceMore { 1.5 } else { 1.0 / 1.5 };
+                let f = if a == Action::DisplaceMore {
+                    1.5
+                } else {
+                    1.0 / 1.5
+                };
                 self.displace_scale = (self.displace_scale * f).clamp(1e-4, 1.0);
                 if self.displace {
                     Change::Upload
@@ -296,7 +305,11 @@ impl Settings {
             format!("level {}", self.level)
         };
         let samples = samples.map_or("-".to_string(), group_thousands);
-        let fps = if frame_ms > 0.0 { 1000.0 / frame_ms } else { 0.0 };
+        let fps = if frame_ms > 0.0 {
+            1000.0 / frame_ms
+        } else {
+            0.0
+        };
         vec![
             format!(
                 "{}  {}  {}{}{}",
@@ -338,7 +351,7 @@ fn group_thousands(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
@@ -404,7 +417,7 @@ mod tests {
     fn scripted_keys_parse_and_unknown_ones_are_named() {
         let keys = parse_keys("tab, w,comma,+").unwrap();
         assert_eq!(
-            keys,
+            keys.0,
             vec![
                 Action::NextScheme,
                 Action::ToggleWireframe,
@@ -423,7 +436,9 @@ mod tests {
             help.len(),
             KEYS.iter().filter(|(_, _, w)| !w.is_empty()).count()
         );
-        assert!(help.iter().any(|l| l.starts_with("+ =") && l.ends_with("level up")));
+        assert!(help
+            .iter()
+            .any(|l| l.starts_with("+ =") && l.ends_with("level up")));
         assert!(help.iter().any(|l| l.starts_with("escape q")));
     }
 
@@ -432,6 +447,9 @@ mod tests {
         let s = Settings::new("pccm", 8, false, home());
         let lines = s.status(8, Some(1_234_567), 10.0);
         assert!(lines[0].starts_with("pccm  level 8"), "{lines:?}");
-        assert!(lines[1].contains("1,234,567") && lines[1].contains("100 fps"), "{lines:?}");
+        assert!(
+            lines[1].contains("1,234,567") && lines[1].contains("100 fps"),
+            "{lines:?}"
+        );
     }
 }

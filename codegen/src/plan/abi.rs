@@ -138,7 +138,7 @@ pub const PARAMS: &[(&str, &str)] = &[
     ("cp_base", "first control point (in points) of this class's patches; patch k of the draw uses cp_base + k·CONTROL_POINTS[class]"),
     ("level", "tessellation level N: (N+1)² samples per patch, (u, v) = (iu, iv)/N"),
     ("out_base", "first sample written by eval_main"),
-    ("flags", "shade_fs options: FLAG_WIREFRAME darkens patch boundaries (wireframe overlay), FLAG_PLAIN colours every class alike; other bits 0"),
+    ("flags", "shade_fs options: bit 0 (FLAG_WIREFRAME) darkens patch boundaries (wireframe overlay), bit 1 (FLAG_PLAIN) colours every class alike; other bits 0"),
     ("pad1", "padding"),
 ];
 
@@ -193,6 +193,9 @@ pub const FLAG_WIREFRAME: u32 = 1;
 /// `Params.flags` bit: `shade_fs` colours every patch class alike (grey)
 /// instead of ordinary orange / extraordinary blue.
 pub const FLAG_PLAIN: u32 = 2;
+
+// The `Params.flags` documentation names the bits by number.
+const _: () = assert!(FLAG_WIREFRAME == 1 << 0 && FLAG_PLAIN == 1 << 1);
 /// Largest x workgroup count of one GPU-driven evaluation dispatch
 /// (WebGPU allows 65,535 per dimension): a bucket needing more runs as
 /// y = ⌈workgroups / INDIRECT_X⌉ rows of x = ⌈workgroups / y⌉.

@@ -124,7 +124,11 @@ impl GpuMesh<'_> {
         )?;
         let (w, h) = (opts.width.max(1), opts.height.max(1));
         surface.prepare(self, opts.camera.view_proj(w as f32 / h as f32));
-        self.render_with(opts, |enc| surface.encode(self, enc), |pass| surface.draw(pass))
+        self.render_with(
+            opts,
+            |enc| surface.encode(self, enc),
+            |pass| surface.draw(pass),
+        )
     }
 
     /// The render pipeline of vertex entry `vs` (`eval_vs`,

@@ -389,7 +389,10 @@ impl AdaptiveSurfaceRenderer {
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_pipeline(&self.pipeline);
         for d in &self.draws {
-            pass.set_index_buffer(self.patterns[d.pattern].slice(..), wgpu::IndexFormat::Uint32);
+            pass.set_index_buffer(
+                self.patterns[d.pattern].slice(..),
+                wgpu::IndexFormat::Uint32,
+            );
             pass.set_bind_group(0, &d.group, &[]);
             pass.draw_indexed_indirect(&self.buckets.draw, d.offset);
         }

@@ -409,7 +409,9 @@ fn shade_fs(entries: &Entries) -> EntryItem {
             ),
         ),
         Stmt::Var(color, mul(l(base), add(f(0.2), mul(f(0.8), l(lambert))))),
-        Stmt::Comment("Wireframe overlay of patch boundaries (params.flags & FLAG_WIREFRAME).".into()),
+        Stmt::Comment(
+            "Wireframe overlay of patch boundaries (params.flags & FLAG_WIREFRAME).".into(),
+        ),
         Stmt::If(
             flag(crate::plan::abi::FLAG_WIREFRAME),
             vec![
