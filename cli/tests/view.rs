@@ -20,7 +20,10 @@ struct Xvfb {
 
 impl Xvfb {
     fn start() -> Xvfb {
-        // A display number no other server (or parallel test) holds.
+        // A display number no other server holds: chosen and taken (its
+        // socket made) by one test at a time.
+        static START: std::sync::Mutex<()> = std::sync::Mutex::new(());
+        let _one = START.lock().unwrap_or_else(|e| e.into_inner());
         let n = (90..190)
             .find(|n| {
                 !Path::new(&format!("/tmp/.X{n}-lock")).exists()
@@ -211,7 +214,12 @@ fn adaptive_and_class_colours_from_keys() {
     let plain = out("plain.png", "c");
     let total = (uniform.width * uniform.height) as usize;
     // Class colours: orange and blue patches; plain: neither.
-    let orange = |i: &Image| i.rgba.chunks_exact(4).filter(|p| p[0] > p[2] + 60).count();
+    let orange = |i: &Image| {
+        i.rgba
+            .chunks_exact(4)
+            .filter(|p| i32::from(p[0]) > i32::from(p[2]) + 60)
+            .count()
+    };
     assert!(orange(&uniform) > total / 50, "orange patches");
     assert_eq!(orange(&plain), 0, "plain grey has no orange");
     // Adaptive draws the same surface (a few edge pixels move).

@@ -126,7 +126,18 @@ pub(crate) fn view(args: &ViewArgs) -> CmdResult {
     match app.error {
         Some(e) => Err(e),
         None => {
-            eprintln!("tessgen: view: {} frames", app.frames);
+            // Frame times: from one frame's start to the next (the first
+            // frame, which builds the pipelines, not counted).
+            let mut ms = app.view.map_or(Vec::new(), |v| v.times);
+            ms.sort_by(f64::total_cmp);
+            match ms.first() {
+                Some(min) => eprintln!(
+                    "tessgen: view: {} frames, frame time median {:.2} ms, min {min:.2} ms",
+                    app.frames,
+                    ms[ms.len() / 2]
+                ),
+                None => eprintln!("tessgen: view: {} frames", app.frames),
+            }
             Ok(ExitCode::SUCCESS)
         }
     }
@@ -180,6 +191,8 @@ struct View {
     cursor: (f64, f64),
     last: Instant,
     frame_ms: f64,
+    /// Every frame's time after the first, for the summary at exit.
+    times: Vec<f64>,
     hud_at: Option<Instant>,
     message: Option<String>,
 }
@@ -350,6 +363,7 @@ impl App<'_> {
             cursor: (0.0, 0.0),
             last: Instant::now(),
             frame_ms: 0.0,
+            times: Vec::new(),
             hud_at: None,
             message: None,
         })
@@ -522,11 +536,17 @@ impl View {
         let now = Instant::now();
         let ms = now.duration_since(self.last).as_secs_f64() * 1e3;
         self.last = now;
-        self.frame_ms = if self.frame_ms == 0.0 {
-            ms
+        // The first frame's time is the window's opening: not counted.
+        if self.frame_ms == 0.0 {
+            self.frame_ms = f64::MIN_POSITIVE;
         } else {
-            0.9 * self.frame_ms + 0.1 * ms
-        };
+            self.times.push(ms);
+            self.frame_ms = if self.times.len() == 1 {
+                ms
+            } else {
+                0.9 * self.frame_ms + 0.1 * ms
+            };
+        }
         let camera = self.camera(s);
         let view_proj = camera.view_proj(w as f32 / h as f32);
         let surface = &mut self.drawn;
