@@ -56,5 +56,7 @@ cargo clippy --workspace --all-targets -- -D warnings
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== tessgen generate --check --out generated"
-# The test profile: the CLI binary `cargo test` just built, not a second build.
-cargo run --quiet --profile test -p tessgen -- generate --check --out generated
+# The CLI binary `cargo test --workspace` just built for the CLI's tests (the
+# test profile writes target/debug): `cargo run -p tessgen` would resolve the
+# CLI's features alone and build the runtime a second time.
+target/debug/tessgen generate --check --out generated
