@@ -19,7 +19,7 @@ use tessgen_runtime::adaptive::{Adaptive, Metric, Partitioning};
 use tessgen_runtime::displace::{DisplaceMap, Displacement, Ownership};
 use tessgen_runtime::gpu::renderer::{AdaptiveSurfaceRenderer, SurfaceOptions, SurfaceRenderer};
 use tessgen_runtime::gpu::{Gpu, GpuMesh, Limits};
-use tessgen_runtime::render::{Camera, Image};
+use tessgen_runtime::render::{Camera, Image, Readback, Target};
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
@@ -72,10 +72,10 @@ pub(crate) struct ViewArgs {
     pub screenshot: Option<std::path::PathBuf>,
 }
 
-/// The offscreen target's formats: `render`'s, so a frame without the HUD
-/// is `render`'s image.
-const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// The offscreen target's formats: `render`'s ([`Target`]), so a frame
+/// without the HUD is `render`'s image.
+const COLOR: wgpu::TextureFormat = tessgen_runtime::render::COLOR;
+const DEPTH: wgpu::TextureFormat = tessgen_runtime::render::DEPTH;
 
 /// Largest adaptive level (the instanced path's buckets are powers of two).
 const MAX_ADAPTIVE_LEVEL: u32 = 64;
@@ -177,7 +177,7 @@ struct View {
     config: wgpu::SurfaceConfiguration,
     /// The non-sRGB view format the composite writes (the bytes as drawn).
     view_format: wgpu::TextureFormat,
-    target: (wgpu::Texture, wgpu::Texture),
+    target: Target,
     composite: hud::Composite,
     /// The composite pipeline for RGBA8 screenshots.
     shot: hud::Composite,
@@ -343,7 +343,7 @@ impl App<'_> {
         surface.configure(&gpu.device, &config);
         let drawn = self.surface_for(gpu)?;
         Ok(View {
-            target: targets(gpu, self.size),
+            target: target(gpu, self.size),
             composite: hud::Composite::new(&gpu.device, view_format),
             shot: hud::Composite::new(&gpu.device, COLOR),
             window,
@@ -511,7 +511,7 @@ impl View {
         self.config.width = w;
         self.config.height = h;
         self.surface.configure(&self.gpu.device, &self.config);
-        self.target = targets(self.gpu, (w, h));
+        self.target = target(self.gpu, (w, h));
     }
 
     /// The camera of the orbit: `render`'s framing, moved by the zoom.
@@ -628,9 +628,7 @@ impl View {
             format: Some(self.view_format),
             ..Default::default()
         });
-        let (color, depth) = &self.target;
-        let color_view = color.create_view(&Default::default());
-        let depth_view = depth.create_view(&Default::default());
+        let frame_view = self.target.color.create_view(&Default::default());
         let mut enc = gpu
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -641,119 +639,38 @@ impl View {
             r.encode(&surface.mesh, &mut enc).map_err(err)?;
         }
         {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("view surface"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::WHITE),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = self.target.pass(&mut enc, wgpu::Color::WHITE);
             match (s.adaptive, &surface.adaptive) {
                 (true, Some(r)) => r.draw(&mut pass),
                 _ => surface.uniform.draw(&mut pass),
             }
         }
         self.composite
-            .encode(&gpu.device, &mut enc, &color_view, &out);
+            .encode(&gpu.device, &mut enc, &frame_view, &out);
+        // A screenshot: the same composite into an RGBA8 texture, read back.
         let shot = shoot.then(|| {
-            let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("view screenshot"),
-                size: color.size(),
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: COLOR,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            });
+            let tex = Target::new(gpu, w, h, wgpu::TextureUsages::COPY_SRC).color;
             self.shot.encode(
                 &gpu.device,
                 &mut enc,
-                &color_view,
+                &frame_view,
                 &tex.create_view(&Default::default()),
             );
-            let row = (4 * w).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-                * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-            let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("view screenshot readback"),
-                size: (row * h) as u64,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            enc.copy_texture_to_buffer(
-                tex.as_image_copy(),
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &buf,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                color.size(),
-            );
-            (buf, row)
+            Readback::copy(gpu, &mut enc, &tex)
         });
         gpu.queue.submit([enc.finish()]);
         self.window.pre_present_notify();
         gpu.queue.present(frame);
-        let Some((buf, row)) = shot else {
-            return Ok(None);
-        };
-        let bytes = surface.mesh.read_bytes(&buf).map_err(err)?;
-        let rgba = (0..h)
-            .flat_map(|y| &bytes[(y * row) as usize..(y * row + 4 * w) as usize])
-            .copied()
-            .collect();
-        Ok(Some(Image {
-            width: w,
-            height: h,
-            rgba,
-        }))
+        match shot {
+            Some(r) => r.image(&surface.mesh).map(Some).map_err(err),
+            None => Ok(None),
+        }
     }
 }
 
-/// The offscreen colour and depth targets of a window size.
-fn targets(gpu: &Gpu, (w, h): (u32, u32)) -> (wgpu::Texture, wgpu::Texture) {
-    let make = |format, usage| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("view target"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
-    };
-    (
-        make(
-            COLOR,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        ),
-        make(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT),
-    )
+/// The offscreen target of a window size (sampled by the composite).
+fn target(gpu: &Gpu, (w, h): (u32, u32)) -> Target {
+    Target::new(gpu, w, h, wgpu::TextureUsages::TEXTURE_BINDING)
 }
 
 /// Bounding box of `positions`.

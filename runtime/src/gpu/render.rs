@@ -66,8 +66,10 @@ impl Image {
     }
 }
 
-const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Colour format of `render`'s target ([`Target`]).
+pub const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Depth format of `render`'s target.
+pub const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 impl GpuMesh<'_> {
     /// Render the surface offscreen: one instanced draw of `eval_vs` per
@@ -203,104 +205,155 @@ impl GpuMesh<'_> {
         record: impl FnOnce(&mut wgpu::RenderPass<'_>),
     ) -> Result<Image, GpuError> {
         let gpu = self.gpu();
-        let dev = &gpu.device;
-        let (w, h) = (opts.width.max(1), opts.height.max(1));
-        gpu.scoped(|| -> Result<(wgpu::Buffer, u32), GpuError> {
-            let extent = wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            };
-            let target = |format, usage| {
-                dev.create_texture(&wgpu::TextureDescriptor {
-                    label: Some("render target"),
-                    size: extent,
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
-            };
-            let color = target(
-                COLOR,
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-            );
-            let depth = target(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
-            let color_view = color.create_view(&Default::default());
-            let depth_view = depth.create_view(&Default::default());
-            let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some("render"),
-            });
-            pre(&mut enc)?;
-            {
-                let [r, g, b, a] = opts.background;
-                let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        let [r, g, b, a] = opts.background;
+        let readback = gpu.scoped(|| -> Result<Readback, GpuError> {
+            let target = Target::new(gpu, opts.width, opts.height, wgpu::TextureUsages::COPY_SRC);
+            let mut enc = gpu
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                     label: Some("render"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &color_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
                 });
-                record(&mut pass);
-            }
-            let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-            let row = (4 * w).div_ceil(align) * align;
-            let readback = dev.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("image readback"),
-                size: (row * h) as u64,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            enc.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &color,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &readback,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                extent,
-            );
+            pre(&mut enc)?;
+            record(&mut target.pass(&mut enc, wgpu::Color { r, g, b, a }));
+            let readback = Readback::copy(gpu, &mut enc, &target.color);
             gpu.queue.submit([enc.finish()]);
-            Ok((readback, row))
-        })?
-        .and_then(|(readback, row)| {
-            let bytes = self.read_bytes(&readback)?;
-            let mut rgba = Vec::with_capacity((4 * w * h) as usize);
-            for y in 0..h {
-                let start = (y * row) as usize;
-                rgba.extend_from_slice(&bytes[start..start + (4 * w) as usize]);
-            }
-            Ok(Image {
-                width: w,
-                height: h,
-                rgba,
+            Ok(readback)
+        })??;
+        readback.image(self)
+    }
+}
+
+/// An offscreen colour and depth target of one size in `render`'s formats
+/// (RGBA8, 32-bit float depth): what `render` draws into, and what a viewer
+/// draws into before it puts the frame on its window.
+pub struct Target {
+    pub color: wgpu::Texture,
+    pub depth: wgpu::Texture,
+}
+
+impl Target {
+    /// A `width × height` target (at least 1×1); the colour texture also
+    /// has `usage` (`COPY_SRC` to read it back, `TEXTURE_BINDING` to sample
+    /// it).
+    pub fn new(
+        gpu: &crate::gpu::Gpu,
+        width: u32,
+        height: u32,
+        usage: wgpu::TextureUsages,
+    ) -> Target {
+        let make = |format, usage| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("render target"),
+                size: wgpu::Extent3d {
+                    width: width.max(1),
+                    height: height.max(1),
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
             })
+        };
+        Target {
+            color: make(COLOR, wgpu::TextureUsages::RENDER_ATTACHMENT | usage),
+            depth: make(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT),
+        }
+    }
+
+    /// A render pass over the target, colour cleared to `background` and
+    /// depth to 1, for the surface renderers' `draw`.
+    pub fn pass<'e>(
+        &self,
+        enc: &'e mut wgpu::CommandEncoder,
+        background: wgpu::Color,
+    ) -> wgpu::RenderPass<'e> {
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("render"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.color.create_view(&Default::default()),
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(background),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth.create_view(&Default::default()),
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+/// An RGBA8 texture's copy on its way to the host: recorded into an
+/// encoder ([`Readback::copy`]), read once the encoder is submitted
+/// ([`Readback::image`]).
+pub struct Readback {
+    buffer: wgpu::Buffer,
+    row: u32,
+    width: u32,
+    height: u32,
+}
+
+impl Readback {
+    /// Record the copy of `texture` (RGBA8, `COPY_SRC`) into `enc`.
+    pub fn copy(
+        gpu: &crate::gpu::Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+    ) -> Readback {
+        let (width, height) = (texture.width(), texture.height());
+        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let row = (4 * width).div_ceil(align) * align;
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("image readback"),
+            size: (row * height) as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(height),
+                },
+            },
+            texture.size(),
+        );
+        Readback {
+            buffer,
+            row,
+            width,
+            height,
+        }
+    }
+
+    /// The image, once the copy's encoder is submitted (waits for it).
+    pub fn image(&self, mesh: &GpuMesh<'_>) -> Result<Image, GpuError> {
+        let bytes = mesh.read_bytes(&self.buffer)?;
+        let (w, row) = (self.width as usize, self.row as usize);
+        let rgba = (0..self.height as usize)
+            .flat_map(|y| &bytes[y * row..y * row + 4 * w])
+            .copied()
+            .collect();
+        Ok(Image {
+            width: self.width,
+            height: self.height,
+            rgba,
         })
     }
 }
