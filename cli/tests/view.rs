@@ -77,16 +77,6 @@ impl Drop for Xvfb {
     }
 }
 
-/// Pixels whose colour differs by more than `tol` in some channel (the
-/// reference-image test's measure, tests/tests/render.rs).
-fn differing(a: &Image, b: &Image, tol: u8) -> usize {
-    a.rgba
-        .chunks_exact(4)
-        .zip(b.rgba.chunks_exact(4))
-        .filter(|(p, q)| (0..4).any(|c| p[c].abs_diff(q[c]) > tol))
-        .count()
-}
-
 fn load(p: &Path) -> Image {
     Image::load_png(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
@@ -125,7 +115,7 @@ fn window_shows_renders_image_and_keys_change_it() {
     let window = shot("window.png", &["--frames", "3"]);
     assert_eq!((window.width, window.height), (320, 240));
     let total = (window.width * window.height) as usize;
-    let bad = differing(&window, &rendered, 12);
+    let bad = window.count_differing(&rendered, 12);
     println!("view vs render: {bad} of {total} pixels differ by more than 12/255");
     assert!(
         bad * 200 <= total,
@@ -134,7 +124,7 @@ fn window_shows_renders_image_and_keys_change_it() {
 
     // Scripted keys: the next scheme (acc) and the wireframe.
     let keyed = shot("keyed.png", &["--frames", "4", "--keys", "tab,w"]);
-    let changed = differing(&keyed, &window, 12);
+    let changed = keyed.count_differing(&window, 12);
     println!("after tab,w: {changed} pixels changed");
     assert!(
         changed * 50 > total,
@@ -155,7 +145,7 @@ fn window_shows_renders_image_and_keys_change_it() {
         "--out",
         acc_wire.to_str().unwrap(),
     ]));
-    let bad = differing(&keyed, &load(&acc_wire), 12);
+    let bad = keyed.count_differing(&load(&acc_wire), 12);
     assert!(
         bad * 200 <= total,
         "{bad} pixels differ from render --scheme acc --wireframe"
@@ -223,7 +213,7 @@ fn adaptive_and_class_colours_from_keys() {
     assert!(orange(&uniform) > total / 50, "orange patches");
     assert_eq!(orange(&plain), 0, "plain grey has no orange");
     // Adaptive draws the same surface (a few edge pixels move).
-    let moved = differing(&adaptive, &uniform, 24);
+    let moved = adaptive.count_differing(&uniform, 24);
     println!("adaptive vs uniform: {moved} of {total} pixels");
     assert!(
         moved * 20 < total,

@@ -39,15 +39,6 @@ fn render(gpu: &Gpu, name: &str, level: u32, w: u32, h: u32, wireframe: bool) ->
     g.render(&opts).expect("render")
 }
 
-/// Pixels whose colour differs by more than `tol` in some channel.
-fn differing(a: &Image, b: &Image, tol: u8) -> usize {
-    a.rgba
-        .chunks_exact(4)
-        .zip(b.rgba.chunks_exact(4))
-        .filter(|(p, q)| (0..4).any(|c| p[c].abs_diff(q[c]) > tol))
-        .count()
-}
-
 #[test]
 fn cube_matches_reference_image() {
     let gpu = Gpu::new().expect("adapter");
@@ -59,7 +50,7 @@ fn cube_matches_reference_image() {
     let reference =
         Image::load_png(&path).expect("reference image (see the module docs to refresh it)");
     assert_eq!((img.width, img.height), (reference.width, reference.height));
-    let bad = differing(&img, &reference, 12);
+    let bad = img.count_differing(&reference, 12);
     let total = (img.width * img.height) as usize;
     println!("cube level 8: {bad} of {total} pixels differ by more than 12/255");
     // Rasterisation details may move a few edge pixels between drivers.

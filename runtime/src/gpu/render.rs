@@ -57,6 +57,16 @@ impl Image {
         })
     }
 
+    /// Number of pixels whose colour differs from `other`'s (same size) by
+    /// more than `tol` in some channel: the reference-image tests' measure.
+    pub fn count_differing(&self, other: &Image, tol: u8) -> usize {
+        self.rgba
+            .chunks_exact(4)
+            .zip(other.rgba.chunks_exact(4))
+            .filter(|(p, q)| (0..4).any(|c| p[c].abs_diff(q[c]) > tol))
+            .count()
+    }
+
     /// Number of pixels close to an RGB colour (each channel within `tol`).
     pub fn count_color(&self, rgb: [u8; 3], tol: u8) -> usize {
         self.rgba
