@@ -17,8 +17,8 @@ pub(crate) struct TextBox {
 }
 
 impl TextBox {
-    /// `lines` at `scale` pixels per font pixel, with a 4-pixel margin;
-    /// characters outside ASCII are drawn as `?`.
+    /// `lines` at `scale` pixels per font pixel, with a 4-pixel margin (so
+    /// never empty); characters outside ASCII are drawn as `?`.
     pub fn new(lines: &[String], scale: u32) -> TextBox {
         let scale = scale.max(1);
         let margin = 4;
@@ -51,13 +51,9 @@ impl TextBox {
             }
         }
         TextBox {
-            width: width.max(1),
-            height: height.max(1),
-            rgba: if width * height == 0 {
-                vec![0; 4]
-            } else {
-                rgba
-            },
+            width,
+            height,
+            rgba,
         }
     }
 

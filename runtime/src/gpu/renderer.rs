@@ -165,8 +165,7 @@ impl SurfaceRenderer {
                 self.opts.level,
                 0,
             );
-            let at = abi::params::FLAGS;
-            bytes[at..at + 4].copy_from_slice(&self.opts.flags().to_le_bytes());
+            crate::gpu::upload::set_params_flags(&mut bytes, self.opts.flags());
             mesh.gpu().queue.write_buffer(&d.params, 0, &bytes);
         }
     }
@@ -369,8 +368,7 @@ impl AdaptiveSurfaceRenderer {
                 d.level,
                 d.slot,
             );
-            let at = abi::params::FLAGS;
-            bytes[at..at + 4].copy_from_slice(&self.opts.flags().to_le_bytes());
+            crate::gpu::upload::set_params_flags(&mut bytes, self.opts.flags());
             mesh.gpu().queue.write_buffer(&d.params, 0, &bytes);
         }
     }

@@ -127,6 +127,13 @@ pub fn params_bytes(
     b
 }
 
+/// Write `Params.flags` (the `abi::FLAG_*` bits) into a block made by
+/// [`params_bytes`].
+pub fn set_params_flags(bytes: &mut [u8], flags: u32) {
+    let at = crate::abi::params::FLAGS;
+    bytes[at..at + 4].copy_from_slice(&flags.to_le_bytes());
+}
+
 pub fn u32_bytes(x: &[u32]) -> Vec<u8> {
     // A zero-length storage binding is invalid; pad empty arrays to one element.
     let mut b: Vec<u8> = x.iter().flat_map(|v| v.to_le_bytes()).collect();

@@ -29,8 +29,7 @@ impl<'g> GpuMesh<'g> {
         flags: u32,
     ) -> wgpu::Buffer {
         let mut bytes = params_bytes(view_proj, first, count, class, cp_base, level, out_base);
-        let at = abi::params::FLAGS;
-        bytes[at..at + 4].copy_from_slice(&flags.to_le_bytes());
+        crate::gpu::upload::set_params_flags(&mut bytes, flags);
         self.params_buffer(&bytes)
     }
 
