@@ -2,7 +2,7 @@
 //! curves, SIMD over columns, border samples in their own loop; every copy
 //! of its lane loops this machine runs: baseline, AVX2, AVX-512) and the per-sample path (`cpu::evaluate_per_sample_into`: the generated `eval`
 //! at every sample) give the same bits, for every scheme, every patch
-//! class and every level 1–64; and construction per deformation
+//! class and every level 1–64 (and 65, 71: the wide grids' strips); and construction per deformation
 //! (`cpu::Construction::update`) gives the control points of a fresh
 //! `cpu::construct`, bit for bit.
 
@@ -23,11 +23,12 @@ fn bits(v: &[Vec3]) -> Vec<[u32; 3]> {
         .collect()
 }
 
-/// Both paths at every level 1..=64, compared bit for bit (the first
+/// Both paths at every level 1..=64 and at 65 and 71, compared bit for bit (the first
 /// differing sample is named).
 fn same_bits(what: &str, patches: &cpu::Patches) {
     let mut grid = cpu::evaluate(patches, 1).expect("evaluate");
-    for level in 1..=64u32 {
+    // 1–64: the flat bicubic interior; 65 and 71: the column strips.
+    for level in (1..=64u32).chain([65, 71]) {
         cpu::evaluate_into(patches, level, &mut grid).expect("grid path");
         let n = grid.positions.len();
         let (mut p, mut nrm) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
@@ -131,6 +132,51 @@ fn degenerate_mesh(mesh_name: &str, schemes: &[&str]) {
                     "{name} onto {what}: {n}"
                 );
             }
+        }
+    }
+}
+
+/// Control points with exact `+0.0` and `-0.0` components, mixed so that
+/// a sum like `-0.0 · 1 + (+0.0) · 0` (`+0.0`) and the corner point it
+/// stands for (`-0.0`) differ in sign: the border's corners and edges must
+/// still be the edge evaluator's bits, the interior the surface's. (The
+/// meshes alone have no negative zero in any control point.)
+#[test]
+fn signed_zero_control_points_keep_their_bits() {
+    for name in kernels::scheme_names() {
+        let k = cpu::scheme(name).expect("scheme");
+        if k.sides != 4 {
+            continue;
+        }
+        for mesh_name in ["catmark_torus", "catmark_toroidal_tet"] {
+            let mesh = common::mesh(mesh_name);
+            let (topo, positions) = common::topo_positions(&mesh);
+            let mut patches = match cpu::construct(&topo, &positions, k) {
+                Ok(p) => p,
+                Err(cpu::TessError::ExtraordinaryFace { .. }) => continue,
+                Err(e) => panic!("{name} on {mesh_name}: {e}"),
+            };
+            let mut zeros = 0usize;
+            for (i, p) in patches.control_points.iter_mut().enumerate() {
+                let mut a = p.to_array();
+                for (c, v) in a.iter_mut().enumerate() {
+                    // A fixed scramble of (point, component): a quarter
+                    // each -0.0 and +0.0, half kept.
+                    let h = (i as u32)
+                        .wrapping_mul(2_654_435_761)
+                        .wrapping_add(c as u32 * 40_503)
+                        >> 13;
+                    match h & 3 {
+                        0 => *v = -0.0,
+                        1 => *v = 0.0,
+                        _ => continue,
+                    }
+                    zeros += 1;
+                }
+                *p = Vec3::from_array(a);
+            }
+            assert!(zeros > patches.control_points.len(), "{zeros}");
+            same_bits(&format!("{name} on {mesh_name} with ±0.0"), &patches);
         }
     }
 }

@@ -7,7 +7,9 @@
 //! of a bicubic patch, the class dispatch and the border test for every
 //! sample. Here, for a patch of the `bicubic` form (the ordinary class of
 //! every quad scheme), the row curves of a column `iu` are computed once and
-//! reused by all `N + 1` samples of that column; each sample then executes
+//! reused by all `N + 1` samples of that column (lanes over the samples in
+//! storage order up to N = 64, [`super::grid_flat`]; strips of columns
+//! beyond); each sample then executes
 //! exactly the operations the generated `ordinary_surface` executes after
 //! its row curves, in the same order (no FMA contraction, no reassociation:
 //! Rust never contracts `a * b + c`, and LLVM vectorises these loops only
@@ -38,6 +40,7 @@
 
 use super::grid_acc::acc_patch;
 use super::grid_cpatch::cpatch_patch;
+use super::grid_flat::{bicubic_flat16, bicubic_flat8, FlatWeights, ROW_EDGES};
 use super::grid_gregory::gregory_patch;
 use super::grid_tri::tri_cubic_patch;
 #[cfg(target_arch = "x86_64")]
@@ -90,6 +93,8 @@ pub(crate) enum Path {
 pub(crate) struct LevelWeights {
     pub(crate) l: Vec<f32>,
     pub(crate) r: Vec<f32>,
+    /// The same weights in the flat interior's lane order.
+    pub(crate) flat: FlatWeights,
 }
 
 impl LevelWeights {
@@ -98,12 +103,12 @@ impl LevelWeights {
         let nf = level as f32;
         let len = level as usize + 1 + PAD;
         let at = |i: usize| (i as u32).min(level);
-        LevelWeights {
-            l: (0..len)
-                .map(|i| ((level - at(i)) as i32 as f32) / nf)
-                .collect(),
-            r: (0..len).map(|i| (at(i) as i32 as f32) / nf).collect(),
-        }
+        let l: Vec<f32> = (0..len)
+            .map(|i| ((level - at(i)) as i32 as f32) / nf)
+            .collect();
+        let r: Vec<f32> = (0..len).map(|i| (at(i) as i32 as f32) / nf).collect();
+        let flat = FlatWeights::new(level, &l, &r);
+        LevelWeights { l, r, flat }
     }
 
     /// `L` consecutive `l` weights from `i`.
@@ -412,9 +417,40 @@ fn bicubic_patch<const W: usize, const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> bool {
-    let degenerate = bicubic_interior::<W, V>(g, w, level, pos, nrm);
+    // Edges that are the boundary rows and columns: the flat interior
+    // writes the border from its row curves.
+    let rows = *curve == ROW_EDGES;
+    if let Some(degenerate) = bicubic_flat_interior::<W, V>(g, w, level, rows, pos, nrm) {
+        if !rows {
+            quad_border::<V, 16>(g, curve, w, level, pos);
+        }
+        return degenerate;
+    }
+    let degenerate = bicubic_strips::<W, V>(g, w, level, pos, nrm);
     quad_border::<V, 16>(g, curve, w, level, pos);
     degenerate
+}
+
+/// The flat interior (`super::grid_flat`) for grids up to
+/// `FLAT_MAX_WIDTH` columns, 16 lanes in the AVX-512 copy once a row has a
+/// full 16; with `border` also the border (`ROW_EDGES` classes only).
+#[inline(always)]
+fn bicubic_flat_interior<const W: usize, const V: bool>(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    border: bool,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> Option<bool> {
+    #[cfg(target_arch = "x86_64")]
+    if W > LANES && level as usize + 1 > W {
+        // SAFETY: W > LANES only in the AVX-512 copy (behind `Isa::Avx512`).
+        if let Some(degenerate) = unsafe { bicubic_flat_wide(g, w, level, border, pos, nrm) } {
+            return Some(degenerate);
+        }
+    }
+    bicubic_flat8::<V>(g, w, level, border, pos, nrm)
 }
 
 /// The AVX-512 copy: compiled for AVX2 like [`bicubic_patch_avx2`],
@@ -457,6 +493,23 @@ unsafe fn bicubic_strip_wide(
     bicubic_strip::<WIDE, true>(g, w, level, c0, pos, nrm)
 }
 
+/// [`bicubic_flat16`] in ZMM registers.
+///
+/// # Safety
+/// AVX-512F and AVX2 must be available (only the AVX-512 copy calls it).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx2")]
+unsafe fn bicubic_flat_wide(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    border: bool,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> Option<bool> {
+    bicubic_flat16::<true>(g, w, level, border, pos, nrm)
+}
+
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 unsafe fn bicubic_patch_avx2(
@@ -476,10 +529,12 @@ unsafe fn bicubic_patch_avx2(
 /// then per grid row `along_v = cubic(row points, lv, rv)`, `along_u =
 /// cubic(row tangents, lv, rv)`, position `along_v.point`, normal
 /// `normalize(along_u.point × along_v.tangent)` — lane by lane. A strip's
-/// writes (`LANES` samples of each row) stay in cache: one grid is at most
-/// a few tens of KiB at the usual levels.
+/// writes (`LANES` samples of each row) stay in cache. Grids up to
+/// `FLAT_MAX_WIDTH` columns take the flat interior instead
+/// (`super::grid_flat`: the same operations per sample, lanes across
+/// rows); this is the path of wider ones.
 #[inline(always)]
-fn bicubic_interior<const W: usize, const V: bool>(
+pub(crate) fn bicubic_strips<const W: usize, const V: bool>(
     g: &[Vec3; 16],
     w: &LevelWeights,
     level: u32,
@@ -596,10 +651,29 @@ fn sample_lanes<const L: usize>(
     r: f32,
     out: &mut [[f32; L]; 6],
 ) -> bool {
+    sample_lanes_of(pt, tg, 0, &[l; L], &[r; L], out)
+}
+
+/// [`sample_lanes`] with each lane's own row weights `l[k]`, `r[k]` (the
+/// flat interior's lanes run across rows), lane `k` reading entry `o + k`
+/// of row curves `C` entries long.
+#[inline(always)]
+pub(crate) fn sample_lanes_of<const L: usize, const C: usize>(
+    pt: &[[[f32; C]; 3]; 4],
+    tg: &[[[f32; C]; 3]; 4],
+    o: usize,
+    l: &[f32; L],
+    r: &[f32; L],
+    out: &mut [[f32; L]; 6],
+) -> bool {
+    // One check here instead of one per load.
+    assert!(o + L <= C);
     let mut degenerate = false;
     for k in 0..L {
-        let along = |a: &[[[f32; L]; 3]; 4], c: usize| {
-            cubic(a[0][c][k], a[1][c][k], a[2][c][k], a[3][c][k], l, r)
+        let (l, r) = (l[k], r[k]);
+        let along = |a: &[[[f32; C]; 3]; 4], c: usize| {
+            let j = o + k;
+            cubic(a[0][c][j], a[1][c][j], a[2][c][j], a[3][c][j], l, r)
         };
         let (x, tvx) = along(pt, 0);
         let (y, tvy) = along(pt, 1);
@@ -817,7 +891,7 @@ pub(crate) fn edge_run<const V: bool>(
 /// One component of `tessgen_edge`'s symmetric de Casteljau per lane, with
 /// `r = t/level`, `l = (level − t)/level` from [`LevelWeights`].
 #[inline(always)]
-fn edge_lanes(b: &[f32; 4], l: &[f32; LANES], r: &[f32; LANES], out: &mut [f32; LANES]) {
+pub(crate) fn edge_lanes(b: &[f32; 4], l: &[f32; LANES], r: &[f32; LANES], out: &mut [f32; LANES]) {
     for k in 0..LANES {
         let (l, r) = (l[k], r[k]);
         let c0 = (b[0] * l) + (b[1] * r);

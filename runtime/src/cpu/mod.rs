@@ -17,6 +17,7 @@ pub mod displace;
 mod grid_acc;
 mod grid_cpatch;
 mod grid_eval;
+mod grid_flat;
 mod grid_gregory;
 mod grid_tri;
 mod patch_flat;

@@ -1,0 +1,372 @@
+//! The flat interior of a bicubic patch: lanes over the samples of the
+//! whole grid in their storage order, not over the columns of a strip.
+//!
+//! The strip interior ([`super::grid_eval`]) runs every grid row once per
+//! strip of 8 (or 16) columns, plus a 4-lane strip for the last columns: at
+//! N = 9 the 10 columns take an 8-lane and a 4-lane step per row, 12 lanes
+//! (and the issue slots of about 14) for 10 samples. Here a lane group is
+//! `L` consecutive samples `s0 .. s0 + L` of the patch's row-major grid,
+//! which may run across the end of a row: 100 samples at N = 9 are 13
+//! groups of 8, all stores full and contiguous but the last.
+//!
+//! What each lane needs is the row curves of its column and the weights of
+//! its row:
+//!
+//! * the row curves are computed once per patch for the lanes `j = 0 ..
+//!   COLS` with the weights of column `j mod (N + 1)` ([`FlatWeights::
+//!   wrap_l`]), so the curves of the columns `c0, c0 + 1, …` wrapped at the
+//!   row's end are the `L` consecutive entries from `c0` (the column of the
+//!   group's first sample) — a plain load, no gather;
+//! * the row weights `l_v`, `r_v` of sample `s` are entry `s` of
+//!   [`FlatWeights::row_l`] / `row_r`, made once per evaluation.
+//!
+//! Each lane then executes the operations of the strip lanes (the
+//! generated `ordinary_surface` after its row curves) on the same inputs,
+//! so every sample has the same bits; only which lane computes which
+//! sample changed. Lanes past the last sample compute sample `(column,
+//! N)` again (valid weights, never stored), so a parallel-tangent flag
+//! from them is one a stored lane raises too.
+//!
+//! Grids wider than [`FLAT_MAX_WIDTH`] keep the strips: their rows are
+//! long enough that the 4-lane remainder costs little, and the per-sample
+//! row weights would grow as `N²`.
+
+use super::grid_eval::{
+    edge_lanes, row_curve_lanes, sample_lanes_of, store_lanes, LevelWeights, LANES,
+};
+
+/// The `EDGE_CURVE` of a bicubic class whose edges are its boundary rows
+/// and columns (every built-in quad scheme's ordinary class): the flat
+/// interior then writes the border from its own row curves
+/// ([`rows_border`]).
+pub(crate) const ROW_EDGES: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
+use glam::Vec3;
+
+/// The widest grid (`N + 1` columns) the flat interior takes.
+pub(crate) const FLAT_MAX_WIDTH: usize = 65;
+
+/// Lanes of the column weights wrapped at the row's end: the widest
+/// row-curve array (`COLS` = 80 for 16 lanes at `N + 1` = 65).
+const WRAP: usize = 80;
+
+/// How far past the last sample a group may read the row weights.
+const ROW_PAD: usize = 16;
+
+/// The level's weights in the flat interior's lane order, made once per
+/// evaluation from [`LevelWeights`]'s `l`, `r` (copies, no arithmetic).
+pub(crate) struct FlatWeights {
+    /// `l` of column `j mod (N + 1)`, `j = 0 .. WRAP`.
+    pub(crate) wrap_l: [f32; WRAP],
+    /// `r` of column `j mod (N + 1)`.
+    pub(crate) wrap_r: [f32; WRAP],
+    /// `l` of row `s / (N + 1)` for every sample `s` of a grid, then
+    /// [`ROW_PAD`] entries of row `N`; empty above [`FLAT_MAX_WIDTH`].
+    pub(crate) row_l: Vec<f32>,
+    /// `r` of row `s / (N + 1)`, likewise.
+    pub(crate) row_r: Vec<f32>,
+}
+
+impl FlatWeights {
+    /// `l`, `r`: [`LevelWeights`]'s arrays (`N + 1` entries and padding).
+    pub(crate) fn new(level: u32, l: &[f32], r: &[f32]) -> FlatWeights {
+        let width = level as usize + 1;
+        let (mut wrap_l, mut wrap_r) = ([0.0f32; WRAP], [0.0f32; WRAP]);
+        for j in 0..WRAP {
+            wrap_l[j] = l[j % width];
+            wrap_r[j] = r[j % width];
+        }
+        let (row_l, row_r) = if width <= FLAT_MAX_WIDTH {
+            let row = |s: usize| (s / width).min(width - 1);
+            let len = width * width + ROW_PAD;
+            (
+                (0..len).map(|s| l[row(s)]).collect(),
+                (0..len).map(|s| r[row(s)]).collect(),
+            )
+        } else {
+            (Vec::new(), Vec::new())
+        };
+        FlatWeights {
+            wrap_l,
+            wrap_r,
+            row_l,
+            row_r,
+        }
+    }
+}
+
+/// The flat interior of a bicubic patch `g` at `level` (`N + 1 ≤ COLS −
+/// L + 1`, `COLS` a multiple of `L`), every sample's surface position and
+/// normal into `pos` / `nrm`; whether a sample's tangents were parallel.
+#[inline(always)]
+pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    border: bool,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    let width = level as usize + 1;
+    debug_assert!(width + L - 1 <= COLS && COLS.is_multiple_of(L) && COLS <= WRAP);
+    let f = &w.flat;
+    // Row curves of the wrapped columns: [row][component] point and
+    // tangent, every lane written (a constant trip count, so the arrays
+    // need no clearing).
+    let mut pt = [[[0.0f32; COLS]; 3]; 4];
+    let mut tg = [[[0.0f32; COLS]; 3]; 4];
+    let mut j = 0usize;
+    while j < COLS {
+        let mut lu = [0.0f32; L];
+        let mut ru = [0.0f32; L];
+        lu.copy_from_slice(&f.wrap_l[j..j + L]);
+        ru.copy_from_slice(&f.wrap_r[j..j + L]);
+        for r in 0..4 {
+            let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
+            for c in 0..3 {
+                let bc = [
+                    b[0].to_array()[c],
+                    b[1].to_array()[c],
+                    b[2].to_array()[c],
+                    b[3].to_array()[c],
+                ];
+                let (mut p, mut t) = ([0.0f32; L], [0.0f32; L]);
+                row_curve_lanes(bc, &lu, &ru, &mut p, &mut t);
+                pt[r][c][j..j + L].copy_from_slice(&p);
+                tg[r][c][j..j + L].copy_from_slice(&t);
+            }
+        }
+        j += L;
+    }
+    let total = width * width;
+    let mut degenerate = false;
+    // Sample s0 is the group's first; c0 its column.
+    let (mut s0, mut c0) = (0usize, 0usize);
+    while s0 < total {
+        let mut lv = [0.0f32; L];
+        let mut rv = [0.0f32; L];
+        lv.copy_from_slice(&f.row_l[s0..s0 + L]);
+        rv.copy_from_slice(&f.row_r[s0..s0 + L]);
+        let mut out = [[0.0f32; L]; 6];
+        degenerate |= sample_lanes_of(&pt, &tg, c0, &lv, &rv, &mut out);
+        let m = (total - s0).min(L);
+        store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
+        store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
+        s0 += L;
+        c0 += L;
+        while c0 >= width {
+            c0 -= width;
+        }
+    }
+    if border {
+        rows_border::<L, COLS, V>(g, &pt, w, level, pos);
+    }
+    degenerate
+}
+
+/// The border positions of a bicubic patch whose `EDGE_CURVE` is
+/// [`ROW_EDGES`], after the interior wrote the surface everywhere, with the
+/// generated `eval`'s bits:
+///
+/// * edge 0 (`iv = 0`, `t = iu`) is `tessgen_edge(g0, g4, g8, g12, iu)`,
+///   the very operations of row curve 0 at column `iu` (`pt[0]`);
+/// * edge 2 (`iv = N`, `t = N − iu`) is `tessgen_edge(g15, g11, g7, g3, N
+///   − iu)`; its weights are `l_(N−iu) = r_iu` and `r_(N−iu) = l_iu` (the
+///   same integers over the same divisor), so each of its products and
+///   sums is one of row curve 3's at `iu` with the operands swapped: IEEE
+///   `+` and `×` commute, so the bits are `pt[3]`'s;
+/// * edges 1 and 3 (`iu = N`, `iu = 0`, rows `1 … N − 1`) likewise are the
+///   forward de Casteljau of `g12 … g15` and `g0 … g3` at each row's
+///   `l_v`, `r_v`: one lane per row, both columns in one pass;
+/// * the four corners are the corner points themselves (the edge
+///   evaluator's ends).
+///
+/// So no curve is evaluated twice and the rows go out as contiguous
+/// stores.
+#[inline(always)]
+fn rows_border<const L: usize, const COLS: usize, const V: bool>(
+    g: &[Vec3; 16],
+    pt: &[[[f32; COLS]; 3]; 4],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+) {
+    let n = level as usize;
+    let width = n + 1;
+    for (row, curve) in [(0usize, 0usize), (n, 3)] {
+        let mut c = 0usize;
+        while c < width {
+            let m = (width - c).min(L);
+            let lanes = |k: usize| {
+                let mut v = [0.0f32; L];
+                v.copy_from_slice(&pt[curve][k][c..c + L]);
+                v
+            };
+            let base = row * width + c;
+            store_lanes::<L, V>(&lanes(0), &lanes(1), &lanes(2), &mut pos[base..base + m]);
+            c += L;
+        }
+    }
+    pos[0] = g[0];
+    pos[n] = g[12];
+    pos[n * width] = g[3];
+    pos[n * width + n] = g[15];
+    // Rows 1 … N − 1 of columns 0 and N.
+    let comps = |k0: usize| {
+        [
+            [g[k0].x, g[k0 + 1].x, g[k0 + 2].x, g[k0 + 3].x],
+            [g[k0].y, g[k0 + 1].y, g[k0 + 2].y, g[k0 + 3].y],
+            [g[k0].z, g[k0 + 1].z, g[k0 + 2].z, g[k0 + 3].z],
+        ]
+    };
+    let (first, last) = (comps(0), comps(12));
+    let mut iv = 1usize;
+    while iv < n {
+        let (lv, rv) = (w.l_from::<LANES>(iv), w.r_from::<LANES>(iv));
+        let mut a = [[0.0f32; LANES]; 3];
+        let mut b = [[0.0f32; LANES]; 3];
+        for c in 0..3 {
+            edge_lanes(&first[c], &lv, &rv, &mut a[c]);
+            edge_lanes(&last[c], &lv, &rv, &mut b[c]);
+        }
+        let m = (n - iv).min(LANES);
+        for k in 0..m {
+            let s = (iv + k) * width;
+            pos[s] = Vec3::new(a[0][k], a[1][k], a[2][k]);
+            pos[s + n] = Vec3::new(b[0][k], b[1][k], b[2][k]);
+        }
+        iv += LANES;
+    }
+}
+
+/// The flat interior with 8 lanes, its `COLS` chosen from the grid width,
+/// and with `border` the border ([`rows_border`]); `None` (nothing
+/// written) when the grid is wider than [`FLAT_MAX_WIDTH`].
+#[inline(always)]
+pub(crate) fn bicubic_flat8<const V: bool>(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    border: bool,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> Option<bool> {
+    Some(match level as usize + 1 {
+        0..=9 => bicubic_flat::<8, 16, V>(g, w, level, border, pos, nrm),
+        10..=17 => bicubic_flat::<8, 24, V>(g, w, level, border, pos, nrm),
+        18..=33 => bicubic_flat::<8, 40, V>(g, w, level, border, pos, nrm),
+        34..=FLAT_MAX_WIDTH => bicubic_flat::<8, 72, V>(g, w, level, border, pos, nrm),
+        _ => return None,
+    })
+}
+
+/// The flat interior with 16 lanes (the AVX-512 copy), likewise.
+#[inline(always)]
+pub(crate) fn bicubic_flat16<const V: bool>(
+    g: &[Vec3; 16],
+    w: &LevelWeights,
+    level: u32,
+    border: bool,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> Option<bool> {
+    Some(match level as usize + 1 {
+        0..=17 => bicubic_flat::<16, 32, V>(g, w, level, border, pos, nrm),
+        18..=33 => bicubic_flat::<16, 48, V>(g, w, level, border, pos, nrm),
+        34..=FLAT_MAX_WIDTH => bicubic_flat::<16, 80, V>(g, w, level, border, pos, nrm),
+        _ => return None,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::grid_eval::{bicubic_strips, quad_border};
+
+    /// A patch with a spread of values, exact zeros of both signs among
+    /// them (the border's corners must stay the corner points' bits).
+    fn patch(seed: u32) -> [Vec3; 16] {
+        let mut g = [Vec3::ZERO; 16];
+        let mut h = seed.wrapping_mul(2_654_435_761) | 1;
+        for p in g.iter_mut() {
+            let mut a = [0.0f32; 3];
+            for v in a.iter_mut() {
+                h ^= h << 13;
+                h ^= h >> 17;
+                h ^= h << 5;
+                *v = match h % 7 {
+                    0 => -0.0,
+                    1 => 0.0,
+                    _ => (h >> 8) as f32 / 65_536.0 - 128.0,
+                };
+            }
+            *p = Vec3::from_array(a);
+        }
+        g
+    }
+
+    /// Writes one patch's grid (positions, normals); whether it was
+    /// degenerate, `None` when the path does not take the level.
+    type Grid<'a> = &'a dyn Fn(&mut [Vec3], &mut [Vec3]) -> Option<bool>;
+
+    fn bits(v: &[Vec3]) -> Vec<[u32; 3]> {
+        v.iter()
+            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect()
+    }
+
+    /// The flat interior with its own border, and with the edge
+    /// evaluator's border, against the column strips with the edge
+    /// evaluator's border: the same bits at every level the flat interior
+    /// takes, and `None` beyond.
+    #[inline(always)]
+    fn flat_equals_strips<const V: bool>() {
+        for seed in 0..24 {
+            let g = patch(seed);
+            for level in 1..=(FLAT_MAX_WIDTH as u32 + 2) {
+                let w = LevelWeights::new(level);
+                let n = ((level + 1) * (level + 1)) as usize;
+                let run = |f: Grid| {
+                    let (mut p, mut q) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
+                    f(&mut p, &mut q).map(|d| (bits(&p), bits(&q), d))
+                };
+                let strips = run(&|p, q| {
+                    let d = bicubic_strips::<LANES, V>(&g, &w, level, p, q);
+                    quad_border::<V, 16>(&g, &ROW_EDGES, &w, level, p);
+                    Some(d)
+                });
+                let own = run(&|p, q| bicubic_flat8::<V>(&g, &w, level, true, p, q));
+                let edge = run(&|p, q| {
+                    let d = bicubic_flat8::<V>(&g, &w, level, false, p, q)?;
+                    quad_border::<V, 16>(&g, &ROW_EDGES, &w, level, p);
+                    Some(d)
+                });
+                if level as usize + 1 > FLAT_MAX_WIDTH {
+                    assert!(own.is_none() && edge.is_none(), "level {level}");
+                    continue;
+                }
+                assert_eq!(own, strips, "seed {seed} level {level}: own border");
+                assert_eq!(edge, strips, "seed {seed} level {level}: edge border");
+            }
+        }
+    }
+
+    #[test]
+    fn flat_interior_equals_strips_baseline() {
+        flat_equals_strips::<false>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn flat_equals_strips_avx2() {
+        flat_equals_strips::<true>();
+    }
+
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn flat_interior_equals_strips_avx2() {
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 was detected.
+            unsafe { flat_equals_strips_avx2() };
+        }
+    }
+}
