@@ -88,7 +88,9 @@ impl SurfaceInput {
     }
 }
 
+/// `command` (`render`, `view`) names the command in errors.
 pub(crate) fn surface_input(
+    command: &str,
     path: &std::path::Path,
     scheme: &str,
     level: u32,
@@ -98,10 +100,10 @@ pub(crate) fn surface_input(
     let mesh = load_mesh(path)?;
     let at = |e: String| format!("{}: {e}", path.display());
     // Before validation, whose triangle-scheme errors suggest options
-    // `render` does not have (--split-quads).
+    // `render` and `view` do not have (--split-quads).
     let quads = |k: &tessgen_runtime::kernels::common::SchemeKernels| k.sides == 4;
     if !tessgen_runtime::kernels::scheme(scheme).is_some_and(quads) {
-        return Err(at(format!("`render` takes quad schemes, not {scheme}")));
+        return Err(at(format!("`{command}` takes quad schemes, not {scheme}")));
     }
     let request = match adaptive {
         None => Request::uniform(scheme, level),
@@ -125,7 +127,7 @@ pub(crate) fn surface_input(
     let topo = v
         .topology()
         .cloned()
-        .ok_or_else(|| at(format!("`render` takes quad schemes, not {scheme}")))?;
+        .ok_or_else(|| at(format!("`{command}` takes quad schemes, not {scheme}")))?;
     let run = v.run_mesh();
     Ok(SurfaceInput {
         topo,
@@ -152,6 +154,7 @@ pub(crate) fn render(args: &RenderArgs) -> CmdResult {
         notes,
         ..
     } = surface_input(
+        "render",
         &args.mesh,
         &args.scheme,
         args.level,

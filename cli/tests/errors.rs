@@ -442,6 +442,9 @@ fn cases() -> Vec<Case> {
         case("view_unknown_key", "view catmark_cube.obj --keys tab,ctrl+z",
             "error: invalid value 'tab,ctrl+z' for '--keys <KEYS>': unknown key `ctrl+z` (known: tab shift+tab + = - a m ] [ w c d . comma left right up down pageup pagedown r p h f1 u escape q)")
             .data(CUBE).code(2),
+        case("view_triangle_scheme", "view catmark_cube.obj --scheme pn --frames 1",
+            "tessgen: error: catmark_cube.obj: `view` takes quad schemes, not pn")
+            .data(CUBE).env("DISPLAY", "").env("WAYLAND_DISPLAY", "").env("WAYLAND_SOCKET", ""),
         case("view_no_display", "view catmark_cube.obj --frames 1",
             "tessgen: error: cannot open a window: neither DISPLAY nor WAYLAND_DISPLAY is set (without a display, run it under Xvfb: xvfb-run tessgen view …)")
             .data(CUBE).env("DISPLAY", "").env("WAYLAND_DISPLAY", "").env("WAYLAND_SOCKET", ""),

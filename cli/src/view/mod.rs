@@ -85,8 +85,8 @@ pub(crate) fn view(args: &ViewArgs) -> CmdResult {
     let (w, h) = parse_size(&args.size)?;
     let dir = parse_camera(&args.camera)?;
     // Bad input fails here, before a window opens.
-    let input = surface_input(&args.mesh, &args.scheme, args.level, None)?;
-    let all_regular = surface_input(&args.mesh, "regular", args.level, None).is_ok();
+    let input = surface_input("view", &args.mesh, &args.scheme, args.level, None)?;
+    let all_regular = surface_input("view", &args.mesh, "regular", args.level, None).is_ok();
     let map = match &args.displace {
         Some(p) => DisplaceMap::from_png(p).map_err(|e| e.to_string())?,
         // Bumps: four periods across each texture direction.
@@ -375,7 +375,13 @@ impl App<'_> {
         let input = if s.scheme() == self.args.scheme {
             None
         } else {
-            Some(surface_input(&self.args.mesh, s.scheme(), s.level, None)?)
+            Some(surface_input(
+                "view",
+                &self.args.mesh,
+                s.scheme(),
+                s.level,
+                None,
+            )?)
         };
         let input = input.as_ref().unwrap_or(&self.input);
         let at = |e: tessgen_runtime::gpu::GpuError| format!("{}: {e}", self.args.mesh.display());
