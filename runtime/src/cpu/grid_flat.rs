@@ -64,6 +64,11 @@ pub(crate) struct FlatWeights {
     pub(crate) row_l: Vec<f32>,
     /// `r` of row `s / (N + 1)`, likewise.
     pub(crate) row_r: Vec<f32>,
+    /// The triangle grid's weights per sample `s` (row `iv`, `iu` along
+    /// it, [`crate::grid`]'s order): `w0 = l[iu + iv]`, `w1 = r[iu]`,
+    /// `w2 = r[iv]` (`grid_tri`'s lanes), then [`ROW_PAD`] copies of the
+    /// last sample's; empty above [`FLAT_MAX_WIDTH`].
+    pub(crate) tri: [Vec<f32>; 3],
 }
 
 impl FlatWeights {
@@ -85,11 +90,26 @@ impl FlatWeights {
         } else {
             (Vec::new(), Vec::new())
         };
+        let mut tri: [Vec<f32>; 3] = Default::default();
+        if width <= FLAT_MAX_WIDTH {
+            for iv in 0..width {
+                for iu in 0..width - iv {
+                    tri[0].push(l[iu + iv]);
+                    tri[1].push(r[iu]);
+                    tri[2].push(r[iv]);
+                }
+            }
+            for t in tri.iter_mut() {
+                let last = t[t.len() - 1];
+                t.extend(std::iter::repeat_n(last, ROW_PAD));
+            }
+        }
         FlatWeights {
             wrap_l,
             wrap_r,
             row_l,
             row_r,
+            tri,
         }
     }
 }

@@ -1,7 +1,8 @@
 //! The grid path of the `tri_cubic` form (the triangle schemes: pn, stpn,
-//! phong): no row invariant, but lanes over the samples of each row, and
-//! the rows walked directly (the generated `grid_iu`/`grid_iv` walk every
-//! row per sample). Border positions from the shared edge evaluator.
+//! phong): no row invariant, but lanes over the samples in storage order
+//! (up to N = 64; lanes over each row's samples beyond), the grid walked
+//! directly (the generated `grid_iu`/`grid_iv` walk every row per sample).
+//! Border positions from the shared edge evaluator.
 //!
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (every triangle scheme, levels 1–64).
@@ -20,8 +21,62 @@ pub(crate) fn tri_cubic_patch<const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) {
-    tri_cubic_interior::<V>(c, w, level, pos, nrm);
+    if !tri_cubic_flat::<V>(c, w, pos, nrm) {
+        tri_cubic_interior::<V>(c, w, level, pos, nrm);
+    }
     tri_border::<V>(c, curve, w, level, pos);
+}
+
+/// The net's x, y and z arrays.
+#[inline(always)]
+fn components(c: &[Vec3; 16]) -> [[f32; 16]; 3] {
+    let mut comp = [[0.0f32; 16]; 3];
+    for (k, p) in c.iter().enumerate() {
+        (comp[0][k], comp[1][k], comp[2][k]) = (p.x, p.y, p.z);
+    }
+    comp
+}
+
+/// The interior of a `tri_cubic` patch with lanes over the samples in
+/// storage order, across rows (as the bicubic form's flat interior,
+/// `super::grid_flat`): the rows of a triangle grid shrink to one sample,
+/// so lanes per row leave most of the last rows' registers empty (N = 9:
+/// 55 samples in 10 rows took 12 lane groups, now 7). Each lane reads its
+/// own `w0`, `w1`, `w2` ([`super::grid_flat::FlatWeights::tri`]) and runs
+/// the row lanes' operations. `false` (nothing written) above
+/// `FLAT_MAX_WIDTH` columns.
+#[inline(always)]
+fn tri_cubic_flat<const V: bool>(
+    c: &[Vec3; 16],
+    w: &LevelWeights,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    let [w0s, w1s, w2s] = &w.flat.tri;
+    if w0s.is_empty() {
+        return false;
+    }
+    let comp = components(c);
+    let total = pos.len();
+    let mut s0 = 0usize;
+    while s0 < total {
+        let lanes = |a: &[f32]| {
+            let mut v = [0.0f32; LANES];
+            v.copy_from_slice(&a[s0..s0 + LANES]);
+            v
+        };
+        let (w0, w1, w2) = (lanes(w0s), lanes(w1s), lanes(w2s));
+        let mut out = [[0.0f32; LANES]; 6];
+        for (ca, oa) in comp.iter().zip(out.iter_mut()) {
+            tri_point_lanes(ca, &w0, &w1, &w2, oa);
+        }
+        tri_normal_lanes(c, &w0, &w1, &w2, &mut out);
+        let m = (total - s0).min(LANES);
+        store_lanes::<LANES, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
+        store_lanes::<LANES, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
+        s0 += LANES;
+    }
+    true
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -51,10 +106,7 @@ fn tri_cubic_interior<const V: bool>(
     nrm: &mut [Vec3],
 ) {
     // The net's x, y and z, once per patch.
-    let mut comp = [[0.0f32; 16]; 3];
-    for (k, p) in c.iter().enumerate() {
-        (comp[0][k], comp[1][k], comp[2][k]) = (p.x, p.y, p.z);
-    }
+    let comp = components(c);
     let mut base = 0usize;
     for iv in 0..=level {
         let m = (level - iv) as usize + 1;
@@ -89,14 +141,14 @@ fn tri_cubic_chunk<const L: usize, const V: bool>(
     // w2 = iv/N; per lane iu = o + k: w1 = iu/N, w0 = ((N − iu) − iv)/N =
     // l[iu + iv] (the same integer, the same division). Lanes past the row
     // read further weights and are not stored.
-    let w2 = w.r[iv as usize];
+    let w2 = [w.r[iv as usize]; L];
     let w0 = w.l_from::<L>(o + iv as usize);
     let w1 = w.r_from::<L>(o);
     let mut out = [[0.0f32; L]; 6];
     for (ca, oa) in comp.iter().zip(out.iter_mut()) {
-        tri_point_lanes(ca, &w0, &w1, w2, oa);
+        tri_point_lanes(ca, &w0, &w1, &w2, oa);
     }
-    tri_normal_lanes(c, &w0, &w1, w2, &mut out);
+    tri_normal_lanes(c, &w0, &w1, &w2, &mut out);
     let n = (m - o).min(L);
     store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut dst_p[o..o + n]);
     store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut dst_n[o..o + n]);
@@ -110,7 +162,7 @@ fn tri_point_lanes<const L: usize>(
     c: &[f32; 16],
     w0: &[f32; L],
     w1: &[f32; L],
-    w2: f32,
+    w2: &[f32; L],
     out: &mut [f32; L],
 ) {
     let (b0, bn0, bp0) = (c[0], c[1], c[2]);
@@ -118,7 +170,7 @@ fn tri_point_lanes<const L: usize>(
     let (b2, bn2, bp2) = (c[10], c[11], c[12]);
     let center = c[15];
     for k in 0..L {
-        let (w0, w1) = (w0[k], w1[k]);
+        let (w0, w1, w2) = (w0[k], w1[k], w2[k]);
         let t = |x: f32, y: f32, z: f32| ((x * w0) + (y * w1)) + (z * w2);
         let s2_200 = t(b0, bn0, bp0);
         let s2_110 = t(bn0, bp1, center);
@@ -141,12 +193,12 @@ fn tri_normal_lanes<const L: usize>(
     c: &[Vec3; 16],
     w0: &[f32; L],
     w1: &[f32; L],
-    w2: f32,
+    w2: &[f32; L],
     out: &mut [[f32; L]; 6],
 ) {
     let (n3, n4, n8, n9, n13, n14) = (c[3], c[4], c[8], c[9], c[13], c[14]);
     for k in 0..L {
-        let (w0, w1) = (w0[k], w1[k]);
+        let (w0, w1, w2) = (w0[k], w1[k], w2[k]);
         let (q00, q01, q11, q12, q22, q20) = (w0 * w0, w0 * w1, w1 * w1, w1 * w2, w2 * w2, w2 * w0);
         let f = |a: f32, b: f32, c: f32, d: f32, e: f32, g: f32| {
             (((((a * q00) + (b * q01)) + (c * q11)) + (d * q12)) + (e * q22)) + (g * q20)
