@@ -590,15 +590,8 @@ fn bicubic_strip<const L: usize, const V: bool>(
     let mut pt = [[[0.0f32; L]; 3]; 4];
     let mut tg = [[[0.0f32; L]; 3]; 4];
     for r in 0..4 {
-        let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
         for c in 0..3 {
-            let bc = [
-                b[0].to_array()[c],
-                b[1].to_array()[c],
-                b[2].to_array()[c],
-                b[3].to_array()[c],
-            ];
-            row_curve_lanes(bc, &lu, &ru, &mut pt[r][c], &mut tg[r][c]);
+            row_curve_lanes(row_points(g, r, c), &lu, &ru, &mut pt[r][c], &mut tg[r][c]);
         }
     }
     let m = (width - c0).min(L);
@@ -612,6 +605,18 @@ fn bicubic_strip<const L: usize, const V: bool>(
         store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[base..base + m]);
     }
     degenerate
+}
+
+/// Component `c` of row curve `r`'s control points `g[r], g[4 + r],
+/// g[8 + r], g[12 + r]` (a bicubic patch, `4k + l`).
+#[inline(always)]
+pub(crate) fn row_points(g: &[Vec3; 16], r: usize, c: usize) -> [f32; 4] {
+    [
+        g[r].to_array()[c],
+        g[4 + r].to_array()[c],
+        g[8 + r].to_array()[c],
+        g[12 + r].to_array()[c],
+    ]
 }
 
 /// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component, per lane:

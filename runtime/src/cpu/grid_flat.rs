@@ -32,7 +32,7 @@
 //! row weights would grow as `N²`.
 
 use super::grid_eval::{
-    edge_lanes, row_curve_lanes, sample_lanes_of, store_lanes, LevelWeights, LANES,
+    edge_lanes, row_curve_lanes, row_points, sample_lanes_of, store_lanes, LevelWeights, LANES,
 };
 
 /// The `EDGE_CURVE` of a bicubic class whose edges are its boundary rows
@@ -141,16 +141,9 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
         lu.copy_from_slice(&f.wrap_l[j..j + L]);
         ru.copy_from_slice(&f.wrap_r[j..j + L]);
         for r in 0..4 {
-            let b = [g[r], g[4 + r], g[8 + r], g[12 + r]];
             for c in 0..3 {
-                let bc = [
-                    b[0].to_array()[c],
-                    b[1].to_array()[c],
-                    b[2].to_array()[c],
-                    b[3].to_array()[c],
-                ];
                 let (mut p, mut t) = ([0.0f32; L], [0.0f32; L]);
-                row_curve_lanes(bc, &lu, &ru, &mut p, &mut t);
+                row_curve_lanes(row_points(g, r, c), &lu, &ru, &mut p, &mut t);
                 pt[r][c][j..j + L].copy_from_slice(&p);
                 tg[r][c][j..j + L].copy_from_slice(&t);
             }
