@@ -3,7 +3,8 @@
 //! closed shared mesh (catmark_righthanded refined three times, 27,776
 //! quads) at N = 9, 17 and 33, into reused buffers: the grid path, the
 //! per-sample path and a plain fill of the same output (the write floor),
-//! so each figure has its same-run baselines. Throughput is reported in
+//! so each figure has its same-run baselines; and pn's triangle path on the
+//! same quads split into triangles. Throughput is reported in
 //! samples (tessellated vertices) per second. `tessgen bench` reports the
 //! same with a thread count (docs/performance.md).
 
@@ -65,6 +66,23 @@ fn bench(c: &mut Criterion) {
                 t.positions.fill(Vec3::ONE);
                 t.normals.fill(Vec3::ONE);
             })
+        });
+    }
+    // The triangle path: pn on the quads split into triangles (55,552
+    // patches), as `tessgen bench --scheme pn` runs it.
+    let (Ok(pn), Ok(tri)) = (cpu::scheme("pn"), cpu::tri_mesh(&mesh, true, None)) else {
+        panic!("pn kernels or the split mesh")
+    };
+    let Ok(tri_patches) = cpu::construct_tri(&tri, pn) else {
+        panic!("pn construction")
+    };
+    for level in [9u32, 17, 33] {
+        let Ok(mut t) = cpu::evaluate(&tri_patches, level) else {
+            panic!("evaluate pn")
+        };
+        group.throughput(Throughput::Elements(t.positions.len() as u64));
+        group.bench_function(format!("pn evaluate_into/N={level}"), |b| {
+            b.iter(|| cpu::evaluate_into(&tri_patches, level, &mut t).is_ok())
         });
     }
     group.finish();
