@@ -13,12 +13,12 @@
 //! generated order: `along_v = cubic(row points, lv, rv)`, `tangent_u =
 //! cubic(U rows, lv, rv)`, `tangent_v = cubic(V columns, lu, ru)`, normal
 //! `tessgen_patch_normal(tangent_u, tangent_v)`. Border positions come from
-//! the shared edge evaluator ([`super::grid_eval::quad_border`]).
+//! the shared edge evaluator ([`super::lanes::quad_border`]).
 //!
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
-use super::grid_eval::{
+use super::lanes::{
     cubic_point, patch_normal, quad_border, row_curve_lanes, store_lanes, strips, LevelWeights,
     HALF, LANES,
 };

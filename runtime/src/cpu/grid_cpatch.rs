@@ -8,12 +8,12 @@
 //! same `Vec3` operations, so the same bits) and the de Casteljau steps run
 //! lane by lane over each row's run of samples in that piece, in the
 //! generated order. Border positions come from the shared edge evaluator
-//! ([`super::grid_eval::quad_border`]), as for the bicubic form.
+//! ([`super::lanes::quad_border`]), as for the bicubic form.
 //!
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
-use super::grid_eval::{patch_normal, quad_border, store_lanes, LevelWeights, HALF, LANES};
+use super::lanes::{patch_normal, quad_border, store_lanes, LevelWeights, HALF, LANES};
 use glam::Vec3;
 
 /// One piece's quartic net, by component: `[c][index]` with the generated

@@ -13,12 +13,12 @@
 //! its row:
 //!
 //! * the row curves are computed once per patch for the lanes `j = 0 ..
-//!   COLS` with the weights of column `j mod (N + 1)` ([`FlatWeights::
+//!   COLS` with the weights of column `j mod (N + 1)` ([`super::lanes::FlatWeights::
 //!   wrap_l`]), so the curves of the columns `c0, c0 + 1, …` wrapped at the
 //!   row's end are the `L` consecutive entries from `c0` (the column of the
 //!   group's first sample) — a plain load, no gather;
 //! * the row weights `l_v`, `r_v` of sample `s` are entry `s` of
-//!   [`FlatWeights::row_l`] / `row_r`, made once per evaluation.
+//!   [`super::lanes::FlatWeights::row_l`] / `row_r`, made once per evaluation.
 //!
 //! Each lane then executes the operations of the strip lanes (the
 //! generated `ordinary_surface` after its row curves) on the same inputs,
@@ -31,8 +31,9 @@
 //! long enough that the 4-lane remainder costs little, and the per-sample
 //! row weights would grow as `N²`.
 
-use super::grid_eval::{
-    edge_lanes, row_curve_lanes, row_points, sample_lanes_of, store_lanes, LevelWeights, LANES,
+use super::lanes::{
+    edge_lanes, row_curve_lanes, row_points, sample_lanes_of, store_lanes, LevelWeights,
+    FLAT_MAX_WIDTH, LANES, WRAP,
 };
 
 /// The `EDGE_CURVE` of a bicubic class whose edges are its boundary rows
@@ -41,78 +42,6 @@ use super::grid_eval::{
 /// ([`rows_border`]).
 pub(crate) const ROW_EDGES: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
 use glam::Vec3;
-
-/// The widest grid (`N + 1` columns) the flat interior takes.
-pub(crate) const FLAT_MAX_WIDTH: usize = 65;
-
-/// Lanes of the column weights wrapped at the row's end: the widest
-/// row-curve array (`COLS` = 80 for 16 lanes at `N + 1` = 65).
-const WRAP: usize = 80;
-
-/// How far past the last sample a group may read the row weights.
-const ROW_PAD: usize = 16;
-
-/// The level's weights in the flat interior's lane order, made once per
-/// evaluation from [`LevelWeights`]'s `l`, `r` (copies, no arithmetic).
-pub(crate) struct FlatWeights {
-    /// `l` of column `j mod (N + 1)`, `j = 0 .. WRAP`.
-    pub(crate) wrap_l: [f32; WRAP],
-    /// `r` of column `j mod (N + 1)`.
-    pub(crate) wrap_r: [f32; WRAP],
-    /// `l` of row `s / (N + 1)` for every sample `s` of a grid, then
-    /// [`ROW_PAD`] entries of row `N`; empty above [`FLAT_MAX_WIDTH`].
-    pub(crate) row_l: Vec<f32>,
-    /// `r` of row `s / (N + 1)`, likewise.
-    pub(crate) row_r: Vec<f32>,
-    /// The triangle grid's weights per sample `s` (row `iv`, `iu` along
-    /// it, [`crate::grid`]'s order): `w0 = l[iu + iv]`, `w1 = r[iu]`,
-    /// `w2 = r[iv]` (`grid_tri`'s lanes), then [`ROW_PAD`] copies of the
-    /// last sample's; empty above [`FLAT_MAX_WIDTH`].
-    pub(crate) tri: [Vec<f32>; 3],
-}
-
-impl FlatWeights {
-    /// `l`, `r`: [`LevelWeights`]'s arrays (`N + 1` entries and padding).
-    pub(crate) fn new(level: u32, l: &[f32], r: &[f32]) -> FlatWeights {
-        let width = level as usize + 1;
-        let (mut wrap_l, mut wrap_r) = ([0.0f32; WRAP], [0.0f32; WRAP]);
-        for j in 0..WRAP {
-            wrap_l[j] = l[j % width];
-            wrap_r[j] = r[j % width];
-        }
-        let (row_l, row_r) = if width <= FLAT_MAX_WIDTH {
-            let row = |s: usize| (s / width).min(width - 1);
-            let len = width * width + ROW_PAD;
-            (
-                (0..len).map(|s| l[row(s)]).collect(),
-                (0..len).map(|s| r[row(s)]).collect(),
-            )
-        } else {
-            (Vec::new(), Vec::new())
-        };
-        let mut tri: [Vec<f32>; 3] = Default::default();
-        if width <= FLAT_MAX_WIDTH {
-            for iv in 0..width {
-                for iu in 0..width - iv {
-                    tri[0].push(l[iu + iv]);
-                    tri[1].push(r[iu]);
-                    tri[2].push(r[iv]);
-                }
-            }
-            for t in tri.iter_mut() {
-                let last = t[t.len() - 1];
-                t.extend(std::iter::repeat_n(last, ROW_PAD));
-            }
-        }
-        FlatWeights {
-            wrap_l,
-            wrap_r,
-            row_l,
-            row_r,
-            tri,
-        }
-    }
-}
 
 /// The flat interior of a bicubic patch `g` at `level` (`N + 1 ≤ COLS −
 /// L + 1`, `COLS` a multiple of `L`), every sample's surface position and
@@ -288,98 +217,4 @@ pub(crate) fn bicubic_flat16<const V: bool>(
         34..=FLAT_MAX_WIDTH => bicubic_flat::<16, 80, V>(g, w, level, border, pos, nrm),
         _ => return None,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::cpu::grid_eval::{bicubic_strips, quad_border};
-
-    /// A patch with a spread of values, exact zeros of both signs among
-    /// them (the border's corners must stay the corner points' bits).
-    fn patch(seed: u32) -> [Vec3; 16] {
-        let mut g = [Vec3::ZERO; 16];
-        let mut h = seed.wrapping_mul(2_654_435_761) | 1;
-        for p in g.iter_mut() {
-            let mut a = [0.0f32; 3];
-            for v in a.iter_mut() {
-                h ^= h << 13;
-                h ^= h >> 17;
-                h ^= h << 5;
-                *v = match h % 7 {
-                    0 => -0.0,
-                    1 => 0.0,
-                    _ => (h >> 8) as f32 / 65_536.0 - 128.0,
-                };
-            }
-            *p = Vec3::from_array(a);
-        }
-        g
-    }
-
-    /// Writes one patch's grid (positions, normals); whether it was
-    /// degenerate, `None` when the path does not take the level.
-    type Grid<'a> = &'a dyn Fn(&mut [Vec3], &mut [Vec3]) -> Option<bool>;
-
-    fn bits(v: &[Vec3]) -> Vec<[u32; 3]> {
-        v.iter()
-            .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-            .collect()
-    }
-
-    /// The flat interior with its own border, and with the edge
-    /// evaluator's border, against the column strips with the edge
-    /// evaluator's border: the same bits at every level the flat interior
-    /// takes, and `None` beyond.
-    #[inline(always)]
-    fn flat_equals_strips<const V: bool>() {
-        for seed in 0..24 {
-            let g = patch(seed);
-            for level in 1..=(FLAT_MAX_WIDTH as u32 + 2) {
-                let w = LevelWeights::new(level);
-                let n = ((level + 1) * (level + 1)) as usize;
-                let run = |f: Grid| {
-                    let (mut p, mut q) = (vec![Vec3::NAN; n], vec![Vec3::NAN; n]);
-                    f(&mut p, &mut q).map(|d| (bits(&p), bits(&q), d))
-                };
-                let strips = run(&|p, q| {
-                    let d = bicubic_strips::<LANES, V>(&g, &w, level, p, q);
-                    quad_border::<V, 16>(&g, &ROW_EDGES, &w, level, p);
-                    Some(d)
-                });
-                let own = run(&|p, q| bicubic_flat8::<V>(&g, &w, level, true, p, q));
-                let edge = run(&|p, q| {
-                    let d = bicubic_flat8::<V>(&g, &w, level, false, p, q)?;
-                    quad_border::<V, 16>(&g, &ROW_EDGES, &w, level, p);
-                    Some(d)
-                });
-                if level as usize + 1 > FLAT_MAX_WIDTH {
-                    assert!(own.is_none() && edge.is_none(), "level {level}");
-                    continue;
-                }
-                assert_eq!(own, strips, "seed {seed} level {level}: own border");
-                assert_eq!(edge, strips, "seed {seed} level {level}: edge border");
-            }
-        }
-    }
-
-    #[test]
-    fn flat_interior_equals_strips_baseline() {
-        flat_equals_strips::<false>();
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn flat_equals_strips_avx2() {
-        flat_equals_strips::<true>();
-    }
-
-    #[test]
-    #[cfg(target_arch = "x86_64")]
-    fn flat_interior_equals_strips_avx2() {
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: AVX2 was detected.
-            unsafe { flat_equals_strips_avx2() };
-        }
-    }
 }

@@ -15,12 +15,12 @@
 //! de Casteljau steps along v, and `du`, `dv` with their four blend terms.
 //! `wp/N` and `wm/N` are the level's weights themselves (`ru`, `rv`, `lu`,
 //! `lv`: the same integers over the same divisor). Border positions come
-//! from the shared edge evaluator ([`super::grid_eval::quad_border`]).
+//! from the shared edge evaluator ([`super::lanes::quad_border`]).
 //!
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (the cube: every face extraordinary; levels 1–64).
 
-use super::grid_eval::{
+use super::lanes::{
     cubic, patch_normal, quad_border, row_curve_lanes, store_lanes, strips, LevelWeights, HALF,
     LANES,
 };

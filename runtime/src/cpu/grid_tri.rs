@@ -7,7 +7,7 @@
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit (every triangle scheme, levels 1–64).
 
-use super::grid_eval::{edge_points, edge_run, store_lanes, LevelWeights, HALF, LANES};
+use super::lanes::{edge_points, edge_run, store_lanes, LevelWeights, HALF, LANES};
 use glam::Vec3;
 
 /// A `tri_cubic` patch's grid: the surface everywhere, then the border
@@ -42,7 +42,7 @@ fn components(c: &[Vec3; 16]) -> [[f32; 16]; 3] {
 /// `super::grid_flat`): the rows of a triangle grid shrink to one sample,
 /// so lanes per row leave most of the last rows' registers empty (N = 9:
 /// 55 samples in 10 rows took 12 lane groups, now 7). Each lane reads its
-/// own `w0`, `w1`, `w2` ([`super::grid_flat::FlatWeights::tri`]) and runs
+/// own `w0`, `w1`, `w2` ([`super::lanes::FlatWeights::tri`]) and runs
 /// the row lanes' operations. `false` (nothing written) above
 /// `FLAT_MAX_WIDTH` columns.
 #[inline(always)]

@@ -20,6 +20,7 @@ mod grid_eval;
 mod grid_flat;
 mod grid_gregory;
 mod grid_tri;
+mod lanes;
 mod patch_flat;
 mod vertex_flat;
 
@@ -682,7 +683,7 @@ fn grid_path_of(
     let kernels = patches.scheme;
     let per = (kernels.grid_len)(level) as usize;
     let paths = grid_eval::class_paths(kernels);
-    let weights = grid_eval::LevelWeights::new(level);
+    let weights = lanes::LevelWeights::new(level);
     positions
         .par_chunks_mut(per)
         .zip(normals.par_chunks_mut(per))
