@@ -35,13 +35,13 @@ use super::lanes::{
     edge_lanes, row_curve_lanes, row_points, sample_lanes_of, store_lanes, LevelWeights,
     FLAT_MAX_WIDTH, LANES, WRAP,
 };
+use glam::Vec3;
 
 /// The `EDGE_CURVE` of a bicubic class whose edges are its boundary rows
 /// and columns (every built-in quad scheme's ordinary class): the flat
 /// interior then writes the border from its own row curves
 /// ([`rows_border`]).
 pub(crate) const ROW_EDGES: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
-use glam::Vec3;
 
 /// The flat interior of a bicubic patch `g` at `level` (`N + 1 ≤ COLS −
 /// L + 1`, `COLS` a multiple of `L`), every sample's surface position and
