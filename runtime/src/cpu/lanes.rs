@@ -181,14 +181,7 @@ pub(crate) fn row_curve_lanes<const L: usize>(
     tangent: &mut [f32; L],
 ) {
     for k in 0..L {
-        let (l, r) = (l[k], r[k]);
-        let c0 = (b[0] * l) + (b[1] * r);
-        let c1 = (b[1] * l) + (b[2] * r);
-        let c2 = (b[2] * l) + (b[3] * r);
-        let d0 = (c0 * l) + (c1 * r);
-        let d1 = (c1 * l) + (c2 * r);
-        point[k] = (d0 * l) + (d1 * r);
-        tangent[k] = (d1 - d0) * 3.0f32;
+        (point[k], tangent[k]) = cubic(b[0], b[1], b[2], b[3], l[k], r[k]);
     }
 }
 
@@ -449,12 +442,6 @@ pub(crate) fn edge_run<const V: bool>(
 #[inline(always)]
 pub(crate) fn edge_lanes(b: &[f32; 4], l: &[f32; LANES], r: &[f32; LANES], out: &mut [f32; LANES]) {
     for k in 0..LANES {
-        let (l, r) = (l[k], r[k]);
-        let c0 = (b[0] * l) + (b[1] * r);
-        let c1 = (b[1] * l) + (b[2] * r);
-        let c2 = (b[2] * l) + (b[3] * r);
-        let d0 = (c0 * l) + (c1 * r);
-        let d1 = (c1 * l) + (c2 * r);
-        out[k] = (d0 * l) + (d1 * r);
+        out[k] = cubic_point(b[0], b[1], b[2], b[3], l[k], r[k]);
     }
 }
