@@ -32,8 +32,8 @@
 //! row weights would grow as `N²`.
 
 use super::lanes::{
-    edge_lanes, row_curve_lanes, row_points, sample_lanes_of, store_lanes, LevelWeights,
-    FLAT_MAX_WIDTH, LANES, WRAP,
+    edge_lanes, row_curve_lanes, row_points, sample_curves, sample_lanes_of, store_lanes,
+    LevelWeights, SampleHalf, FLAT_MAX_WIDTH, LANES, WRAP,
 };
 use glam::Vec3;
 
@@ -43,9 +43,10 @@ use glam::Vec3;
 /// ([`rows_border`]).
 pub(crate) const ROW_EDGES: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
 
-/// The flat interior of a bicubic patch `g` at `level` (`N + 1 ≤ COLS −
-/// L + 1`, `COLS` a multiple of `L`), every sample's surface position and
-/// normal into `pos` / `nrm`; whether a sample's tangents were parallel.
+/// The flat interior of a bicubic patch `g` at `level` (`COLS ≥`
+/// [`wrapped_columns`]`(L, N + 1)`, `COLS` a multiple of `L`), every
+/// sample's surface position and normal into `pos` / `nrm`; whether a
+/// sample's tangents were parallel.
 #[inline(always)]
 pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     g: &[Vec3; 16],
@@ -56,7 +57,7 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     nrm: &mut [Vec3],
 ) -> bool {
     let width = level as usize + 1;
-    debug_assert!(width + L - 1 <= COLS && COLS.is_multiple_of(L) && COLS <= WRAP);
+    debug_assert!(wrapped_columns(L, width) <= COLS && COLS.is_multiple_of(L) && COLS <= WRAP);
     let f = &w.flat;
     // Row curves of the wrapped columns: [row][component] point and
     // tangent, every lane written (a constant trip count, so the arrays
@@ -81,27 +82,67 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     }
     let total = width * width;
     let mut degenerate = false;
+    // With `V` (the AVX2 and AVX-512 copies) software-pipelined by one
+    // group: the curves and cross product of group g + 1 are issued before
+    // group g's square root, divisions and stores (`SampleHalf`), so the
+    // core has independent multiplies to run while that chain waits.
     // Sample s0 is the group's first; c0 its column.
+    let mut pending = SampleHalf::<L>::default();
+    let mut pending_s0 = usize::MAX;
     let (mut s0, mut c0) = (0usize, 0usize);
     while s0 < total {
         let mut lv = [0.0f32; L];
         let mut rv = [0.0f32; L];
         lv.copy_from_slice(&f.row_l[s0..s0 + L]);
         rv.copy_from_slice(&f.row_r[s0..s0 + L]);
-        let mut out = [[0.0f32; L]; 6];
-        degenerate |= sample_lanes_of(&pt, &tg, c0, &lv, &rv, &mut out);
-        let m = (total - s0).min(L);
-        store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
-        store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
+        if !V {
+            // The SSE2 baseline copy: 16 registers of 4 lanes hold one
+            // group's work, not two (pipelined it ran 1.2–1.4× slower).
+            let mut out = [[0.0f32; L]; 6];
+            degenerate |= sample_lanes_of(&pt, &tg, c0, &lv, &rv, &mut out);
+            let m = (total - s0).min(L);
+            store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
+            store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
+        } else {
+            let mut half = SampleHalf::<L>::default();
+            sample_curves(&pt, &tg, c0, &lv, &rv, &mut half);
+            if pending_s0 != usize::MAX {
+                degenerate |= finish::<L, V>(&pending, pending_s0, total, pos, nrm);
+            }
+            (pending, pending_s0) = (half, s0);
+        }
         s0 += L;
         c0 += L;
         while c0 >= width {
             c0 -= width;
         }
     }
+    if pending_s0 != usize::MAX {
+        degenerate |= finish::<L, V>(&pending, pending_s0, total, pos, nrm);
+    }
     if border {
         rows_border::<L, COLS, V>(g, &pt, w, level, pos);
     }
+    degenerate
+}
+
+/// The second half of the group from sample `s0` ([`SampleHalf::finish`])
+/// and its stores (the first `min(L, total − s0)` lanes); whether a
+/// lane's tangents were parallel. A function, not a closure, so that it
+/// is inlined into (and compiled for) the caller's target features.
+#[inline(always)]
+fn finish<const L: usize, const V: bool>(
+    half: &SampleHalf<L>,
+    s0: usize,
+    total: usize,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    let mut out = [[0.0f32; L]; 6];
+    let degenerate = half.finish(&mut out);
+    let m = (total - s0).min(L);
+    store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
+    store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
     degenerate
 }
 
@@ -180,6 +221,21 @@ fn rows_border<const L: usize, const COLS: usize, const V: bool>(
     }
 }
 
+/// Row-curve lanes a flat interior of `width` columns reads with `lanes`
+/// lanes: a group starts at sample `s0 = lanes·g`, in column `s0 mod
+/// width`, a multiple of `d = gcd(lanes, width)`, so the last column a
+/// group starts in is `width − d` and the group reads up to `width − d +
+/// lanes` wrapped columns. (At N = 9, 10 columns, groups start in columns
+/// 0, 2, …, 8: 16 wrapped columns, not the 17 a start in column 9 would
+/// need, so the row curves take two lane groups instead of three.)
+pub(crate) const fn wrapped_columns(lanes: usize, width: usize) -> usize {
+    let (mut a, mut b) = (lanes, width);
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    width - a + lanes
+}
+
 /// The flat interior with 8 lanes, its `COLS` chosen from the grid width,
 /// and with `border` the border ([`rows_border`]); `None` (nothing
 /// written) when the grid is wider than [`FLAT_MAX_WIDTH`].
@@ -192,12 +248,15 @@ pub(crate) fn bicubic_flat8<const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> Option<bool> {
-    Some(match level as usize + 1 {
-        0..=9 => bicubic_flat::<8, 16, V>(g, w, level, border, pos, nrm),
-        10..=17 => bicubic_flat::<8, 24, V>(g, w, level, border, pos, nrm),
-        18..=33 => bicubic_flat::<8, 40, V>(g, w, level, border, pos, nrm),
-        34..=FLAT_MAX_WIDTH => bicubic_flat::<8, 72, V>(g, w, level, border, pos, nrm),
-        _ => return None,
+    let width = level as usize + 1;
+    if width > FLAT_MAX_WIDTH {
+        return None;
+    }
+    Some(match wrapped_columns(8, width) {
+        0..=16 => bicubic_flat::<8, 16, V>(g, w, level, border, pos, nrm),
+        17..=24 => bicubic_flat::<8, 24, V>(g, w, level, border, pos, nrm),
+        25..=40 => bicubic_flat::<8, 40, V>(g, w, level, border, pos, nrm),
+        _ => bicubic_flat::<8, 72, V>(g, w, level, border, pos, nrm),
     })
 }
 
@@ -211,10 +270,41 @@ pub(crate) fn bicubic_flat16<const V: bool>(
     pos: &mut [Vec3],
     nrm: &mut [Vec3],
 ) -> Option<bool> {
-    Some(match level as usize + 1 {
-        0..=17 => bicubic_flat::<16, 32, V>(g, w, level, border, pos, nrm),
-        18..=33 => bicubic_flat::<16, 48, V>(g, w, level, border, pos, nrm),
-        34..=FLAT_MAX_WIDTH => bicubic_flat::<16, 80, V>(g, w, level, border, pos, nrm),
-        _ => return None,
+    let width = level as usize + 1;
+    if width > FLAT_MAX_WIDTH {
+        return None;
+    }
+    Some(match wrapped_columns(16, width) {
+        0..=32 => bicubic_flat::<16, 32, V>(g, w, level, border, pos, nrm),
+        33..=48 => bicubic_flat::<16, 48, V>(g, w, level, border, pos, nrm),
+        _ => bicubic_flat::<16, 80, V>(g, w, level, border, pos, nrm),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every lane group of every flat grid reads inside the wrapped
+    /// columns [`wrapped_columns`] counts, and on grids with groups
+    /// starting in every reachable column the count is reached (the bound
+    /// is the exact one, not a loose one).
+    #[test]
+    fn wrapped_columns_is_the_furthest_read() {
+        for lanes in [8usize, 16] {
+            for width in 1..=FLAT_MAX_WIDTH {
+                let total = width * width;
+                let furthest = (0..total)
+                    .step_by(lanes)
+                    .map(|s0| s0 % width + lanes)
+                    .max()
+                    .unwrap_or(0);
+                let bound = wrapped_columns(lanes, width);
+                assert!(furthest <= bound, "{lanes} lanes, width {width}");
+                if total >= lanes * width {
+                    assert_eq!(furthest, bound, "{lanes} lanes, width {width}");
+                }
+            }
+        }
+    }
 }

@@ -219,27 +219,115 @@ pub(crate) fn sample_lanes_of<const L: usize, const C: usize>(
     assert!(o + L <= C);
     let mut degenerate = false;
     for k in 0..L {
-        let (l, r) = (l[k], r[k]);
-        let along = |a: &[[[f32; C]; 3]; 4], c: usize| {
-            let j = o + k;
-            cubic(a[0][c][j], a[1][c][j], a[2][c][j], a[3][c][j], l, r)
-        };
-        let (x, tvx) = along(pt, 0);
-        let (y, tvy) = along(pt, 1);
-        let (z, tvz) = along(pt, 2);
-        let (ux, _) = along(tg, 0);
-        let (uy, _) = along(tg, 1);
-        let (uz, _) = along(tg, 2);
-        let ([nx, ny, nz], parallel) = patch_normal([ux, uy, uz], [tvx, tvy, tvz]);
+        let (p, tu, tv) = sample_curves_at(pt, tg, o + k, l[k], r[k]);
+        let (n, parallel) = patch_normal(tu, tv);
         degenerate |= parallel;
-        out[0][k] = x;
-        out[1][k] = y;
-        out[2][k] = z;
-        out[3][k] = nx;
-        out[4][k] = ny;
-        out[5][k] = nz;
+        for c in 0..3 {
+            out[c][k] = p[c];
+            out[3 + c][k] = n[c];
+        }
     }
     degenerate
+}
+
+/// One sample's curves along `v` at entry `j` of the row curves: the
+/// position, the tangent along `u` (the point of the tangent curves) and
+/// the tangent along `v`.
+#[inline(always)]
+fn sample_curves_at<const C: usize>(
+    pt: &[[[f32; C]; 3]; 4],
+    tg: &[[[f32; C]; 3]; 4],
+    j: usize,
+    l: f32,
+    r: f32,
+) -> ([f32; 3], [f32; 3], [f32; 3]) {
+    let along = |a: &[[[f32; C]; 3]; 4], c: usize| {
+        cubic(a[0][c][j], a[1][c][j], a[2][c][j], a[3][c][j], l, r)
+    };
+    let (x, tvx) = along(pt, 0);
+    let (y, tvy) = along(pt, 1);
+    let (z, tvz) = along(pt, 2);
+    let (ux, _) = along(tg, 0);
+    let (uy, _) = along(tg, 1);
+    let (uz, _) = along(tg, 2);
+    ([x, y, z], [ux, uy, uz], [tvx, tvy, tvz])
+}
+
+/// A lane group of samples between the two halves of its work: positions,
+/// the cross product `c` of the tangents, `c·c` and the parallel-tangent
+/// threshold `PARALLEL_SIN2·(a·a)·(b·b)`. The second half
+/// ([`SampleHalf::finish`]: `√(c·c)`, three divisions, the selects) is
+/// one long dependency chain behind the first; a loop that runs the first
+/// half of the next group before finishing this one gives the core
+/// independent multiplies to issue while the square root and divisions
+/// wait (the flat interior's AVX2 and AVX-512 copies, `grid_flat`). Each
+/// sample's operations and their order are [`sample_lanes_of`]'s either
+/// way. (The SSE2 copy keeps the fused [`sample_lanes_of`]: with 16
+/// registers of 4 lanes the stored halves spill, 1.2× slower.)
+#[derive(Clone, Copy)]
+pub(crate) struct SampleHalf<const L: usize> {
+    pub(crate) pos: [[f32; L]; 3],
+    c: [[f32; L]; 3],
+    c2: [f32; L],
+    limit: [f32; L],
+}
+
+impl<const L: usize> Default for SampleHalf<L> {
+    fn default() -> Self {
+        SampleHalf {
+            pos: [[0.0; L]; 3],
+            c: [[0.0; L]; 3],
+            c2: [0.0; L],
+            limit: [0.0; L],
+        }
+    }
+}
+
+impl<const L: usize> SampleHalf<L> {
+    /// The second half: unit normals into `out[3..6]` (positions into
+    /// `out[0..3]`); whether a lane's tangents were parallel.
+    #[inline(always)]
+    pub(crate) fn finish(&self, out: &mut [[f32; L]; 6]) -> bool {
+        let mut degenerate = false;
+        #[allow(clippy::needless_range_loop)] // lane k of eight arrays
+        for k in 0..L {
+            let parallel = self.c2[k] <= self.limit[k];
+            let len = self.c2[k].sqrt();
+            degenerate |= parallel;
+            for c in 0..3 {
+                out[c][k] = self.pos[c][k];
+                out[3 + c][k] = if parallel { 0.0 } else { self.c[c][k] / len };
+            }
+        }
+        degenerate
+    }
+}
+
+/// The first half of [`sample_lanes_of`]'s work into `half`: both curves
+/// along `v`, the cross product of the tangents and its two norms.
+#[inline(always)]
+pub(crate) fn sample_curves<const L: usize, const C: usize>(
+    pt: &[[[f32; C]; 3]; 4],
+    tg: &[[[f32; C]; 3]; 4],
+    o: usize,
+    l: &[f32; L],
+    r: &[f32; L],
+    half: &mut SampleHalf<L>,
+) {
+    // One check here instead of one per load.
+    assert!(o + L <= C);
+    for k in 0..L {
+        let ([x, y, z], tu, tv) = sample_curves_at(pt, tg, o + k, l[k], r[k]);
+        let (c, c2, limit) = normal_terms(tu, tv);
+        half.pos[0][k] = x;
+        half.pos[1][k] = y;
+        half.pos[2][k] = z;
+        half.c[0][k] = c[0];
+        half.c[1][k] = c[1];
+        half.c[2][k] = c[2];
+        half.c2[k] = c2;
+        half.limit[k] = limit;
+    }
 }
 
 /// `tessgen_cubic(b0, b1, b2, b3, l, r)` of one component of one lane:
@@ -266,20 +354,28 @@ pub(crate) fn cubic_point(b0: f32, b1: f32, b2: f32, b3: f32, l: f32, r: f32) ->
 /// Selects, not branches, so the lanes stay vectorised.
 #[inline(always)]
 pub(crate) fn patch_normal(a: [f32; 3], b: [f32; 3]) -> ([f32; 3], bool) {
+    let (c, c2, limit) = normal_terms(a, b);
+    let parallel = c2 <= limit;
+    let len = c2.sqrt();
+    let n = [
+        if parallel { 0.0 } else { c[0] / len },
+        if parallel { 0.0 } else { c[1] / len },
+        if parallel { 0.0 } else { c[2] / len },
+    ];
+    (n, parallel)
+}
+
+/// [`patch_normal`]'s products: `c = a × b`, `c·c` and the parallel
+/// threshold `PARALLEL_SIN2·((a·a)·(b·b))`.
+#[inline(always)]
+fn normal_terms(a: [f32; 3], b: [f32; 3]) -> ([f32; 3], f32, f32) {
     let cx = (a[1] * b[2]) - (b[1] * a[2]);
     let cy = (a[2] * b[0]) - (b[2] * a[0]);
     let cz = (a[0] * b[1]) - (b[0] * a[1]);
     let c2 = ((cx * cx) + (cy * cy)) + (cz * cz);
     let aa = ((a[0] * a[0]) + (a[1] * a[1])) + (a[2] * a[2]);
     let bb = ((b[0] * b[0]) + (b[1] * b[1])) + (b[2] * b[2]);
-    let parallel = c2 <= PARALLEL_SIN2 * (aa * bb);
-    let len = c2.sqrt();
-    let n = [
-        if parallel { 0.0 } else { cx / len },
-        if parallel { 0.0 } else { cy / len },
-        if parallel { 0.0 } else { cz / len },
-    ];
-    (n, parallel)
+    ([cx, cy, cz], c2, PARALLEL_SIN2 * (aa * bb))
 }
 
 /// The first `dst.len()` (≤ L) lanes of (x, y, z) into `dst`. With `V`
