@@ -266,7 +266,7 @@ fn sample_curves_at<const C: usize>(
 /// registers of 4 lanes the stored halves spill, 1.2× slower.)
 #[derive(Clone, Copy)]
 pub(crate) struct SampleHalf<const L: usize> {
-    pub(crate) pos: [[f32; L]; 3],
+    pos: [[f32; L]; 3],
     c: [[f32; L]; 3],
     c2: [f32; L],
     limit: [f32; L],
@@ -285,7 +285,9 @@ impl<const L: usize> Default for SampleHalf<L> {
 
 impl<const L: usize> SampleHalf<L> {
     /// The second half: unit normals into `out[3..6]` (positions into
-    /// `out[0..3]`); whether a lane's tangents were parallel.
+    /// `out[0..3]`); whether a lane's tangents were parallel. The end of
+    /// [`patch_normal`] spelled out per lane: written through a shared
+    /// helper returning `[f32; 3]`, LLVM left this loop scalar.
     #[inline(always)]
     pub(crate) fn finish(&self, out: &mut [[f32; L]; 6]) -> bool {
         let mut degenerate = false;
