@@ -87,8 +87,7 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     // group g's square root, divisions and stores (`SampleHalf`), so the
     // core has independent multiplies to run while that chain waits.
     // Sample s0 is the group's first; c0 its column.
-    let mut pending = SampleHalf::<L>::default();
-    let mut pending_s0 = usize::MAX;
+    let mut pending: Option<(SampleHalf<L>, usize)> = None;
     let (mut s0, mut c0) = (0usize, 0usize);
     while s0 < total {
         let mut lv = [0.0f32; L];
@@ -100,16 +99,13 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
             // group's work, not two (pipelined it ran 1.2–1.4× slower).
             let mut out = [[0.0f32; L]; 6];
             degenerate |= sample_lanes_of(&pt, &tg, c0, &lv, &rv, &mut out);
-            let m = (total - s0).min(L);
-            store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
-            store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
+            store_group::<L, V>(&out, s0, total, pos, nrm);
         } else {
             let mut half = SampleHalf::<L>::default();
             sample_curves(&pt, &tg, c0, &lv, &rv, &mut half);
-            if pending_s0 != usize::MAX {
-                degenerate |= finish::<L, V>(&pending, pending_s0, total, pos, nrm);
+            if let Some((last, at)) = pending.replace((half, s0)) {
+                degenerate |= finish::<L, V>(&last, at, total, pos, nrm);
             }
-            (pending, pending_s0) = (half, s0);
         }
         s0 += L;
         c0 += L;
@@ -117,8 +113,8 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
             c0 -= width;
         }
     }
-    if pending_s0 != usize::MAX {
-        degenerate |= finish::<L, V>(&pending, pending_s0, total, pos, nrm);
+    if let Some((last, at)) = pending {
+        degenerate |= finish::<L, V>(&last, at, total, pos, nrm);
     }
     if border {
         rows_border::<L, COLS, V>(g, &pt, w, level, pos);
@@ -127,9 +123,9 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
 }
 
 /// The second half of the group from sample `s0` ([`SampleHalf::finish`])
-/// and its stores (the first `min(L, total − s0)` lanes); whether a
-/// lane's tangents were parallel. A function, not a closure, so that it
-/// is inlined into (and compiled for) the caller's target features.
+/// and its stores ([`store_group`]); whether a lane's tangents were
+/// parallel. A function, not a closure, so that it is inlined into (and
+/// compiled for) the caller's target features.
 #[inline(always)]
 fn finish<const L: usize, const V: bool>(
     half: &SampleHalf<L>,
@@ -140,10 +136,23 @@ fn finish<const L: usize, const V: bool>(
 ) -> bool {
     let mut out = [[0.0f32; L]; 6];
     let degenerate = half.finish(&mut out);
+    store_group::<L, V>(&out, s0, total, pos, nrm);
+    degenerate
+}
+
+/// The group from sample `s0` (positions `out[0..3]`, normals
+/// `out[3..6]`): its first `min(L, total − s0)` lanes stored.
+#[inline(always)]
+fn store_group<const L: usize, const V: bool>(
+    out: &[[f32; L]; 6],
+    s0: usize,
+    total: usize,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) {
     let m = (total - s0).min(L);
     store_lanes::<L, V>(&out[0], &out[1], &out[2], &mut pos[s0..s0 + m]);
     store_lanes::<L, V>(&out[3], &out[4], &out[5], &mut nrm[s0..s0 + m]);
-    degenerate
 }
 
 /// The border positions of a bicubic patch whose `EDGE_CURVE` is
