@@ -14,7 +14,6 @@
 //! the copy gives the kernel's bits for every input. Every other face
 //! (extraordinary, or a user scheme that computes) keeps its kernel.
 
-use super::grid_eval::Isa;
 use crate::kernels::common::{Inputs, SchemeKernels};
 use glam::Vec3;
 
@@ -26,10 +25,9 @@ pub(crate) struct GatherPlan {
     /// Per control point of a flat face: its `vertex_out` entry (unused
     /// entries of kernel faces hold `u32::MAX`).
     source: Vec<u32>,
-    /// Length of the `vertex_out` the sources index (every source of a
-    /// flat face is below it, and below 2^23).
-    vertex_outputs: usize,
-    isa: Isa,
+    /// Whether [`GatherPlan::copy`] moves 16 bytes a point (x86_64, unless
+    /// [`GatherPlan::force_baseline`]) rather than a `Vec3`.
+    wide: bool,
 }
 
 /// Mantissa bits (23) the probe's `x` holds an index in.
@@ -52,8 +50,7 @@ impl GatherPlan {
         let mut plan = GatherPlan {
             flat: vec![false; faces],
             source: vec![u32::MAX; points],
-            vertex_outputs,
-            isa: Isa::detect(),
+            wide: cfg!(target_arch = "x86_64"),
         };
         if vertex_outputs >= 1 << INDEX_BITS {
             return GatherPlan::none(faces);
@@ -100,14 +97,13 @@ impl GatherPlan {
         GatherPlan {
             flat: vec![false; faces],
             source: Vec::new(),
-            vertex_outputs: 0,
-            isa: Isa::Baseline,
+            wide: false,
         }
     }
 
-    /// This plan with the plain copy loop even where AVX2 is available.
+    /// This plan with the plain `Vec3` copy loop even on x86_64.
     pub(crate) fn force_baseline(&mut self) {
-        self.isa = Isa::Baseline;
+        self.wide = false;
     }
 
     /// Control points `a..b` (all of flat faces) into `dst` (`b − a`
@@ -116,10 +112,8 @@ impl GatherPlan {
         let source = &self.source[a..b];
         let dst = &mut dst[..source.len()];
         #[cfg(target_arch = "x86_64")]
-        if self.isa.has_avx2() && vertex_out.len() >= self.vertex_outputs {
-            // SAFETY: AVX2 was detected; every source is below
-            // `vertex_outputs` ≤ `vertex_out.len()` and below 2^23.
-            unsafe { copy_avx2(source, vertex_out, dst) };
+        if self.wide {
+            copy_wide(source, vertex_out, dst);
             return;
         }
         for (o, &j) in dst.iter_mut().zip(source) {
@@ -128,78 +122,42 @@ impl GatherPlan {
     }
 }
 
-/// `dst[k] = vertex_out[source[k]]`, eight points at a time: three
-/// gathers (x, y, z of the eight) re-interleaved into the `Vec3` layout by
-/// lane permutes and blends, then three 32-byte stores; the bits are moved,
-/// never computed.
+/// `dst[k] = vertex_out[source[k]]` with one 16-byte load and one 16-byte
+/// store per point: the load takes the next entry's `x` along, and the
+/// store writes it over `dst[k + 1].x`, which the next point's store then
+/// replaces. The bits are moved, never computed. The last point (whose 16
+/// bytes would end past `dst`, possibly in another task's slice) and a
+/// source at the very end of `vertex_out` are copied as `Vec3`.
 ///
-/// # Safety
-/// AVX2 must be available; every `source[k]` below `vertex_out.len()` and
-/// below 2^23 (so `3·source[k] + 2` fits i32); `dst.len() == source.len()`.
+/// This replaced an AVX2 loop of three 8-lane gathers and nine permutes
+/// per eight points, which ran fewer instructions but took longer: the
+/// copy reads `vertex_out` (4.3 MB on `righthanded_L3`) from beyond L2,
+/// and one plain load per point keeps more of those reads in flight than
+/// three gathers (pccm construction per deformation 1.85–1.93 →
+/// 1.41–1.52 ms on a Zen 3, docs/performance.md).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn copy_avx2(source: &[u32], vertex_out: &[Vec3], dst: &mut [Vec3]) {
-    use std::arch::x86_64::*;
-    let base = vertex_out.as_ptr() as *const f32;
-    let full = source.len() / 8 * 8;
-    let out = dst.as_mut_ptr() as *mut f32;
-    let perm = |a: [i32; 8]| unsafe { _mm256_loadu_si256(a.as_ptr() as *const __m256i) };
-    // Output register r holds floats 8r..8r+8 of the eight points: float
-    // i is component i % 3 of point i / 3.
-    let px = [
-        perm([0, 0, 0, 1, 0, 0, 2, 0]),
-        perm([0, 3, 0, 0, 4, 0, 0, 5]),
-        perm([0, 0, 6, 0, 0, 7, 0, 0]),
-    ];
-    let py = [
-        perm([0, 0, 0, 0, 1, 0, 0, 2]),
-        perm([0, 0, 3, 0, 0, 4, 0, 0]),
-        perm([5, 0, 0, 6, 0, 0, 7, 0]),
-    ];
-    let pz = [
-        perm([0, 0, 0, 0, 0, 1, 0, 0]),
-        perm([2, 0, 0, 3, 0, 0, 4, 0]),
-        perm([0, 5, 0, 0, 6, 0, 0, 7]),
-    ];
-    for k in (0..full).step_by(8) {
-        // SAFETY: see the function's contract; `k + 8 <= len`.
-        unsafe {
-            let vi = _mm256_loadu_si256(source.as_ptr().add(k) as *const __m256i);
-            let v3 = _mm256_add_epi32(_mm256_add_epi32(vi, vi), vi);
-            let x = _mm256_i32gather_ps::<4>(base, v3);
-            let y = _mm256_i32gather_ps::<4>(base.add(1), v3);
-            let z = _mm256_i32gather_ps::<4>(base.add(2), v3);
-            // Blend masks: which floats of register r are y (then z).
-            let o0 = _mm256_blend_ps::<0b0010_0100>(
-                _mm256_blend_ps::<0b1001_0010>(
-                    _mm256_permutevar8x32_ps(x, px[0]),
-                    _mm256_permutevar8x32_ps(y, py[0]),
-                ),
-                _mm256_permutevar8x32_ps(z, pz[0]),
-            );
-            let o1 = _mm256_blend_ps::<0b0100_1001>(
-                _mm256_blend_ps::<0b0010_0100>(
-                    _mm256_permutevar8x32_ps(x, px[1]),
-                    _mm256_permutevar8x32_ps(y, py[1]),
-                ),
-                _mm256_permutevar8x32_ps(z, pz[1]),
-            );
-            let o2 = _mm256_blend_ps::<0b1001_0010>(
-                _mm256_blend_ps::<0b0100_1001>(
-                    _mm256_permutevar8x32_ps(x, px[2]),
-                    _mm256_permutevar8x32_ps(y, py[2]),
-                ),
-                _mm256_permutevar8x32_ps(z, pz[2]),
-            );
-            let o = out.add(3 * k);
-            _mm256_storeu_ps(o, o0);
-            _mm256_storeu_ps(o.add(8), o1);
-            _mm256_storeu_ps(o.add(16), o2);
+fn copy_wide(source: &[u32], vertex_out: &[Vec3], dst: &mut [Vec3]) {
+    use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps};
+    let n = source.len().min(dst.len());
+    let Some(last) = n.checked_sub(1) else {
+        return;
+    };
+    let end = vertex_out.len().saturating_sub(1);
+    let from = vertex_out.as_ptr() as *const f32;
+    let to = dst.as_mut_ptr() as *mut f32;
+    for (k, &j) in source[..last].iter().enumerate() {
+        let j = j as usize;
+        if j < end {
+            // SAFETY: `j + 1 < vertex_out.len()`, so the 16 bytes from
+            // entry `j` lie inside `vertex_out`; `k + 1 < n ≤ dst.len()`,
+            // so the 16 bytes from `dst[k]` lie inside `dst`. SSE is part
+            // of x86_64.
+            unsafe { _mm_storeu_ps(to.add(3 * k), _mm_loadu_ps(from.add(3 * j))) };
+        } else {
+            dst[k] = vertex_out[j];
         }
     }
-    for (o, &j) in dst[full..].iter_mut().zip(&source[full..]) {
-        *o = vertex_out[j as usize];
-    }
+    dst[last] = vertex_out[source[last] as usize];
 }
 
 fn bits(v: Vec3) -> [u32; 3] {
