@@ -541,8 +541,13 @@ mod tests {
     use super::*;
     use crate::cpu::lanes::FLAT_MAX_WIDTH;
 
-    /// A patch with a spread of values, exact zeros of both signs among
-    /// them (the border's corners must stay the corner points' bits).
+    /// A patch with a spread of values. Seeds `0 (mod 4)`: exact zeros of
+    /// both signs among them (the border's corners must stay the corner
+    /// points' bits); `1`: no zeros, so the flat interior's own border is
+    /// its interior (`grid_flat::border_is_interior`); `2`: row 0's points
+    /// the smallest negative subnormal, whose row-curve points underflow
+    /// to `−0.0` at some columns (the border pass must then run); `3`: an
+    /// infinity in row 1 (likewise).
     fn patch(seed: u32) -> [Vec3; 16] {
         let mut g = [Vec3::ZERO; 16];
         let mut h = seed.wrapping_mul(2_654_435_761) | 1;
@@ -552,13 +557,24 @@ mod tests {
                 h ^= h << 13;
                 h ^= h >> 17;
                 h ^= h << 5;
-                *v = match h % 7 {
-                    0 => -0.0,
-                    1 => 0.0,
-                    _ => (h >> 8) as f32 / 65_536.0 - 128.0,
+                let value = (h >> 8) as f32 / 65_536.0 - 128.0;
+                *v = match (seed % 4, h % 7) {
+                    (0, 0) => -0.0,
+                    (0, 1) => 0.0,
+                    (_, _) if value == 0.0 => 1.0,
+                    _ => value,
                 };
             }
             *p = Vec3::from_array(a);
+        }
+        match seed % 4 {
+            2 => {
+                for r in [0, 4, 8, 12] {
+                    g[r] = Vec3::splat(f32::from_bits(0x8000_0001));
+                }
+            }
+            3 => g[5].y = f32::INFINITY,
+            _ => {}
         }
         g
     }

@@ -64,6 +64,9 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     // need no clearing).
     let mut pt = [[[0.0f32; COLS]; 3]; 4];
     let mut tg = [[[0.0f32; COLS]; 3]; 4];
+    // Per lane, the least `bits ^ −0.0` of the row-curve points: 0 only
+    // if one of them is −0.0 (see `border_is_interior`).
+    let mut zero = [u32::MAX; L];
     let mut j = 0usize;
     while j < COLS {
         let mut lu = [0.0f32; L];
@@ -74,6 +77,9 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
             for c in 0..3 {
                 let (mut p, mut t) = ([0.0f32; L], [0.0f32; L]);
                 row_curve_lanes(row_points(g, r, c), &lu, &ru, &mut p, &mut t);
+                for (z, x) in zero.iter_mut().zip(&p) {
+                    *z = (*z).min(x.to_bits() ^ NEG_ZERO);
+                }
                 pt[r][c][j..j + L].copy_from_slice(&p);
                 tg[r][c][j..j + L].copy_from_slice(&t);
             }
@@ -116,11 +122,52 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
     if let Some((last, at)) = pending {
         degenerate |= finish::<L, V>(&last, at, total, pos, nrm);
     }
-    if border {
+    if border && !border_is_interior(g, &zero) {
         rows_border::<L, COLS, V>(g, &pt, w, level, pos);
     }
     degenerate
 }
+
+/// Whether the interior already wrote the border's bits, so that
+/// [`rows_border`] would only write them again.
+///
+/// Every border sample is one `cubic` whose weights are exactly `(1, 0)`
+/// or `(0, 1)` in one direction:
+///
+/// * row `iv = 0` (`N`): the interior's `cubic(pt[0..4], 1, 0)` (`(0, 1)`)
+///   at each column, which is `pt[0]` (`pt[3]`), the border's value;
+/// * column `iu = 0` (`N`): the row curves at `(1, 0)` (`(0, 1)`) are
+///   `g[r]` (`g[12 + r]`), so the interior's column is `cubic(g[0..4], l_v,
+///   r_v)` (`cubic(g[12..16], …)`): the border's very operations.
+///
+/// `x·1 + y·0` is `x` for finite `x` and `y` except when `x` is `−0.0` and
+/// `y·0` is `+0.0` (the sum is then `+0.0`). So the bits agree when every
+/// control-point component is finite and small enough that no sum
+/// overflows (below 2¹²⁶; a `cubic` point stays within its inputs' range)
+/// and neither the control points nor the row-curve points hold a `−0.0`
+/// (a row-curve point can underflow to `−0.0` from non-zero inputs, so
+/// those are folded in as the row curves are made: `zero`, per lane the
+/// least `bits ^ −0.0` of the points).
+#[inline(always)]
+fn border_is_interior<const L: usize>(g: &[Vec3; 16], zero: &[u32; L]) -> bool {
+    const BOUND: u32 = 0x7e80_0000; // 2^126
+                                    // Integer min / max folds (no early exit), so the loops vectorise.
+    let (mut magnitude, mut least) = (0u32, u32::MAX);
+    for p in g {
+        for x in p.to_array() {
+            let b = x.to_bits();
+            magnitude = magnitude.max(b & !NEG_ZERO);
+            least = least.min(b ^ NEG_ZERO);
+        }
+    }
+    for &z in zero {
+        least = least.min(z);
+    }
+    magnitude < BOUND && least != 0
+}
+
+/// The bits of `−0.0`: `x.to_bits() ^ NEG_ZERO` is 0 only for `x = −0.0`.
+const NEG_ZERO: u32 = 0x8000_0000;
 
 /// The second half of the group from sample `s0` ([`SampleHalf::finish`])
 /// and its stores ([`store_group`]); whether a lane's tangents were
