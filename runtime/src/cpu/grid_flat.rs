@@ -150,8 +150,9 @@ pub(crate) fn bicubic_flat<const L: usize, const COLS: usize, const V: bool>(
 /// least `bits ^ −0.0` of the points).
 #[inline(always)]
 fn border_is_interior<const L: usize>(g: &[Vec3; 16], zero: &[u32; L]) -> bool {
-    const BOUND: u32 = 0x7e80_0000; // 2^126
-                                    // Integer min / max folds (no early exit), so the loops vectorise.
+    // 2^126: the control points' largest magnitude, finite with room.
+    const BOUND: u32 = 0x7e80_0000;
+    // Integer min / max folds (no early exit), so the loops vectorise.
     let (mut magnitude, mut least) = (0u32, u32::MAX);
     for p in g {
         for x in p.to_array() {
