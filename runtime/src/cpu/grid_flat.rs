@@ -40,7 +40,8 @@ use glam::Vec3;
 /// The `EDGE_CURVE` of a bicubic class whose edges are its boundary rows
 /// and columns (every built-in quad scheme's ordinary class): the flat
 /// interior then writes the border from its own row curves
-/// ([`rows_border`]).
+/// ([`rows_border`]), or leaves it as the interior wrote it when those are
+/// the same bits ([`border_is_interior`]).
 pub(crate) const ROW_EDGES: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
 
 /// The flat interior of a bicubic patch `g` at `level` (`COLS ≥`

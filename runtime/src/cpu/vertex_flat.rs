@@ -276,10 +276,10 @@ impl FlatVertexStage {
     /// The chunks with AVX2: the ring loaded a point at a time and
     /// transposed ([`load_transposed`]; `vgatherdps` for a chunk whose ring
     /// holds the last vertex, where a 16-byte load would end past
-    /// `positions`), each
-    /// row's sums in three registers ([`row_avx2`]), all rows of the chunk
-    /// kept, then written per lane as contiguous floats through 8×8
-    /// transposes (the lane's outputs are `rows` consecutive `Vec3`s).
+    /// `positions`), each row's sums in three registers ([`row_avx2`]), all
+    /// rows of the chunk kept, then written per lane as contiguous floats
+    /// through 8×8 transposes (the lane's outputs are `rows` consecutive
+    /// `Vec3`s).
     /// Only data movement differs from [`Self::chunk`]; every sum is the
     /// same sequence of `×` and `+`.
     ///
