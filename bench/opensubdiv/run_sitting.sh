@@ -11,7 +11,7 @@ CPU="${CPU:-1}"
 OUT="${1:-$HERE/results_sitting.txt}"
 MODES=far:2:gregory,far:3:gregory,far:2:bspline,bfr
 # Wait (at most 10 min) until CPU $CPU has been >=97% idle over a 3 s window, so other processes
-# processes (not pinned) are not sharing CPU $CPU when a benchmark starts. Logs what it waited.
+# (not pinned) are not sharing CPU $CPU when a benchmark starts. Logs what it waited.
 cpu1_idle_pct() {
   local a b
   a=($(grep "^cpu$CPU " /proc/stat)); sleep 3; b=($(grep "^cpu$CPU " /proc/stat))
