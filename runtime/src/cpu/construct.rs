@@ -13,6 +13,11 @@
 //! every other face run the generated kernels. Every value is summed in the
 //! generated order, so the control points are bit-identical to
 //! [`super::construct`]'s (tests/tests/grid_path.rs).
+//!
+//! A smooth vertex computes only the rows some face reads ([`rows_read`]):
+//! where all its faces are ordinary, PCCM's and ACC's `t` and Gregory's
+//! `r` rows (4 of 13 at valence 4) are skipped, about a sixth of the
+//! construction's time on `righthanded_L3` (docs/performance.md).
 
 use super::patch_flat::GatherPlan;
 use super::vertex_flat::{FlatVertexStage, Scratch};
@@ -41,6 +46,9 @@ pub struct Construction<'t> {
     flat: FlatVertexStage,
     /// The faces whose control points are copies of vertex outputs.
     gather: GatherPlan,
+    /// Per vertex: how many of its first vertex-stage rows some face reads
+    /// ([`rows_read`]); the rest are not computed.
+    read: Vec<u32>,
 }
 
 impl<'t> Construction<'t> {
@@ -54,8 +62,32 @@ impl<'t> Construction<'t> {
         let (cp_offsets, _) = super::control_point_offsets(&face_class, scheme);
         let (vertex_out_offsets, _) = vertex_out_offsets(topo, scheme);
         let (corner_vertex, corner_sector) = corner_arrays(topo);
-        let flat = FlatVertexStage::new(topo, scheme, kernels::table(), &vertex_out_offsets, BLOCK);
-        let mut c = Construction {
+        let vertex_outputs = vertex_out_offsets.last().copied().unwrap_or(0) as usize;
+        let zeros = vec![Vec3::ZERO; topo.valence.len()];
+        let gather = GatherPlan::new(
+            &inputs(
+                topo,
+                &vertex_out_offsets,
+                &corner_vertex,
+                &corner_sector,
+                &zeros,
+                &[],
+            ),
+            scheme,
+            &face_class,
+            &cp_offsets,
+            vertex_outputs,
+        );
+        let read = rows_read(&vertex_out_offsets, &corner_vertex, &gather);
+        let flat = FlatVertexStage::new(
+            topo,
+            scheme,
+            kernels::table(),
+            &vertex_out_offsets,
+            BLOCK,
+            &read,
+        );
+        let c = Construction {
             topo,
             scheme,
             face_class,
@@ -64,17 +96,9 @@ impl<'t> Construction<'t> {
             corner_vertex,
             corner_sector,
             flat,
-            gather: GatherPlan::none(0),
+            gather,
+            read,
         };
-        let zeros = vec![Vec3::ZERO; topo.valence.len()];
-        let vertex_outputs = c.vertex_out_offsets.last().copied().unwrap_or(0) as usize;
-        c.gather = GatherPlan::new(
-            &c.inputs(&zeros, &[]),
-            scheme,
-            &c.face_class,
-            &c.cp_offsets,
-            vertex_outputs,
-        );
         Ok(c)
     }
 
@@ -86,6 +110,20 @@ impl<'t> Construction<'t> {
         self.flat.force_baseline();
         self.gather.force_baseline();
         self
+    }
+
+    /// Whether [`Construction::update`] writes entry `entry` of
+    /// `vertex_out`. It skips the rows no face reads (see [`rows_read`]):
+    /// they hold 0 after [`Construction::construct`] and are never
+    /// updated, where [`super::construct`] computes them. Every control
+    /// point is written.
+    pub fn writes_vertex_out(&self, entry: usize) -> bool {
+        let offsets = &self.vertex_out_offsets;
+        if entry >= offsets.last().copied().unwrap_or(0) as usize {
+            return false;
+        }
+        let v = offsets.partition_point(|&o| o as usize <= entry) - 1;
+        !self.flat.covers(self.topo, v) || entry - (offsets[v] as usize) < self.read[v] as usize
     }
 
     /// Fresh [`Patches`] for `positions` (allocates the buffers once).
@@ -130,22 +168,14 @@ impl<'t> Construction<'t> {
     }
 
     fn inputs<'a>(&'a self, positions: &'a [Vec3], vertex_out: &'a [Vec3]) -> Inputs<'a> {
-        let topo = self.topo;
-        Inputs {
+        inputs(
+            self.topo,
+            &self.vertex_out_offsets,
+            &self.corner_vertex,
+            &self.corner_sector,
             positions,
-            valence: &topo.valence,
-            ring_offsets: &topo.ring_offsets,
-            ring: &topo.ring,
-            vertex_out_offsets: &self.vertex_out_offsets,
             vertex_out,
-            corner_vertex: &self.corner_vertex,
-            corner_sector: &self.corner_sector,
-            vertex_sectors: &topo.vertex_sectors,
-            sectors: &topo.sectors,
-            corner_valence: &topo.corner_valence,
-            table: kernels::table(),
-            ..Default::default()
-        }
+        )
     }
 
     fn update_buffers(
@@ -192,6 +222,64 @@ impl<'t> Construction<'t> {
             }
         });
     }
+}
+
+/// The kernels' inputs over a topology and its construction arrays.
+fn inputs<'a>(
+    topo: &'a Topology,
+    vertex_out_offsets: &'a [u32],
+    corner_vertex: &'a [u32],
+    corner_sector: &'a [u32],
+    positions: &'a [Vec3],
+    vertex_out: &'a [Vec3],
+) -> Inputs<'a> {
+    Inputs {
+        positions,
+        valence: &topo.valence,
+        ring_offsets: &topo.ring_offsets,
+        ring: &topo.ring,
+        vertex_out_offsets,
+        vertex_out,
+        corner_vertex,
+        corner_sector,
+        vertex_sectors: &topo.vertex_sectors,
+        sectors: &topo.sectors,
+        corner_valence: &topo.corner_valence,
+        table: kernels::table(),
+        ..Default::default()
+    }
+}
+
+/// Per vertex: how many of its first rows (its `vertex_out` entries, in
+/// order) some face reads. A face that runs its generated kernel may read
+/// any row of its corners (a patch kernel reads the outputs of its own
+/// corners only: the scheme language's `v(i)`, `e(i, k)`, …), so its
+/// corners get every row; a flat face reads exactly the entries it copies.
+/// On an all-ordinary neighbourhood that is PCCM's and Gregory's `f`, `e`
+/// and `v` (the first `2n + 1` rows), not PCCM's `t` or Gregory's `r`.
+fn rows_read(vertex_out_offsets: &[u32], corner_vertex: &[u32], gather: &GatherPlan) -> Vec<u32> {
+    let vertices = vertex_out_offsets.len().saturating_sub(1);
+    let rows = |v: usize| vertex_out_offsets[v + 1] - vertex_out_offsets[v];
+    let mut read = vec![0u32; vertices];
+    let faces = gather.flat.len();
+    let corners = corner_vertex.len().checked_div(faces).unwrap_or(0);
+    for (f, &flat) in gather.flat.iter().enumerate() {
+        if !flat {
+            for &v in &corner_vertex[f * corners..(f + 1) * corners] {
+                if let Some(r) = read.get_mut(v as usize) {
+                    *r = rows(v as usize);
+                }
+            }
+        }
+    }
+    for j in gather.sources() {
+        // The vertex whose entries hold `j`.
+        let v = vertex_out_offsets.partition_point(|&o| o <= j) - 1;
+        if let Some(r) = read.get_mut(v) {
+            *r = (*r).max(j - vertex_out_offsets[v] + 1);
+        }
+    }
+    read
 }
 
 /// `data` split at every `BLOCK`-th entry of `offsets` (len items + 1), as

@@ -101,6 +101,12 @@ impl GatherPlan {
         }
     }
 
+    /// The `vertex_out` entries the flat faces copy (each once per control
+    /// point that copies it).
+    pub(crate) fn sources(&self) -> impl Iterator<Item = u32> + '_ {
+        self.source.iter().copied().filter(|&j| j != u32::MAX)
+    }
+
     /// This plan with the plain `Vec3` copy loop even on x86_64.
     pub(crate) fn force_baseline(&mut self) {
         self.wide = false;

@@ -50,6 +50,10 @@ struct Chunk {
     n: u32,
     /// Lanes in use (the rest repeat lane 0's ring and are not written).
     lanes: u32,
+    /// Rows computed and written per lane: the valence's first `rows`
+    /// (all of them unless no face reads the rest, see
+    /// [`FlatVertexStage::new`]).
+    rows: u32,
     /// First entry in `gather` (`slots × LANES` position indices,
     /// slot-major).
     gather: u32,
@@ -94,12 +98,20 @@ impl FlatVertexStage {
     /// The rows of every valence a smooth vertex of `topo` has, read from
     /// `table` where the generated kernel reads them, and the chunks of
     /// every block of `block` vertices (`offsets`: the `vertex_out` layout).
+    ///
+    /// `read[v]` is how many of vertex `v`'s first rows some face reads
+    /// (at most all of them): the flat path computes only those. A
+    /// vertex whose faces only copy `v`, `e` and `f` (PCCM's ordinary
+    /// quads) skips rows such as PCCM's `t` or Gregory's `r`, which only
+    /// the extraordinary faces read; those entries of `vertex_out` are not
+    /// written. Vertices the generated kernel runs compute every row.
     pub(crate) fn new(
         topo: &Topology,
         scheme: &SchemeKernels,
         table: &[f32],
         offsets: &[u32],
         block: usize,
+        read: &[u32],
     ) -> Self {
         let mut flat = FlatVertexStage {
             valence_rows: Vec::new(),
@@ -118,7 +130,8 @@ impl FlatVertexStage {
         };
         flat.list_rows(topo, scheme, table);
         let vertices = topo.valence.len();
-        let mut by_valence: Vec<Vec<u32>> = vec![Vec::new(); flat.valence_rows.len()];
+        // Per valence: groups of vertices computing the same rows.
+        let mut by_valence: Vec<Vec<(u32, Vec<u32>)>> = vec![Vec::new(); flat.valence_rows.len()];
         for first in (0..vertices).step_by(block.max(1)) {
             let last = (first + block).min(vertices);
             let base = offsets[first];
@@ -128,16 +141,27 @@ impl FlatVertexStage {
                     continue;
                 }
                 if flat.covers(topo, v) {
-                    by_valence[topo.valence[v] as usize].push(v as u32);
+                    let (a, b) = flat.valence_rows[topo.valence[v] as usize];
+                    let rows = read.get(v).map_or(b - a, |&r| r.min(b - a));
+                    if rows == 0 {
+                        continue;
+                    }
+                    let groups = &mut by_valence[topo.valence[v] as usize];
+                    match groups.iter_mut().find(|(r, _)| *r == rows) {
+                        Some((_, g)) => g.push(v as u32),
+                        None => groups.push((rows, vec![v as u32])),
+                    }
                 } else {
                     flat.kernel_vertices.push(v as u32);
                 }
             }
-            for (n, group) in by_valence.iter_mut().enumerate() {
-                for lanes in group.chunks(LANES) {
-                    flat.push_chunk(topo, n as u32, lanes, offsets, base);
+            for (n, groups) in by_valence.iter_mut().enumerate() {
+                for (rows, group) in groups.iter_mut() {
+                    for lanes in group.chunks(LANES) {
+                        flat.push_chunk(topo, (n as u32, *rows), lanes, offsets, base);
+                    }
+                    group.clear();
                 }
-                group.clear();
             }
             flat.blocks.push(BlockPlan {
                 chunks: (c0, flat.chunks.len() as u32),
@@ -180,9 +204,17 @@ impl FlatVertexStage {
         }
     }
 
-    /// One chunk of `lanes` (1..=LANES vertices of valence `n`), its ring
-    /// gathered slot-major; unused lanes repeat lane 0.
-    fn push_chunk(&mut self, topo: &Topology, n: u32, lanes: &[u32], offsets: &[u32], base: u32) {
+    /// One chunk of `lanes` (1..=LANES vertices of valence `n`, computing
+    /// their first `rows` rows), its ring gathered slot-major; unused lanes
+    /// repeat lane 0.
+    fn push_chunk(
+        &mut self,
+        topo: &Topology,
+        (n, rows): (u32, u32),
+        lanes: &[u32],
+        offsets: &[u32],
+        base: u32,
+    ) {
         let slots = 2 * n as usize + 1;
         let lane = |l: usize| if l < lanes.len() { lanes[l] } else { lanes[0] };
         let gather = self.gather.len() as u32;
@@ -203,15 +235,23 @@ impl FlatVertexStage {
         self.chunks.push(Chunk {
             n,
             lanes: lanes.len() as u32,
+            rows,
             gather,
             out,
             wide,
         });
     }
 
+    /// The rows chunk `c` computes: its valence's first `c.rows`.
+    fn chunk_rows(&self, c: &Chunk) -> &[(u32, u32)] {
+        let (first, last) = self.valence_rows[c.n as usize];
+        let rows = &self.rows[first as usize..last as usize];
+        &rows[..(c.rows as usize).min(rows.len())]
+    }
+
     /// Whether vertex `v` takes the flat path (smooth, with its valence's
     /// rows listed).
-    fn covers(&self, topo: &Topology, v: usize) -> bool {
+    pub(crate) fn covers(&self, topo: &Topology, v: usize) -> bool {
         let n = topo.valence[v] as usize;
         let ring = topo.ring_offsets[v] as usize;
         smooth(topo, v)
@@ -325,8 +365,7 @@ impl FlatVertexStage {
                     _mm256_storeu_ps(pk[2].as_mut_ptr(), z);
                 }
             }
-            let (first, last) = self.valence_rows[n];
-            let rows = &self.rows[first as usize..last as usize];
+            let rows = self.chunk_rows(c);
             for (s, &(a, b)) in acc.iter_mut().zip(rows) {
                 // SAFETY: AVX2 is available (this function's contract).
                 unsafe { row_avx2(&self.terms[a as usize..b as usize], p, s) };
@@ -404,8 +443,7 @@ impl FlatVertexStage {
                 pk[2][l] = q.z;
             }
         }
-        let (first, last) = self.valence_rows[n];
-        let rows = &self.rows[first as usize..last as usize];
+        let rows = self.chunk_rows(c);
         let lanes = &c.out[..c.lanes as usize];
         let mut s = [[0.0f32; LANES]; 3];
         for (r, &(a, b)) in rows.iter().enumerate() {
