@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh Debian machine with a Rust toolchain.
-# Installs what it needs, then: format check, clippy, every test (snapshots
-# must match: INSTA_UPDATE=no), and generated/ must be up to date.
+# Installs what it needs, then: format check, clippy, rustdoc (warnings are
+# errors), every test (snapshots must match: INSTA_UPDATE=no), and
+# generated/ must be up to date.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -53,6 +54,8 @@ echo "== cargo fmt --check"
 cargo fmt --all -- --check
 echo "== cargo clippy --all-targets -- -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
+echo "== cargo doc (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== tessgen generate --check --out generated"

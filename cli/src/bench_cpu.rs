@@ -15,7 +15,7 @@
 //! * **per-sample path**: [`cpu::evaluate_per_sample_into`], the generated
 //!   `eval` called per sample (what `cpu::evaluate` ran before the grid
 //!   path);
-//! * **full construct**: [`cpu::construct`], which also recomputes the
+//! * **full construct**: [`cpu::construct()`], which also recomputes the
 //!   topology-only layout, against [`cpu::Construction::update`].
 
 use super::{BenchArgs, CmdResult};

@@ -27,13 +27,13 @@ pub(crate) struct CompareArgs {
     /// Catmull-Clark steps around extraordinary vertices before the scheme takes over (as `tessellate --isolate`).
     #[arg(long, value_name = "K", default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=6))]
     isolate: u32,
-    /// Limit samples: a CCLIM001 .bin file, or a directory holding <mesh name>.bin.
+    /// Limit samples: a CCLIM001 .bin file, or a directory holding NAME.bin for a mesh NAME.obj.
     #[arg(long, value_name = "DIR|FILE")]
     reference: Option<PathBuf>,
     /// Print JSON instead of a Markdown table.
     #[arg(long)]
     json: bool,
-    /// Also write heat maps of each scheme's deviation from the limit (needs --reference): OUT.png coloured by distance (% of the local quad size) and OUT_normal.png by normal angle (degrees), one colour range for all schemes (0 to the 99th percentile of their samples; above it saturates); with several schemes OUT_<scheme>.png and OUT_<scheme>_normal.png.
+    /// Also write heat maps of each scheme's deviation from the limit (needs --reference): OUT.png coloured by distance (% of the local quad size) and OUT_normal.png by normal angle (degrees), one colour range for all schemes (0 to the 99th percentile of their samples; above it saturates); with several schemes OUT_SCHEME.png and OUT_SCHEME_normal.png.
     #[arg(long, value_name = "OUT.png", requires = "reference")]
     heatmap: Option<PathBuf>,
     /// Heat map view direction: azimuth and elevation in degrees.

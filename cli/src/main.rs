@@ -106,7 +106,7 @@ struct BenchArgs {
     /// rayon's, i.e. every core or `RAYON_NUM_THREADS`).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     threads: Option<u32>,
-    /// Bench the instanced adaptive path instead: per largest level L of `--levels` (rounded down to a power of two), uniform evaluation at L against adaptive evaluation with this metric (random:SEED[:LO:HI], distance:K, screen:PX), on the CPU or on wgpu (host-built lists and GPU-driven buckets), in the same run.
+    /// Bench the instanced adaptive path instead: per largest level L of `--levels` (rounded down to a power of two), uniform evaluation at L against adaptive evaluation with this metric (`random:SEED[:LO:HI]`, `distance:K`, `screen:PX`), on the CPU or on wgpu (host-built lists and GPU-driven buckets), in the same run.
     #[arg(long, value_name = "METRIC", value_parser = parse_adaptive)]
     adaptive: Option<AdaptiveArg>,
 }

@@ -1,5 +1,5 @@
 //! `tessellate` without `--check-watertight`: the result goes to disk chunk
-//! by chunk ([`tessellate::Session::run_chunked`], [`obj::ObjStream`]), so
+//! by chunk ([`tessellate::Session::run_chunked`], [`obj::ObjStream`](ObjStream)), so
 //! peak memory is one chunk (about 100 MB of samples) whatever the level, and
 //! into `OUT.partial` renamed to `OUT` at the end, so a failed run leaves no
 //! half-written file (a special file such as `/dev/null` is written
@@ -7,7 +7,7 @@
 //! triangle soup ([`Output::write_soup`]), streamed the same way.
 //!
 //! `--out` ending in `.glb` or `.ply` writes a welded binary mesh instead
-//! ([`export::MeshStream`], [`Output::write_mesh`]), streamed the same way
+//! ([`export::MeshStream`](MeshStream), [`Output::write_mesh`]), streamed the same way
 //! (its vertex and index data through two temporary files beside the
 //! output, or in the temporary directory for a special file).
 

@@ -142,7 +142,7 @@ pub mod common {
         pub grid_len: fn(u32) -> u32,
         pub grid_iu: fn(u32, u32) -> u32,
         pub grid_iv: fn(u32, u32) -> u32,
-        /// The scheme's `EDGE_CURVE` ([class][edge][4], `sides` edges per
+        /// The scheme's `EDGE_CURVE` (`[class][edge][4]`, `sides` edges per
         /// class): the runtime's grid evaluator runs the shared edge evaluator
         /// on these points for a whole border at once.
         pub edge_curve: &'static [u32],
@@ -189,7 +189,7 @@ pub mod common {
         return ((d0 * l) + (d1 * r));
     }
     
-    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to [min, max] of the `adaptive` buffer; NaN becomes min.
+    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`. The end points are put in canonical order (lower vertex index first) and the metric sees only them, so both patches of the edge compute the same bits. Metric: `edge_factors[edge]` (TESSGEN_METRIC_BUFFER), edge length over distance to the eye (TESSGEN_METRIC_DISTANCE), or by default the projected length in pixels over the target pixels per segment. Clamped to \[min, max\] of the `adaptive` buffer; NaN becomes min.
     pub fn tessgen_edge_factor(inputs: &Inputs, a: Vec3, b: Vec3, va: u32, vb: u32, edge: u32) -> f32 {
         let mut p: Vec3 = a;
         let mut q: Vec3 = b;
@@ -217,7 +217,7 @@ pub mod common {
         return factor;
     }
     
-    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive[25]: 2 = edge_factors[edge], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to [min, max], NaN becomes min.
+    /// Tessellation factor of the patch edge from corner `a` (global vertex `va`) to corner `b` (vertex `vb`), global edge id `edge`, as tessgen_edge_factor but with the metric chosen at run time by adaptive\[25\]: 2 = edge_factors\[edge\], 1 = edge length over distance to the eye, otherwise the projected length in pixels over the target pixels per segment (WGSL and Rust have no preprocessor). Canonical end-point order, clamped to \[min, max\], NaN becomes min.
     pub fn tessgen_edge_factor_runtime(inputs: &Inputs, a: Vec3, b: Vec3, va: u32, vb: u32, edge: u32) -> f32 {
         let mut p: Vec3 = a;
         let mut q: Vec3 = b;
@@ -286,7 +286,7 @@ pub mod common {
         return bucket;
     }
     
-    /// Refined vertex `v`: the sum over its stencil row (refine_offsets[v] .. refine_offsets[v + 1]) of base point × weight, in row order from a zero vector, one rounded multiply and one rounded add per term, into refined_positions[v] (docs/boundaries.md §8).
+    /// Refined vertex `v`: the sum over its stencil row (refine_offsets\[v\] .. refine_offsets\[v + 1\]) of base point × weight, in row order from a zero vector, one rounded multiply and one rounded add per term, into refined_positions\[v\] (docs/boundaries.md §8).
     pub fn tessgen_refine_vertex(inputs: &Inputs, out: &mut [Vec3], v: u32) {
         let first: u32 = inputs.refine_offsets[(v) as usize];
         let end: u32 = inputs.refine_offsets[((v + 1u32)) as usize];
@@ -337,10 +337,10 @@ pub mod regular {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 16] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
     
-    /// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `regular`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -596,7 +596,7 @@ pub mod regular {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -662,7 +662,7 @@ pub mod regular {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[4·face + k\], \[4·face + (k+1)%4\], its id face_edges\[4·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         let k1: u32 = ((k + 1u32) % 4u32);
         let curve: u32 = ((class * 16u32) + (k * 4u32));
@@ -706,7 +706,7 @@ pub mod regular {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -855,10 +855,10 @@ pub mod pccm {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 8, 6, 6, 7, 14, 12, 12, 13, 20, 18, 18, 19, 2, 0];
     
-    /// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `pccm`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -1319,7 +1319,7 @@ pub mod pccm {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -1385,7 +1385,7 @@ pub mod pccm {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[4·face + k\], \[4·face + (k+1)%4\], its id face_edges\[4·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         let k1: u32 = ((k + 1u32) % 4u32);
         let curve: u32 = ((class * 16u32) + (k * 4u32));
@@ -1429,7 +1429,7 @@ pub mod pccm {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -1581,10 +1581,10 @@ pub mod acc {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0];
     
-    /// Vertex stage of `acc`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `acc`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -1995,7 +1995,7 @@ pub mod acc {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -2061,7 +2061,7 @@ pub mod acc {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[4·face + k\], \[4·face + (k+1)%4\], its id face_edges\[4·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         let k1: u32 = ((k + 1u32) % 4u32);
         let curve: u32 = ((class * 16u32) + (k * 4u32));
@@ -2105,7 +2105,7 @@ pub mod acc {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -2257,10 +2257,10 @@ pub mod gregory {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
     
-    /// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `gregory`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -2696,7 +2696,7 @@ pub mod gregory {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -2762,7 +2762,7 @@ pub mod gregory {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[4·face + k\], \[4·face + (k+1)%4\], its id face_edges\[4·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         let k1: u32 = ((k + 1u32) % 4u32);
         let curve: u32 = ((class * 16u32) + (k * 4u32));
@@ -2806,7 +2806,7 @@ pub mod gregory {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -2958,10 +2958,10 @@ pub mod gregory_osd {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 32] = [0, 4, 8, 12, 12, 13, 14, 15, 15, 11, 7, 3, 3, 2, 1, 0, 0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 17, 15, 15, 16, 2, 0];
     
-    /// Vertex stage of `gregory_osd`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `gregory_osd`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -3397,7 +3397,7 @@ pub mod gregory_osd {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -3463,7 +3463,7 @@ pub mod gregory_osd {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.
+    /// Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[4·face + k\], \[4·face + (k+1)%4\], its id face_edges\[4·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         let k1: u32 = ((k + 1u32) % 4u32);
         let curve: u32 = ((class * 16u32) + (k * 4u32));
@@ -3507,7 +3507,7 @@ pub mod gregory_osd {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) of a patch drawn at its bucket `level` whose edges have the power-of-two levels l0..l3 (edge k: v = 0, u = 1, v = 1, u = 0; each divides `level`). Interior samples are eval at (iu, iv)/level; boundary sample i of edge k is snapped onto the edge's own level: floor(i / (level / l_k)) at level l_k, evaluated by the shared edge evaluator there, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -3659,10 +3659,10 @@ pub mod pn {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `pn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `pn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -3836,7 +3836,7 @@ pub mod pn {
         return row;
     }
     
-    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r\<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
     pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
@@ -3904,7 +3904,7 @@ pub mod pn {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -3960,7 +3960,7 @@ pub mod pn {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[3·face + k\], \[3·face + (k+1)%3\], its id face_edges\[3·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         if (k >= 3u32) {
             return 1u32;
@@ -4005,7 +4005,7 @@ pub mod pn {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -4172,10 +4172,10 @@ pub mod stpn {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `stpn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `stpn`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -4388,7 +4388,7 @@ pub mod stpn {
         return row;
     }
     
-    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r\<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
     pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
@@ -4456,7 +4456,7 @@ pub mod stpn {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -4512,7 +4512,7 @@ pub mod stpn {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[3·face + k\], \[3·face + (k+1)%3\], its id face_edges\[3·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         if (k >= 3u32) {
             return 1u32;
@@ -4557,7 +4557,7 @@ pub mod stpn {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;
@@ -4720,10 +4720,10 @@ pub mod phong {
     /// Largest sector (faces) the table holds: MAX_VALENCE / 2.
     pub const SECTOR_MAX_FACES: u32 = 16;
     
-    /// Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.
+    /// Control-point indices of each class's cubic boundary curves: \[class\]\[edge\]\[4\], edge k runs v_k → v_{k+1}.
     pub const EDGE_CURVE: [u32; 12] = [0, 1, 7, 5, 5, 6, 12, 10, 10, 11, 2, 0];
     
-    /// Vertex stage of `phong`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring [p, q_0, d_0, .., q_m] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
+    /// Vertex stage of `phong`: every output row of this vertex's valence, each the sum over ring slots 0..2n in ring order (stored once per vertex, canonical start) of table weight × point, zero weights skipped. Writes ROWS_PER_N·n + ROWS_FIXED points from `out_base`. A crease or corner vertex (a non-empty `vertex_sectors` range) sums each sector's rows over its partial ring \[p, q_0, d_0, .., q_m\] instead: per-position outputs at the sector's ring positions, single outputs from the sector at position 0, so every value is computed once (docs/boundaries.md §4).
     pub fn vertex_stage(inputs: &Inputs, out: &mut [Vec3], vertex: u32, out_base: u32) {
         let n: u32 = inputs.valence[(vertex) as usize];
         let first_sector: u32 = inputs.vertex_sectors[(vertex) as usize];
@@ -4891,7 +4891,7 @@ pub mod phong {
         return row;
     }
     
-    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
+    /// Flat index of the sample at integer domain point (iu, iv): the rows below iv hold Σ_{r\<iv} (level+1−r) = iv·(2·level+3−iv)/2 samples, then iu (the inverse of grid_iu, grid_iv).
     pub fn grid_index(iu: u32, iv: u32, level: u32) -> u32 {
         return (((iv * (((2u32 * level) + 3u32) - iv)) / 2u32) + iu);
     }
@@ -4959,7 +4959,7 @@ pub mod phong {
         return (p + (n * d));
     }
     
-    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info[0] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
+    /// `eval`, then displacement along the normal by scale · h(tc) (watertight.md Rules 4–5). On the patch boundary the normal is the owner's: `eval` of the owner patch at the owner's integer coordinates, the same call from every patch of the edge or corner; the texture coordinate is the owner's (tessgen_height_at). Interiors use the patch's own. displace_info\[0\] == 0 returns eval's sample unchanged. The returned normal is the undisplaced surface's.
     pub fn eval_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32) -> Sample {
         let mut sample: Sample = eval(cp, class, cp_base, iu, iv, level);
         let scale: f32 = inputs.displace_info[(0u32) as usize];
@@ -5015,7 +5015,7 @@ pub mod phong {
         return sample;
     }
     
-    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex[3·face + k], [3·face + (k+1)%3], its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
+    /// Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in both patches), its vertices corner_vertex\[3·face + k\], \[3·face + (k+1)%3\], its id face_edges\[3·face + k\]; tessgen_edge_factor_runtime, then tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots per patch): level 1, neutral for the bucket.
     pub fn patch_edge_level(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, k: u32, max_level: u32) -> u32 {
         if (k >= 3u32) {
             return 1u32;
@@ -5060,7 +5060,7 @@ pub mod phong {
         return eval(cp, class, cp_base, su, sv, sl);
     }
     
-    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info[0] == 0 gives eval_adaptive's sample bit for bit.
+    /// Sample (iu, iv) (barycentric (level - iu - iv, iu, iv)) of a triangle patch drawn at its bucket `level` whose edges have the power-of-two levels l0, l1, l2 (edge 0: iv = 0, t = iu; edge 1: iu + iv = level, t = iv; edge 2: iu = 0, t = level - iv; each level divides `level`; l3 is the unused fourth slot of the classify buffers). Interior samples are eval at (iu, iv)/level; boundary sample t of edge k is snapped onto the edge's own level: t' = floor(t / (level / l_k)), evaluated as that edge's point at level l_k by the shared edge evaluator, so both patches of an edge produce exactly its l_k + 1 points whatever their buckets (no T-junctions; triangles that collapse are degenerate). Then eval_displaced at the snapped point (watertight.md Rules 4–5): on an edge the owner's normal and texture coordinate at the edge's own level l_k, the same call from both patches whatever their buckets; a snapped corner as the level-1 grid point, the same call from every patch around the vertex. displace_info\[0\] == 0 gives eval_adaptive's sample bit for bit.
     pub fn eval_adaptive_displaced(inputs: &Inputs, cp: &[Vec3], face: u32, class: u32, cp_base: u32, iu: u32, iv: u32, level: u32, l0: u32, l1: u32, l2: u32, l3: u32) -> Sample {
         let mut su: u32 = iu;
         let mut sv: u32 = iv;

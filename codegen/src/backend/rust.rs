@@ -45,6 +45,29 @@ fn f32_lit(x: f32) -> String {
     }
 }
 
+/// Doc text (a scheme's, a function's, a constant's, an ABI field's) as
+/// the body of a Rust `///` comment that rustdoc reads as plain text: `[`,
+/// `]` and `<` outside `code spans` are backslash-escaped, so an index
+/// like `displace_info[0]` or a type like `mat4x4<f32>` is not taken for
+/// an intra-doc link or an HTML tag. The shader printers keep the text
+/// as written.
+pub(crate) fn doc_text(doc: &str) -> String {
+    // Backticks pair up in order; an unpaired last one is literal text.
+    let ticks = doc.matches('`').count();
+    let mut seen = 0;
+    let mut out = String::with_capacity(doc.len());
+    for c in doc.chars() {
+        let in_code = seen % 2 == 1 && seen <= ticks - ticks % 2;
+        match c {
+            '`' => seen += 1,
+            '[' | ']' | '<' if !in_code => out.push('\\'),
+            _ => {}
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// Which slice parameters a function takes.
 struct Params {
     inputs: bool,
@@ -62,7 +85,7 @@ impl<'a> Writer<'a> {
     }
 
     fn doc(&mut self, doc: &str) {
-        for l in doc.lines() {
+        for l in doc_text(doc).lines() {
             self.line(format!("/// {l}").trim_end());
         }
     }
@@ -282,7 +305,7 @@ pub struct SchemeKernels {
     pub grid_len: fn(u32) -> u32,
     pub grid_iu: fn(u32, u32) -> u32,
     pub grid_iv: fn(u32, u32) -> u32,
-    /// The scheme's `EDGE_CURVE` ([class][edge][4], `sides` edges per
+    /// The scheme's `EDGE_CURVE` (`[class][edge][4]`, `sides` edges per
     /// class): the runtime's grid evaluator runs the shared edge evaluator
     /// on these points for a whole border at once.
     pub edge_curve: &'static [u32],
@@ -551,5 +574,21 @@ impl Dialect for Cx<'_, '_> {
             // the packed accessors of the shader printers.
             _ => unreachable!("tessellation-stage input outside Entries::tess"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::doc_text;
+
+    #[test]
+    fn doc_text_escapes_brackets_and_tags_outside_code_spans() {
+        assert_eq!(
+            doc_text("displace_info[0] == 0, `a[i]` and mat4x4<f32>"),
+            "displace_info\\[0\\] == 0, `a[i]` and mat4x4\\<f32>"
+        );
+        // An unpaired backtick is text: what follows it is still escaped.
+        assert_eq!(doc_text("`x` then ` b[1]"), "`x` then ` b\\[1\\]");
+        assert_eq!(doc_text("no markup"), "no markup");
     }
 }

@@ -16,7 +16,7 @@
 //!   (`.tese`, `ds_main`) see only their own patch's control points, so
 //!   they call `eval_displaced_tess` (built with `TESSGEN_DISPLACE`): the
 //!   own sample from the patch-local points, the owner's from
-//!   `eval_global`, a copy of `eval` ([`global_variant`]) whose fetches read
+//!   `eval_global`, a copy of `eval` ([`global_variants`]) whose fetches read
 //!   [`Resource::GlobalControlPoints`], the global buffer the compute patch
 //!   stage filled before the draw. Same function and arguments in every
 //!   patch of the edge, so the same bits.

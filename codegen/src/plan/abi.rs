@@ -492,6 +492,7 @@ pub const WEBGPU_MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
 /// fails to compile when the ABI changes under it (a renamed or removed
 /// binding, field or slot), and follows a renumbering without an edit.
 pub fn rust_module(plan: &Plan) -> String {
+    use crate::backend::rust::doc_text;
     use std::fmt::Write;
     let mut s = String::new();
     let w = &mut s;
@@ -507,7 +508,7 @@ pub fn rust_module(plan: &Plan) -> String {
         let _ = writeln!(
             w,
             "    /// {}\n    pub const {}: u32 = {};",
-            b.doc,
+            doc_text(b.doc),
             b.name.to_uppercase(),
             b.binding
         );
@@ -539,7 +540,8 @@ pub fn rust_module(plan: &Plan) -> String {
     for (name, doc) in PARAMS {
         let _ = writeln!(
             w,
-            "    /// {doc}\n    pub const {}: usize = {};",
+            "    /// {}\n    pub const {}: usize = {};",
+            doc_text(doc),
             name.to_uppercase(),
             params_offset(name)
         );
@@ -616,7 +618,8 @@ pub fn rust_module(plan: &Plan) -> String {
     for (name, first, count, doc) in ADAPTIVE {
         let _ = writeln!(
             w,
-            "    /// {doc} ({count} f32)\n    pub const {name}: usize = {first};"
+            "    /// {} ({count} f32)\n    pub const {name}: usize = {first};",
+            doc_text(doc)
         );
     }
     let _ = writeln!(w, "}}\n");

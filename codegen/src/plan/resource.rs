@@ -32,7 +32,7 @@ pub enum Resource {
     /// control points through it (watertight.md Rule 4); the buffer must
     /// have been filled by the compute patch stage (`patch_main`; HLSL's
     /// writes it through this resource, copying its patch-local array:
-    /// [`Entries::compute_patch_local`]).
+    /// [`Entries::compute_patch_local`](super::Entries::compute_patch_local)).
     GlobalControlPoints,
     /// `vec3` unit normal, by vertex (triangle schemes).
     Normals,
@@ -67,18 +67,20 @@ pub enum Resource {
     /// width, map height (texels, as f32), unused.
     DisplaceInfo,
     /// The scalar displacement map, a 2-D `R32Float` texture read with
-    /// [`Expr::Texel`] (exact texel fetches, bilinear weights in the Plan).
+    /// [`Expr::Texel`](super::Expr::Texel) (exact texel fetches, bilinear
+    /// weights in the Plan).
     DisplaceMap,
     /// `u32` face of the draw's patch `p`, by `params.first + p` (written by
     /// the host: patches sorted by class). Read by the tessellation stage
-    /// bodies ([`TessStages`]).
+    /// bodies ([`TessStages`](super::TessStages)).
     PatchFaces,
     /// `f32` captured samples, 6 per sample (position xyz, normal xyz),
     /// written by the evaluation stage of capture builds
-    /// ([`Define::Capture`], [`TessStages`]).
+    /// ([`Define::Capture`](super::Define::Capture),
+    /// [`TessStages`](super::TessStages)).
     Samples,
     /// `u32` adaptive classify output, `abi::PATCH_LEVELS_WORDS` per patch
-    /// (the WGSL instanced entries, [`Entries::instanced`]).
+    /// (the WGSL instanced entries, [`Entries::instanced`](super::Entries::instanced)).
     PatchLevels,
     /// `u32` adaptive draw lists, `abi::BUCKET_ENTRY_WORDS` per entry.
     BucketPatches,
@@ -91,7 +93,7 @@ pub enum Resource {
     /// `u32` GPU-driven per-chunk slot counts and offsets.
     BucketChunks,
     /// `u32` workgroup-shared array of one chunk's bucket levels (declared
-    /// by [`EntryItem::Workgroup`]; no binding).
+    /// by [`EntryItem::Workgroup`](super::EntryItem::Workgroup); no binding).
     BucketTile,
     /// `u32` first sector of each vertex in [`Resource::Sectors`], by vertex
     /// (plus a final total); an empty range = a smooth vertex

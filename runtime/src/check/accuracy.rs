@@ -120,7 +120,7 @@ pub struct Accuracy {
     /// Open edges after exact-bit welding (0 = watertight for a closed mesh;
     /// an open mesh keeps `N` per base boundary edge).
     pub open_edges: usize,
-    /// Open edges beyond the true boundary's (`N` × [`weld::open_base_edges`]):
+    /// Open edges beyond the true boundary's (`N` × [`crate::weld::open_base_edges`]):
     /// cracks, 0 = watertight.
     pub cracks: usize,
     /// Largest distance (% of quad size) on *regular* faces (every corner

@@ -6,15 +6,15 @@
 //! corner arrays, the parallel work split — is computed once in
 //! [`Construction::new`]; [`Construction::update`] then reruns only the
 //! vertex and patch stages, writing into the [`Patches`] buffers in place.
-//! Smooth vertices run the flat vertex stage ([`super::vertex_flat`]: the
+//! Smooth vertices run the flat vertex stage (`super::vertex_flat`: the
 //! generated sums, per-valence work done once, eight vertices of a valence
 //! at once); faces whose kernel only copies vertex outputs run a
-//! pre-indexed copy ([`super::patch_flat`]); crease/corner vertices and
+//! pre-indexed copy (`super::patch_flat`); crease/corner vertices and
 //! every other face run the generated kernels. Every value is summed in the
 //! generated order, so the control points are bit-identical to
-//! [`super::construct`]'s (tests/tests/grid_path.rs).
+//! [`super::construct()`]'s (tests/tests/grid_path.rs).
 //!
-//! A smooth vertex computes only the rows some face reads ([`rows_read`]):
+//! A smooth vertex computes only the rows some face reads (`rows_read`):
 //! where all its faces are ordinary, PCCM's and ACC's `t` and Gregory's
 //! `r` rows (4 of 13 at valence 4) are skipped, about a sixth of the
 //! construction's time on `righthanded_L3` (docs/performance.md).
@@ -113,9 +113,9 @@ impl<'t> Construction<'t> {
     }
 
     /// Whether [`Construction::update`] writes entry `entry` of
-    /// `vertex_out`. It skips the rows no face reads (see [`rows_read`]):
+    /// `vertex_out`. It skips the rows no face reads (see `rows_read`):
     /// they hold 0 after [`Construction::construct`] and are never
-    /// updated, where [`super::construct`] computes them. Every control
+    /// updated, where [`super::construct()`] computes them. Every control
     /// point is written.
     pub fn writes_vertex_out(&self, entry: usize) -> bool {
         let offsets = &self.vertex_out_offsets;

@@ -129,7 +129,7 @@ pub struct Patches {
     pub cp_offsets: Vec<u32>,
     pub control_points: Vec<Vec3>,
     pub vertex_out_offsets: Vec<u32>,
-    /// The vertex stage's outputs. [`construct`] computes every entry;
+    /// The vertex stage's outputs. [`construct()`] computes every entry;
     /// [`Construction`] only those some face reads
     /// ([`Construction::writes_vertex_out`]), the others stay 0.
     pub vertex_out: Vec<Vec3>,

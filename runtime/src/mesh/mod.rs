@@ -483,7 +483,7 @@ impl Mesh {
     /// Refuses a mesh whose size would overflow f32 evaluation
     /// ([`MeshError::TooLarge`], naming the vertex farthest out): a bounding
     /// box side above [`MAX_EXTENT`] or a coordinate above
-    /// [`MAX_COORDINATE`]. Every vertex counts, as for [`check_finite`].
+    /// [`MAX_COORDINATE`]. Every vertex counts, as for `check_finite`.
     pub fn check_magnitude(&self) -> Result<(), MeshError> {
         let p = &self.positions;
         let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);

@@ -8,8 +8,8 @@ use thiserror::Error;
 use crate::mesh::features::FeatureError;
 use crate::mesh::MeshError;
 
-/// Marker for "no such element" in the flat `u32` arrays (e.g. [`Topology::twin`] of a
-/// boundary half-edge).
+/// Marker for "no such element" in the flat `u32` arrays (e.g.
+/// [`Topology::twin`](crate::Topology::twin) of a boundary half-edge).
 pub const NONE: u32 = u32::MAX;
 
 /// Why a mesh is not usable for patch generation. Vertex numbers are 0-based file indices
@@ -19,10 +19,12 @@ pub enum TopologyError {
     /// The mesh itself is invalid.
     #[error("invalid mesh: {0}")]
     Mesh(#[from] MeshError),
-    /// The mesh's tags (or the explicit [`Features`]) are invalid.
+    /// The mesh's tags (or the explicit [`Features`](crate::mesh::features::Features)) are
+    /// invalid.
     #[error("invalid tags: {0}")]
     Features(#[from] FeatureError),
-    /// A face is not a quad while [`TopologyOptions::require_quads`] is set.
+    /// A face is not a quad while
+    /// [`TopologyOptions::require_quads`](crate::TopologyOptions::require_quads) is set.
     #[error(
         "face {face} has {arity} vertices; this topology takes quads only (the front door, \
          `tessgen_runtime::tessellate`, refines non-quad faces by one Catmull-Clark step first)"
@@ -58,7 +60,8 @@ pub enum TopologyError {
         /// The vertex.
         vertex: u32,
     },
-    /// A vertex has more edges than [`TopologyOptions::max_valence`].
+    /// A vertex has more edges than
+    /// [`TopologyOptions::max_valence`](crate::TopologyOptions::max_valence).
     #[error(
         "vertex {vertex} has valence {valence}, more than the maximum {max} of the stencil \
          table (a table generated with `--max-valence {valence}` takes it)"
@@ -72,7 +75,8 @@ pub enum TopologyError {
         max: u32,
     },
     /// A crease or corner sector has more faces than the stencil table's sector blocks hold
-    /// ([`max_sector_faces`] of [`TopologyOptions::max_valence`]).
+    /// ([`max_sector_faces`](crate::mesh::sectors::max_sector_faces) of
+    /// [`TopologyOptions::max_valence`](crate::TopologyOptions::max_valence)).
     #[error(
         "vertex {vertex} has a sector of {faces} faces between sharp edges, more than \
          max_valence / 2 = {max} (a stencil table generated with `--max-valence {needed}` \
@@ -83,7 +87,8 @@ pub enum TopologyError {
         vertex: u32,
         /// Faces in the sector.
         faces: u32,
-        /// [`max_sector_faces`] of the configured maximum valence.
+        /// [`max_sector_faces`](crate::mesh::sectors::max_sector_faces) of the configured
+        /// maximum valence.
         max: u32,
         /// The smallest `--max-valence` that takes the sector (`2 · faces`).
         needed: u32,

@@ -21,12 +21,13 @@
 //!
 //! # Tessellation domain of one triangle
 //!
-//! [`tri_grid_coords`], [`tri_grid_triangles`] and [`tri_grid_edge`] fix the sample pattern
-//! that every triangle backend uses at level `N` (the triangular analogue of the quad path's
-//! `(N+1)²` grid, see [`crate::grid::grid_triangles`]):
+//! [`crate::grid::tri_grid_coords`], [`crate::grid::tri_grid_triangles`] and
+//! [`crate::grid::tri_grid_edge`] fix the sample pattern that every triangle backend uses at
+//! level `N` (the triangular analogue of the quad path's `(N+1)²` grid, see
+//! [`crate::grid::grid_triangles`]):
 //!
 //! * samples `(i, j)` with `i + j ≤ N`, stored row by row: `j = 0..=N`, and in row `j`,
-//!   `i = 0..=N−j` (index [`tri_grid_index`]);
+//!   `i = 0..=N−j` (index [`crate::grid::tri_grid_index`]);
 //! * **barycentric convention** (fixed here, once, for positions, normals and any attribute):
 //!   sample `(i, j)` has integer barycentrics `(a, b, c) = (N − i − j, i, j)`, and corner `k`
 //!   of the triangle gets weight `a/N`, `b/N`, `c/N` for `k = 0, 1, 2`. So corner 0 is sample

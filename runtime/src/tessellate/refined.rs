@@ -451,7 +451,7 @@ pub fn block_faces(domain: &RefinedDomain) -> Option<Vec<std::ops::Range<usize>>
 }
 
 /// The blocks around each base vertex: which blocks a window's border
-/// samples can be shared with (every [`Border`] key of a block lies on its
+/// samples can be shared with (every `Border` key of a block lies on its
 /// base face — a vertex, an edge, the face's inner lines — so the blocks
 /// that have it are those of the base faces sharing a vertex with it).
 pub struct Neighbours<'a> {

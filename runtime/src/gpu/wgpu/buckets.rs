@@ -78,7 +78,7 @@ impl<'g> GpuMesh<'g> {
     ///
     /// 1. `adaptive_classify_main` as there;
     /// 2. per class range r, `adaptive_count_main`: a workgroup per chunk
-    ///    of [`CHUNK`] patches counts the chunk's patches of each bucket
+    ///    of [`abi::BUCKET_CHUNK`] patches counts the chunk's patches of each bucket
     ///    slot `16r + j` (bucket `2^j`) into `bucket_chunks`;
     /// 3. `adaptive_plan_main` (one workgroup): each chunk's offset within
     ///    each slot (a scan over the chunks per slot), each slot's count,
