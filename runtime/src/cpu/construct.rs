@@ -224,8 +224,9 @@ impl<'t> Construction<'t> {
     }
 }
 
-/// The kernels' inputs over a topology and its construction arrays.
-fn inputs<'a>(
+/// The kernels' inputs over a topology and its construction arrays (the
+/// table is the built-in one; every other input empty).
+pub(super) fn inputs<'a>(
     topo: &'a Topology,
     vertex_out_offsets: &'a [u32],
     corner_vertex: &'a [u32],

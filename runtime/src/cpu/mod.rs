@@ -199,34 +199,19 @@ pub fn construct(
         return Err(facet_error(scheme));
     }
     let face_class = face_classes(topo, scheme)?;
-    let table = kernels::table();
     // Vertex stage.
     let (vertex_out_offsets, total) = vertex_out_offsets(topo, scheme);
     let (corner_vertex, corner_sector) = corner_arrays(topo);
     let mut vertex_out = vec![Vec3::ZERO; total as usize];
     {
-        let inputs = Inputs {
+        let inputs = construct::inputs(
+            topo,
+            &vertex_out_offsets,
+            &corner_vertex,
+            &corner_sector,
             positions,
-            valence: &topo.valence,
-            ring_offsets: &topo.ring_offsets,
-            ring: &topo.ring,
-            vertex_out_offsets: &vertex_out_offsets,
-            vertex_out: &[],
-            corner_vertex: &corner_vertex,
-            corner_sector: &corner_sector,
-            vertex_sectors: &topo.vertex_sectors,
-            sectors: &topo.sectors,
-            corner_valence: &topo.corner_valence,
-            normals: &[],
-            tags: &[],
-            crease: &[],
-            corner_side: &[],
-            face_edges: &[],
-            edge_factors: &[],
-            adaptive: &[],
-            table,
-            ..Default::default()
-        };
+            &[],
+        );
         split_by_offsets(&mut vertex_out, &vertex_out_offsets)
             .into_par_iter()
             .enumerate()
@@ -237,28 +222,14 @@ pub fn construct(
     let (cp_offsets, total) = control_point_offsets(&face_class, scheme);
     let mut control_points = vec![Vec3::ZERO; total as usize];
     {
-        let inputs = Inputs {
+        let inputs = construct::inputs(
+            topo,
+            &vertex_out_offsets,
+            &corner_vertex,
+            &corner_sector,
             positions,
-            valence: &topo.valence,
-            ring_offsets: &topo.ring_offsets,
-            ring: &topo.ring,
-            vertex_out_offsets: &vertex_out_offsets,
-            vertex_out: &vertex_out,
-            corner_vertex: &corner_vertex,
-            corner_sector: &corner_sector,
-            vertex_sectors: &topo.vertex_sectors,
-            sectors: &topo.sectors,
-            corner_valence: &topo.corner_valence,
-            normals: &[],
-            tags: &[],
-            crease: &[],
-            corner_side: &[],
-            face_edges: &[],
-            edge_factors: &[],
-            adaptive: &[],
-            table,
-            ..Default::default()
-        };
+            &vertex_out,
+        );
         split_by_offsets(&mut control_points, &cp_offsets)
             .into_par_iter()
             .enumerate()
