@@ -17,6 +17,7 @@ pub mod front;
 pub mod lower;
 pub mod outdir;
 pub mod plan;
+mod rustdoc;
 pub mod table;
 
 /// The front end's modules at their long-standing public paths

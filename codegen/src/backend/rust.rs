@@ -45,29 +45,6 @@ fn f32_lit(x: f32) -> String {
     }
 }
 
-/// Doc text (a scheme's, a function's, a constant's, an ABI field's) as
-/// the body of a Rust `///` comment that rustdoc reads as plain text: `[`,
-/// `]` and `<` outside `code spans` are backslash-escaped, so an index
-/// like `displace_info[0]` or a type like `mat4x4<f32>` is not taken for
-/// an intra-doc link or an HTML tag. The shader printers keep the text
-/// as written.
-pub(crate) fn doc_text(doc: &str) -> String {
-    // Backticks pair up in order; an unpaired last one is literal text.
-    let ticks = doc.matches('`').count();
-    let mut seen = 0;
-    let mut out = String::with_capacity(doc.len());
-    for c in doc.chars() {
-        let in_code = seen % 2 == 1 && seen <= ticks - ticks % 2;
-        match c {
-            '`' => seen += 1,
-            '[' | ']' | '<' if !in_code => out.push('\\'),
-            _ => {}
-        }
-        out.push(c);
-    }
-    out
-}
-
 /// Which slice parameters a function takes.
 struct Params {
     inputs: bool,
@@ -85,7 +62,7 @@ impl<'a> Writer<'a> {
     }
 
     fn doc(&mut self, doc: &str) {
-        for l in doc_text(doc).lines() {
+        for l in crate::rustdoc::doc_text(doc).lines() {
             self.line(format!("/// {l}").trim_end());
         }
     }
@@ -574,21 +551,5 @@ impl Dialect for Cx<'_, '_> {
             // the packed accessors of the shader printers.
             _ => unreachable!("tessellation-stage input outside Entries::tess"),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::doc_text;
-
-    #[test]
-    fn doc_text_escapes_brackets_and_tags_outside_code_spans() {
-        assert_eq!(
-            doc_text("displace_info[0] == 0, `a[i]` and mat4x4<f32>"),
-            "displace_info\\[0\\] == 0, `a[i]` and mat4x4\\<f32>"
-        );
-        // An unpaired backtick is text: what follows it is still escaped.
-        assert_eq!(doc_text("`x` then ` b[1]"), "`x` then ` b\\[1\\]");
-        assert_eq!(doc_text("no markup"), "no markup");
     }
 }
