@@ -85,7 +85,7 @@ pub(crate) struct RenderArgs {
     max_factor: f32,
 }
 
-/// Time construction and evaluation per level (median of several runs, warm-up excluded), like Table 4 of the PCCM paper.
+/// Time construction and evaluation per level (warm-up excluded; the CPU backend reports the minimum of the runs, the least disturbed by other load, the GPU backends the median), like Table 4 of the PCCM paper.
 #[derive(Args, Debug)]
 struct BenchArgs {
     /// Input OBJ mesh (closed, all quads).

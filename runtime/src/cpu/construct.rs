@@ -17,7 +17,7 @@
 //! A smooth vertex computes only the rows some face reads (`rows_read`):
 //! where all its faces are ordinary, PCCM's and ACC's `t` and Gregory's
 //! `r` rows (4 of 13 at valence 4) are skipped: 1–6 % of the
-//! construction's time on `righthanded_L3` (docs/performance.md).
+//! construction's time on `righthanded_L3` (docs/performance-log.md).
 
 use super::patch_flat::GatherPlan;
 use super::vertex_flat::{FlatVertexStage, Scratch};

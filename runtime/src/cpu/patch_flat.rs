@@ -140,7 +140,7 @@ impl GatherPlan {
 /// copy reads `vertex_out` (4.3 MB on `righthanded_L3`) from beyond L2,
 /// and one plain load per point keeps more of those reads in flight than
 /// three gathers (pccm construction per deformation 1.85–1.93 →
-/// 1.41–1.52 ms on a Zen 3, docs/performance.md).
+/// 1.41–1.52 ms on a Zen 3, docs/performance-log.md).
 #[cfg(target_arch = "x86_64")]
 fn copy_wide(source: &[u32], vertex_out: &[Vec3], dst: &mut [Vec3]) {
     use std::arch::x86_64::{_mm_loadu_ps, _mm_storeu_ps};
