@@ -16,8 +16,8 @@ fn decl_text(b: &abi::Binding) -> (String, String, String) {
     let wgsl = views
         .iter()
         .map(|(name, access)| match b.kind {
-            Kind::Table => format!("`{name}`: texture_2d<f32>"),
-            Kind::Uniform => format!("`{name}`: var<uniform> Params"),
+            Kind::Table => format!("`{name}: texture_2d<f32>`"),
+            Kind::Uniform => format!("`{name}: var<uniform> Params`"),
             Kind::U32Buffer | Kind::F32Buffer | Kind::Vec3Buffer => {
                 let elem = if b.kind == Kind::U32Buffer {
                     "u32"
@@ -28,7 +28,7 @@ fn decl_text(b: &abi::Binding) -> (String, String, String) {
                     Access::Read => "read",
                     Access::ReadWrite => "read_write",
                 };
-                format!("`{name}`: var<storage, {acc}> array<{elem}>")
+                format!("`{name}: var<storage, {acc}> array<{elem}>`")
             }
         })
         .collect::<Vec<_>>()
@@ -40,7 +40,7 @@ fn decl_text(b: &abi::Binding) -> (String, String, String) {
     let (glsl, hlsl) = match b.kind {
         Kind::Table => (
             "sampler2D (texelFetch)".to_string(),
-            "Texture2D<float> (Load)".to_string(),
+            "`Texture2D<float>` (Load)".to_string(),
         ),
         Kind::Uniform => (
             "uniform Params (std140)".to_string(),
@@ -49,20 +49,30 @@ fn decl_text(b: &abi::Binding) -> (String, String, String) {
         _ if b.written && b.resource.is_some() => (
             format!("{g_elem}[] (std430; readonly where only read)"),
             format!(
-                "StructuredBuffer<{h_elem}> `{0}`<br>RWStructuredBuffer<{h_elem}> `{0}_rw`",
+                "`StructuredBuffer<{h_elem}> {0}`<br>`RWStructuredBuffer<{h_elem}> {0}_rw`",
                 b.name
             ),
         ),
         _ if b.written => (
             format!("{g_elem}[] (std430)"),
-            format!("RWStructuredBuffer<{h_elem}>"),
+            format!("`RWStructuredBuffer<{h_elem}>`"),
         ),
         _ => (
             format!("readonly {g_elem}[] (std430)"),
-            format!("StructuredBuffer<{h_elem}>"),
+            format!("`StructuredBuffer<{h_elem}>`"),
         ),
     };
     (wgsl, glsl, hlsl)
+}
+
+/// A doc string as the text of a Markdown table cell: the ABI's docs are
+/// plain text shared with the shaders' comments, so a type such as
+/// `mat4x4<f32>` would be read as an HTML tag and `|` would end the cell.
+fn cell(doc: &str) -> String {
+    doc.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('|', "\\|")
 }
 
 /// The README text.
@@ -115,7 +125,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
             "| {} | `{}` | {w} | {g} | {h} | {}{} |",
             b.binding,
             b.name,
-            b.doc,
+            cell(b.doc),
             if b.written { " (written)" } else { "" }
         );
     }
@@ -133,7 +143,12 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     );
     s.push_str("| offset | field | meaning |\n|---|---|---|\n");
     for (name, doc) in PARAMS {
-        let _ = writeln!(s, "| {} | `{name}` | {doc} |", abi::params_offset(name));
+        let _ = writeln!(
+            s,
+            "| {} | `{name}` | {} |",
+            abi::params_offset(name),
+            cell(doc)
+        );
     }
     s.push_str("\nThe field `class` is spelled `class_` in the shaders (a reserved word in WGSL, GLSL and HLSL).\n\n");
     let _ = writeln!(
@@ -144,7 +159,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     s.push_str("Read by `tessgen_edge_factor` in GLSL/HLSL builds with `-DTESSGEN_ADAPTIVE` (the control stage then sets one factor per edge from the edge's end points in canonical order; the evaluation stage reads the coordinate on the 2^-16 fixed-point grid). Metric: screen space by default, `-DTESSGEN_METRIC_DISTANCE`, or `-DTESSGEN_METRIC_BUFFER` (`edge_factors[face_edges[4f + k]]`, triangles `3f + k`, bindings 17 and 18). Partitioning: integer by default, `-DTESSGEN_FRACTIONAL_ODD` or `-DTESSGEN_FRACTIONAL_EVEN`. Quad and triangle schemes (triangles: outer factor k for the edge opposite corner k, the inside factor the largest of the three; the evaluation stage passes the barycentric point to `eval_domain` at level 2^16).\n\n");
     s.push_str("| floats | meaning |\n|---|---|\n");
     for (_, first, count, doc) in abi::ADAPTIVE {
-        let _ = writeln!(s, "| {first}..{} | {doc} |", first + count);
+        let _ = writeln!(s, "| {first}..{} | {} |", first + count, cell(doc));
     }
     s.push('\n');
     s.push_str("### Displacement in the tessellation stages (`-DTESSGEN_DISPLACE`)\n\n");
