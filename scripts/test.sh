@@ -56,6 +56,9 @@ echo "== cargo clippy --all-targets -- -D warnings"
 cargo clippy --workspace --all-targets -- -D warnings
 echo "== cargo doc (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps
+# The private items too: the internal docs are where a reader finds the
+# why, and their links must resolve as the public ones do.
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --document-private-items
 echo "== cargo test --workspace"
 cargo test --workspace
 echo "== tessgen generate --check --out generated"

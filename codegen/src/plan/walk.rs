@@ -1,9 +1,9 @@
-//! The one traversal of Plan code ([`walk`]), which the analyses
+//! The one traversal of Plan code ([`walk()`]), which the analyses
 //! (`Function::resources`, `reads_table`, `called`) and the tests share.
 
 use super::*;
 
-/// A statement or an expression met by [`walk`].
+/// A statement or an expression met by [`walk()`].
 #[derive(Clone, Copy, Debug)]
 pub enum Node<'a> {
     Stmt(&'a Stmt),
@@ -65,7 +65,7 @@ pub fn walk<'a>(body: &'a [Stmt], f: &mut dyn FnMut(Node<'a>)) {
     }
 }
 
-/// [`walk`] over one expression.
+/// [`walk()`] over one expression.
 pub fn walk_expr<'a>(e: &'a Expr, f: &mut dyn FnMut(Node<'a>)) {
     f(Node::Expr(e));
     match e {

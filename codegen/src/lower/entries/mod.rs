@@ -182,7 +182,7 @@ pub fn instanced(entries: &Entries) -> Vec<EntryItem> {
 
 /// The sample function of the uniform entries and whether it takes the
 /// face: quad schemes evaluate through the displacement step (a no-op, bit
-/// for bit, while displace_info[0] == 0).
+/// for bit, while `displace_info[0] == 0`).
 fn uniform_eval(entries: &Entries) -> (usize, bool) {
     match entries.eval_displaced {
         Some(d) => (d, true),

@@ -214,7 +214,7 @@ pub struct VkMesh<'v> {
     /// built on first use).
     eval_pipeline: vk::Pipeline,
     draw_pipeline: vk::Pipeline,
-    /// The displacement map to upload (taken from the [`Upload`]).
+    /// The displacement map to upload (taken from the [`crate::gpu::upload::Upload`]).
     displace_map: crate::cpu::displace::DisplaceMap,
 }
 

@@ -43,7 +43,7 @@ pub fn vertices_per_patch(level: u32) -> u64 {
 /// with 16-bit indices, so past 65 536 vertices a triangle picks up vertices
 /// of an earlier patch (seen at level 64 from patch 20 on: 3169 vertices per
 /// patch). Draws stay below that; a triangle whose vertices name different
-/// patches is still reported ([`CaptureError::MixedPatches`]).
+/// patches is still reported ([`crate::gpu::capture::CaptureError::MixedPatches`]).
 pub(super) fn patches_per_draw(level: u32) -> u64 {
     (u16::MAX as u64 / vertices_per_patch(level).max(1)).max(1)
 }
