@@ -1,5 +1,6 @@
 //! `cpu_tessellate`: construction (vertex + patch stage; fresh, and per
-//! deformation into the same buffers) and evaluation of PCCM on the largest
+//! deformation into the same buffers, the latter for ACC, Gregory and
+//! Gregory-OSD too) and evaluation of PCCM on the largest
 //! closed shared mesh (catmark_righthanded refined three times, 27,776
 //! quads) at N = 9, 17 and 33, into reused buffers: the grid path, the
 //! per-sample path and a plain fill of the same output (the write floor),
@@ -46,6 +47,20 @@ fn bench(c: &mut Criterion) {
     group.bench_function("construct per deformation", |b| {
         b.iter(|| prep.update(&positions, &mut patches).is_ok())
     });
+    // The other quad schemes' construction per deformation (issue 17's
+    // ≤ 1 ms is per scheme): their vertex stages differ in rows and terms.
+    for name in ["acc", "gregory", "gregory_osd"] {
+        let Ok(k) = cpu::scheme(name) else {
+            panic!("{name} kernels missing")
+        };
+        let Ok(other) = cpu::Construction::new(&topo, k) else {
+            panic!("{name} construction")
+        };
+        let mut out = other.construct(&positions);
+        group.bench_function(format!("construct per deformation/{name}"), |b| {
+            b.iter(|| other.update(&positions, &mut out).is_ok())
+        });
+    }
     for level in [9u32, 17, 33] {
         // Buffers allocated and first-touched once, outside the timings.
         let Ok(mut t) = cpu::evaluate(&patches, level) else {
