@@ -15,9 +15,9 @@ pub mod builder;
 pub mod error;
 pub mod front;
 pub mod lower;
+mod markdown;
 pub mod outdir;
 pub mod plan;
-mod rustdoc;
 pub mod table;
 
 /// The front end's modules at their long-standing public paths

@@ -4,6 +4,7 @@
 
 use super::abi::{self, Access, Kind, BINDINGS, PARAMS};
 use super::{header_lines, hlsl};
+use crate::markdown::table_cell;
 use crate::plan::{ConstValue, Plan};
 use crate::table::StencilTable;
 use std::fmt::Write;
@@ -65,16 +66,6 @@ fn decl_text(b: &abi::Binding) -> (String, String, String) {
     (wgsl, glsl, hlsl)
 }
 
-/// A doc string as the text of a Markdown table cell: the ABI's docs are
-/// plain text shared with the shaders' comments, so a type such as
-/// `mat4x4<f32>` would be read as an HTML tag and `|` would end the cell.
-fn cell(doc: &str) -> String {
-    doc.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('|', "\\|")
-}
-
 /// The README text.
 pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     let mut s = String::new();
@@ -125,7 +116,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
             "| {} | `{}` | {w} | {g} | {h} | {}{} |",
             b.binding,
             b.name,
-            cell(b.doc),
+            table_cell(b.doc),
             if b.written { " (written)" } else { "" }
         );
     }
@@ -147,7 +138,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
             s,
             "| {} | `{name}` | {} |",
             abi::params_offset(name),
-            cell(doc)
+            table_cell(doc)
         );
     }
     s.push_str("\nThe field `class` is spelled `class_` in the shaders (a reserved word in WGSL, GLSL and HLSL).\n\n");
@@ -159,7 +150,7 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     s.push_str("Read by `tessgen_edge_factor` in GLSL/HLSL builds with `-DTESSGEN_ADAPTIVE` (the control stage then sets one factor per edge from the edge's end points in canonical order; the evaluation stage reads the coordinate on the 2^-16 fixed-point grid). Metric: screen space by default, `-DTESSGEN_METRIC_DISTANCE`, or `-DTESSGEN_METRIC_BUFFER` (`edge_factors[face_edges[4f + k]]`, triangles `3f + k`, bindings 17 and 18). Partitioning: integer by default, `-DTESSGEN_FRACTIONAL_ODD` or `-DTESSGEN_FRACTIONAL_EVEN`. Quad and triangle schemes (triangles: outer factor k for the edge opposite corner k, the inside factor the largest of the three; the evaluation stage passes the barycentric point to `eval_domain` at level 2^16).\n\n");
     s.push_str("| floats | meaning |\n|---|---|\n");
     for (_, first, count, doc) in abi::ADAPTIVE {
-        let _ = writeln!(s, "| {first}..{} | {} |", first + count, cell(doc));
+        let _ = writeln!(s, "| {first}..{} | {} |", first + count, table_cell(doc));
     }
     s.push('\n');
     s.push_str("### Displacement in the tessellation stages (`-DTESSGEN_DISPLACE`)\n\n");

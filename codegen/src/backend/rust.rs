@@ -62,7 +62,7 @@ impl<'a> Writer<'a> {
     }
 
     fn doc(&mut self, doc: &str) {
-        for l in crate::rustdoc::doc_text(doc).lines() {
+        for l in crate::markdown::doc_text(doc).lines() {
             self.line(format!("/// {l}").trim_end());
         }
     }

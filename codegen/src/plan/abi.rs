@@ -492,7 +492,7 @@ pub const WEBGPU_MAX_WORKGROUPS_PER_DIMENSION: u32 = 65535;
 /// fails to compile when the ABI changes under it (a renamed or removed
 /// binding, field or slot), and follows a renumbering without an edit.
 pub fn rust_module(plan: &Plan) -> String {
-    use crate::rustdoc::doc_text;
+    use crate::markdown::doc_text;
     use std::fmt::Write;
     let mut s = String::new();
     let w = &mut s;

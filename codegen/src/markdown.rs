@@ -1,6 +1,8 @@
-//! Doc-comment text for the Rust that codegen writes (the kernels' module
-//! and the ABI module): rustdoc reads `[x]` as an intra-doc link and `<t>`
-//! as an HTML tag, so text written for every backend is escaped here once.
+//! Doc text written for every backend, as Markdown: the doc comments of
+//! the Rust that codegen writes (the kernels' module and the ABI module)
+//! and the cells of `generated/README.md`'s tables. Both readers (rustdoc,
+//! a Markdown renderer) take `[x]` for a link and `<t>` for an HTML tag, so
+//! the text is escaped here once.
 
 /// Doc text (a scheme's, a function's, a constant's, an ABI field's) as
 /// the body of a Rust `///` comment that rustdoc reads as plain text: `[`,
@@ -25,9 +27,20 @@ pub(crate) fn doc_text(doc: &str) -> String {
     out
 }
 
+/// [`doc_text`] as the text of a Markdown table cell, where `|` (even in
+/// a code span) would end the cell.
+pub(crate) fn table_cell(doc: &str) -> String {
+    doc_text(doc).replace('|', "\\|")
+}
+
 #[cfg(test)]
 mod tests {
-    use super::doc_text;
+    use super::{doc_text, table_cell};
+
+    #[test]
+    fn table_cell_escapes_the_cell_separator() {
+        assert_eq!(table_cell("a | `b|c` <d>"), "a \\| `b\\|c` \\<d>");
+    }
 
     #[test]
     fn doc_text_escapes_brackets_and_tags_outside_code_spans() {
