@@ -36,7 +36,8 @@ Usage:
   python3 docs/verify/g1cc_quartic_verify.py                 # checks + the accuracy table (~1 min)
   python3 docs/verify/g1cc_quartic_verify.py --golden G.json # + golden control points / samples
   python3 docs/verify/g1cc_quartic_verify.py --fit           # re-derive the table (~15 min)
-  python3 docs/verify/g1cc_quartic_verify.py --bound         # best unconstrained polynomials (~6 min)
+  python3 docs/verify/g1cc_quartic_verify.py --bound         # best unconstrained polynomials (~3 min)
+  python3 docs/verify/g1cc_quartic_verify.py --sectors       # + meshes with boundaries and creases (~1 min)
 """
 import json
 import math
@@ -618,6 +619,80 @@ def bound(M=17, K=5):
     return out
 
 
+def sectors(table):
+    """Meshes with boundaries and creases: sectors_verify.py's sector treatment (docs/boundaries.md:
+    virtual rings, crease/corner v, sharp edge points, exact crease tangents for m >= 3) carried
+    over to this form's outputs; at sharp positions e and h are the crease curve's, degree
+    elevated (e = v + 3/4 (c1 - v), h = c1 / 2, c1 = (2p + q_j) / 3). A first probe: the per-valence
+    constants are the closed-mesh fit, used at the virtual valence n' = 2m."""
+    import sectors_verify as SV
+
+    def block(P, n, hook):
+        C = table[str(n)]; M = masks(n)
+        harm = lambda key, names, m_range, j: sum(C[f'{names[0]}{m}'] * (M[key][j][m - m_range[0]][0] @ P)
+                                                  + C[f'{names[1]}{m}'] * (M[key][j][m - m_range[0]][1] @ P) for m in m_range)
+        v = hook('v', M['L'] @ P + C['PA'] * (M['wa'] @ P) + C['PB'] * (M['wb'] @ P))
+        t = hook('t', [(C['A'] * M['T'][j][0] + C['B'] * M['T'][j][1]) @ P for j in range(n)])
+        e = hook('e', [v + t[j] / 4 for j in range(n)])
+        h = hook('h', [v / 2 + harm('CH', ('al', 'be'), range(NH + 1), j) for j in range(n)])
+        R = {k: hook(f'R{k}', [harm('SH', (f'R{k}q', f'R{k}d'), range(1, NH + 1), j) for j in range(n)]) for k in (1, 2, 3)}
+        g = hook('g', [harm('FH', ('gq', 'gd'), range(NH + 1), j) for j in range(n)])
+        return dict(v=v, t=t, e=e, h=h, R1=R[1], R2=R[2], R3=R[3], g=g)
+
+    SV.SCHEMES['g1cc_quartic'] = (block, [])
+    SV.PER_POS |= {'h', 'R1', 'R2', 'R3', 'g'}
+    shipped = SV.overrides
+
+    def overrides(scheme, kind, variant='proposed', m=None):
+        if scheme != 'g1cc_quartic':
+            return shipped(scheme, kind, variant, m)
+        vf = SV.ov_crease_v if kind == 'crease' else SV.ov_corner_v
+        c1 = lambda P, j: (2 * P[0] + P[1 + 2 * j]) / 3
+        o = {'v': (False, vf), 'e': (True, lambda P, m_, j: vf(P, m_, j) + 0.75 * (c1(P, j) - vf(P, m_, j))),
+             'h': (True, lambda P, m_, j: c1(P, j) / 2)}
+        if kind == 'crease' and m is not None and m >= 3:
+            o['t'] = (False, SV.ov_t_exact_vec)
+        return o
+    SV.overrides = overrides
+    pts = [(SV.T9[ii], SV.T9[jj]) for jj in range(9) for ii in range(9)]
+    pts += [(abs(SV.T9[ii] - SV.EPS_CORNER), abs(SV.T9[jj] - SV.EPS_CORNER)) for jj, ii in SV.CORNER_SAMPLES]
+    W = basis([p[0] for p in pts], [p[1] for p in pts])
+
+    def ctrl(C):
+        cp = {}
+        for i in range(4):
+            a, b = C[i], C[(i + 1) % 4]
+            P = [a['v'], a['e0'], a['h0'] + b['h1'], b['e1'], b['v']]
+            for k in range(5):
+                cp[_slot(i, k, 0)] = P[k]
+            l0, l1 = 2 * math.cos(2 * math.pi / a['n']), -2 * math.cos(2 * math.pi / b['n'])
+            for k in (1, 2, 3):
+                X = P[k] + ((P[k + 1] - P[k]) * (l0 * (4 - k) / 4) + (P[k] - P[k - 1]) * (l1 * k / 4)) / 2 \
+                    + a[f'R{k}0'] - b[f'R{4 - k}1']
+                cp[_slot(i, k, 1) if k == 2 else ('h' if i % 2 == 0 else 'v', _slot(i, k, 1))] = X
+        cp[(2, 2)] = sum((c['v'] + c['g0']) / 4 for c in C)
+        return np.array([cp[k] for k in KEYS])
+
+    print('\n| mesh | g1cc_quartic (probe) | pccm | acc | gregory | gregory_osd |')
+    print('|---|---|---|---|---|---|')
+    for name in SV.OPEN:
+        mesh = SV.Mesh(name, 'sharp'); gt = SV.load_gt(name + '.bin')
+        vs = SV.VertexStage(mesh, 'g1cc_quartic'); res = {}
+        for f in range(len(mesh.F)):
+            G_ = ctrl([vs.corner(f, i) for i in range(4)])
+            P, Du, Dv = (W[k] @ G_ for k in range(3))
+            N = np.cross(Du[:81], Dv[:81])
+            for c, (jj, ii) in enumerate(SV.CORNER_SAMPLES):
+                r = 9 * jj + ii
+                if np.linalg.norm(N[r]) < 1e-6 * np.linalg.norm(Du[r]) * np.linalg.norm(Dv[r]):
+                    N[r] = np.cross(Du[81 + c], Dv[81 + c])
+            g8 = gt[f].reshape(81, 6)
+            res[f] = (np.linalg.norm(P[:81] - g8[:, :3], axis=1) / mesh.h[f] * 100, SV.angles_deg(N, g8[:, 3:]),
+                      all(mesh.corner_regular(x, f) for x in mesh.F[f]))
+        cells = [SV.summarise(res)] + [SV.summarise(SV.measure(mesh, gt, sc)) for sc in ('pccm', 'acc', 'gregory', 'gregory_osd')]
+        print(f"| {name} | " + ' | '.join(f"{c['rms']:.3f} / {c['nrms']:.3f}" for c in cells) + ' |', flush=True)
+
+
 def golden(table, meshes):
     out = dict(scheme='g1cc (round 6, biquartic Gregory)', note='float64; control points in KEYS order '
                '(grid (a, b) with a along u, then the twist pairs (h = horizontal-edge point, v = vertical)); '
@@ -674,6 +749,8 @@ def main():
         met = r['rms_d'] <= td and r['rms_n'] <= tn
         print(f"| {name} | {r['rms_d']:.4f} | {td} | {r['max_d']:.4f} | {r['rms_n']:.4f} | {tn} | {r['max_n']:.4f} | {ea:.1e} | {'yes' if met else 'NO'} |")
         ok &= ea < 1e-8 and ep < 1e-12
+    if '--sectors' in sys.argv:
+        sectors(table)
     if '--golden' in sys.argv:
         path = sys.argv[sys.argv.index('--golden') + 1]
         json.dump(golden(table, meshes), open(path, 'w'), indent=1)
