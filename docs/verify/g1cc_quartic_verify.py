@@ -46,6 +46,7 @@ import os
 import sys
 import time
 from math import comb
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -602,6 +603,14 @@ def check_regular(table):
     return max(float(np.abs(W[0] @ cp - S[fi][..., :3].reshape(-1, 3)).max()) for fi, cp in enumerate(mesh_cps(table, mesh)))
 
 
+def tensor_basis(d, us, vs):
+    """Tensor Bernstein basis of degree d at the samples (us, vs): value, d/du, d/dv, each (S, (d+1)^2)."""
+    Bu, Bv = np.array([_bern(d, x) for x in us]), np.array([_bern(d, x) for x in vs])
+    dBu, dBv = np.array([_dbern(d, x) for x in us]), np.array([_dbern(d, x) for x in vs])
+    t = lambda a, b: np.einsum('si,sj->sij', a, b).reshape(len(us), -1)
+    return t(Bu, Bv), t(dBu, Bv), t(Bu, dBv)
+
+
 def bound(M=17, K=5):
     """Best unconstrained per-face polynomial patch (tensor degree d, or four bicubic quarters)
     fitted to the exact limit: a floor for any single-patch form of that degree."""
@@ -627,18 +636,14 @@ def bound(M=17, K=5):
                         inside = lambda U, V_: (U >= u0 - 1e-12) & (U <= u0 + sz + 1e-12) & (V_ >= v0 - 1e-12) & (V_ <= v0 + sz + 1e-12)
                         sel = ok & inside(UU, VV)
                         us, vs = (UU[sel] - u0) / sz, (VV[sel] - v0) / sz
-                        B = np.einsum('si,sj->sij', np.array([_bern(d, x) for x in us]), np.array([_bern(d, x) for x in vs])).reshape(len(us), -1)
-                        Bu = np.einsum('si,sj->sij', np.array([_dbern(d, x) for x in us]), np.array([_bern(d, x) for x in vs])).reshape(len(us), -1)
-                        Bv = np.einsum('si,sj->sij', np.array([_bern(d, x) for x in us]), np.array([_dbern(d, x) for x in vs])).reshape(len(us), -1)
+                        B, Bu, Bv = tensor_basis(d, us, vs)
                         m = B.shape[1]; Z = np.zeros_like(B)
                         rows = [np.hstack([B if c == x else Z for c in range(3)]) / h for x in range(3)]
                         rows += [math.sqrt(wn) * np.hstack([N[sel][:, c:c + 1] * Bd for c in range(3)]) / h for Bd in (Bu, Bv)]
                         rhs = [P[sel][:, x] / h for x in range(3)] + [np.zeros(len(us))] * 2
                         cp = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)[0].reshape(3, m).T
                         s8 = inside(U8, V8); u8, v8 = (U8[s8] - u0) / sz, (V8[s8] - v0) / sz
-                        B8 = np.einsum('si,sj->sij', np.array([_bern(d, x) for x in u8]), np.array([_bern(d, x) for x in v8])).reshape(len(u8), -1)
-                        B8u = np.einsum('si,sj->sij', np.array([_dbern(d, x) for x in u8]), np.array([_bern(d, x) for x in v8])).reshape(len(u8), -1)
-                        B8v = np.einsum('si,sj->sij', np.array([_bern(d, x) for x in u8]), np.array([_dbern(d, x) for x in v8])).reshape(len(u8), -1)
+                        B8, B8u, B8v = tensor_basis(d, u8, v8)
                         S8[s8] = B8 @ cp; N8[s8] = np.cross(B8u @ cp, B8v @ cp)
                     D2 += ((np.linalg.norm(S8 - lim[fi][..., :3], axis=-1) / h * 100) ** 2).sum()
                     A2 += (G.angle_deg(N8, lim[fi][..., 3:]) ** 2).sum()
@@ -688,18 +693,13 @@ def sectors(table):
     W = basis([p[0] for p in pts], [p[1] for p in pts])
 
     def ctrl(C):
-        cp = {}
-        for i in range(4):
-            a, b = C[i], C[(i + 1) % 4]
-            P = [a['v'], a['e0'], a['h0'] + b['h1'], b['e1'], b['v']]
-            for k in range(5):
-                cp[_slot(i, k, 0)] = P[k]
-            l0, l1 = 2 * math.cos(2 * math.pi / a['n']), -2 * math.cos(2 * math.pi / b['n'])
-            for k in (1, 2, 3):
-                X = P[k] + ((P[k + 1] - P[k]) * (l0 * (4 - k) / 4) + (P[k] - P[k - 1]) * (l1 * k / 4)) / 2 \
-                    + a[f'R{k}0'] - b[f'R{4 - k}1']
-                cp[_slot(i, k, 1) if k == 2 else ('h' if i % 2 == 0 else 'v', _slot(i, k, 1))] = X
-        cp[(2, 2)] = sum((c['v'] + c['g0']) / 4 for c in C)
+        """The face's 29 points by `patch`, from the corners' outputs at the face's two
+        positions (slot 0 = the edge toward the next corner, 1 = toward the previous one)."""
+        corners = [(SimpleNamespace(n=c['n'], v=c['v'], e=[c['e0'], c['e1']], h=[c['h0'], c['h1']],
+                                    g=[c['g0'], c['g1']],
+                                    R=[{k: c[f'R{k}{x}'] for k in (1, 2, 3)} for x in (0, 1)]), 0)
+                   for c in C]
+        cp = patch(corners)
         return np.array([cp[k] for k in KEYS])
 
     print('\n| mesh | g1cc_quartic (probe) | pccm | acc | gregory | gregory_osd |')
