@@ -138,8 +138,9 @@ struct GenerateArgs {
 
 /// Write only the stencil table of the built-in schemes: DIR/stencils.f32 and DIR/stencils.json.
 ///
-/// stencils.f32 is `height × width` little-endian f32, row-major;
-/// stencils.json is the manifest saying what every row is.
+/// stencils.f32 is the stencil texture, little-endian f32, row-major: the
+/// logical `height × width` rows wrapped into column blocks of 4096 rows;
+/// stencils.json is the manifest saying what every row is and the texture size.
 #[derive(Args, Debug)]
 struct TableArgs {
     /// Output directory (created if missing).
@@ -427,9 +428,11 @@ fn table(args: &TableArgs) -> CmdResult {
         println!("wrote {}", args.out.join(&f.path).display());
     }
     println!(
-        "stencil table: {} rows × {} f32 (valences 3..={}, schemes {})",
+        "stencil table: {} rows × {} f32 in a {} × {} texture (valences 3..={}, schemes {})",
         t.height(),
         t.width,
+        t.texture_width(),
+        t.texture_height(),
         t.max_valence,
         schemes.join(", ")
     );

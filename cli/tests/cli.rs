@@ -138,7 +138,17 @@ fn table_writes_both_files() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("stencils.json")).unwrap()).unwrap();
     let height = json["height"].as_u64().unwrap();
     let width = json["width"].as_u64().unwrap();
-    assert_eq!(height * width * 4, bytes);
+    // The file is the texture: the logical rows wrapped into column blocks
+    // of block_rows, zero-padded in the last block.
+    let (tw, th, b) = (
+        json["texture_width"].as_u64().unwrap(),
+        json["texture_height"].as_u64().unwrap(),
+        json["block_rows"].as_u64().unwrap(),
+    );
+    assert_eq!(tw * th * 4, bytes);
+    assert_eq!(b, 4096);
+    assert_eq!(tw, width * height.div_ceil(b));
+    assert_eq!(th, height.min(b));
     assert_eq!(json["max_valence"], 32);
     // 65 ring slots, then the sector region (2·16 + 2 partial-ring slots).
     assert_eq!(width, 99);

@@ -4,19 +4,28 @@
 //!
 //! Plain flat data (OpenSubdiv `Far` style): a `rows × width` f32 matrix and
 //! a manifest that says what each row is. On the GPU it is an `R32Float`
-//! texture (row = y, slot = x); on the CPU a slice.
+//! texture whose rows wrap into column blocks of [`TABLE_BLOCK_ROWS`]
+//! ([`StencilTable::texture`]); on the CPU a slice of the logical rows.
 //!
 //! Sector rows (crease and corner vertices, docs/boundaries.md §3) live in a
 //! second column region of the same texture, from [`StencilTable::sector_column`]
 //! on: a sector of `m` faces has `2m + 2` partial-ring slots, and keeping
-//! them beside the per-valence rows rather than below keeps the height under
-//! WebGPU's default 8192-texel limit and the bindings unchanged.
+//! them beside the per-valence rows rather than below keeps the logical
+//! height down and the bindings unchanged.
 
 use crate::front::scheme::{max_sector_faces, virtual_valence, Scheme, SectorKind};
 use serde::Serialize;
 
 /// Default largest valence.
 pub const DEFAULT_MAX_VALENCE: u32 = 32;
+
+/// Rows per column block of the stencil texture. The logical table grows
+/// with every scheme (11 k rows with `g1cc`), past the 8,192-texel side of
+/// WebGPU's default limits; 4,096 is the side Vulkan guarantees
+/// (`maxImageDimension2D`), so wrapping the rows into blocks of 4,096 keeps
+/// the texture inside every backend's minimum for up to ⌊4096 / width⌋
+/// blocks (167 k rows at width 99).
+pub const TABLE_BLOCK_ROWS: u32 = 4096;
 
 /// Rows one scheme occupies.
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -97,6 +106,9 @@ struct Manifest<'a> {
     max_valence: u32,
     width: u32,
     height: u32,
+    block_rows: u32,
+    texture_width: u32,
+    texture_height: u32,
     sector_column: u32,
     max_sector_faces: u32,
     texel: &'static str,
@@ -263,9 +275,45 @@ impl StencilTable {
         self.weights[(row * self.width + col) as usize]
     }
 
-    /// Little-endian f32 bytes, row-major: the texture's contents.
+    /// Column blocks of the texture: rows past [`TABLE_BLOCK_ROWS`] wrap
+    /// into a further block of `width` columns to the right.
+    pub fn blocks(&self) -> u32 {
+        self.height().div_ceil(TABLE_BLOCK_ROWS).max(1)
+    }
+
+    /// Width of the texture in texels: `width · blocks`.
+    pub fn texture_width(&self) -> u32 {
+        self.width * self.blocks()
+    }
+
+    /// Height of the texture in texels: the rows of the first block.
+    pub fn texture_height(&self) -> u32 {
+        self.height().clamp(1, TABLE_BLOCK_ROWS)
+    }
+
+    /// The texture's texels, row-major (`texture_height × texture_width`):
+    /// logical row `r`, column `c` at texel `(c + width·⌊r / B⌋, r mod B)`,
+    /// B = [`TABLE_BLOCK_ROWS`] — the same mapping every shader reads with
+    /// ([`crate::plan::flat::table_texel`]). Texels of the last block past
+    /// the table's rows are 0.
+    pub fn texture(&self) -> Vec<f32> {
+        let (tw, w) = (self.texture_width() as usize, self.width as usize);
+        let b = TABLE_BLOCK_ROWS as usize;
+        let mut t = vec![0f32; tw * self.texture_height() as usize];
+        for (r, line) in self.weights.chunks(w).enumerate() {
+            let at = (r % b) * tw + (r / b) * w;
+            t[at..at + w].copy_from_slice(line);
+        }
+        t
+    }
+
+    /// Little-endian f32 bytes of [`StencilTable::texture`]: the file a
+    /// host uploads as it is.
     pub fn to_le_bytes(&self) -> Vec<u8> {
-        self.weights.iter().flat_map(|w| w.to_le_bytes()).collect()
+        self.texture()
+            .iter()
+            .flat_map(|w| w.to_le_bytes())
+            .collect()
     }
 
     /// The JSON manifest.
@@ -276,10 +324,16 @@ impl StencilTable {
             max_valence: self.max_valence,
             width: self.width,
             height: self.height(),
+            block_rows: TABLE_BLOCK_ROWS,
+            texture_width: self.texture_width(),
+            texture_height: self.texture_height(),
             sector_column: self.sector_column,
             max_sector_faces: self.max_sector_faces,
             texel: "f32 little-endian (R32Float)",
-            layout: "row-major, height rows of width f32; columns 0 .. sector_column: \
+            layout: "logical table: height rows of width f32, wrapped into a texture of \
+                     texture_width × texture_height texels (the file, row-major): logical row r, \
+                     column c is texel (c + width·floor(r / block_rows), r mod block_rows); \
+                     columns 0 .. sector_column: \
                      row = (scheme, valence, output, sector) as listed in `rows`, column = ring \
                      slot [p, p_0 .. p_{2n-1}] (or constant index for `constants` rows); columns \
                      sector_column ..: row = (scheme, kind, faces m, output, ring position) as \

@@ -10,6 +10,15 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 const uint TABLE_WIDTH = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+const uint TABLE_BLOCK_ROWS = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+const uint TABLE_TEXTURE_WIDTH = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+const uint TABLE_TEXTURE_HEIGHT = 4096u;
+
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
 
@@ -184,13 +193,13 @@ void extraordinary_patch(uint face, uint cp_base) {
     vec3 e_3_1 = load_vertex_out(((out_base_3 + ((1u * n_3) + 0u)) + ((sector_3 + 1u) % n_3)));
     vec3 f_3_0 = load_vertex_out(((out_base_3 + ((0u * n_3) + 0u)) + sector_3));
     uint shape_0 = corner_valence[((face * 4u) + 0u)];
-    float s_0 = texelFetch(stencil_table, ivec2(int(1u), int(((CONST_ROW_BASE + shape_0) - 3u))), 0).x;
+    float s_0 = texelFetch(stencil_table, ivec2(int((1u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_0) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_0) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
     uint shape_1 = corner_valence[((face * 4u) + 1u)];
-    float s_1 = texelFetch(stencil_table, ivec2(int(1u), int(((CONST_ROW_BASE + shape_1) - 3u))), 0).x;
+    float s_1 = texelFetch(stencil_table, ivec2(int((1u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_1) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_1) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
     uint shape_2 = corner_valence[((face * 4u) + 2u)];
-    float s_2 = texelFetch(stencil_table, ivec2(int(1u), int(((CONST_ROW_BASE + shape_2) - 3u))), 0).x;
+    float s_2 = texelFetch(stencil_table, ivec2(int((1u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_2) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_2) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
     uint shape_3 = corner_valence[((face * 4u) + 3u)];
-    float s_3 = texelFetch(stencil_table, ivec2(int(1u), int(((CONST_ROW_BASE + shape_3) - 3u))), 0).x;
+    float s_3 = texelFetch(stencil_table, ivec2(int((1u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_3) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_3) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
     vec3 t_0_0 = load_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + sector_0));
     vec3 t_1_0 = load_vertex_out(((out_base_1 + ((2u * n_1) + 1u)) + sector_1));
     vec3 t_2_0 = load_vertex_out(((out_base_2 + ((2u * n_2) + 1u)) + sector_2));
@@ -199,10 +208,10 @@ void extraordinary_patch(uint face, uint cp_base) {
     vec3 t_2_1 = load_vertex_out(((out_base_2 + ((2u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     vec3 t_3_1 = load_vertex_out(((out_base_3 + ((2u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
     vec3 t_0_1 = load_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + ((sector_0 + 1u) % n_0)));
-    float c_0 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_0) - 3u))), 0).x;
-    float c_1 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_1) - 3u))), 0).x;
-    float c_2 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_2) - 3u))), 0).x;
-    float c_3 = texelFetch(stencil_table, ivec2(int(0u), int(((CONST_ROW_BASE + shape_3) - 3u))), 0).x;
+    float c_0 = texelFetch(stencil_table, ivec2(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_0) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_0) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
+    float c_1 = texelFetch(stencil_table, ivec2(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_1) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_1) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
+    float c_2 = texelFetch(stencil_table, ivec2(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_2) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_2) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
+    float c_3 = texelFetch(stencil_table, ivec2(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_3) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_3) - 3u) % TABLE_BLOCK_ROWS))), 0).x;
     vec3 gstar = (((((((v_0 + (3.0 * e_0_0)) + (3.0 * e_0_1)) + (9.0 * f_0_0)) + (((v_1 + (3.0 * e_1_0)) + (3.0 * e_1_1)) + (9.0 * f_1_0))) + (((v_2 + (3.0 * e_2_0)) + (3.0 * e_2_1)) + (9.0 * f_2_0))) + (((v_3 + (3.0 * e_3_0)) + (3.0 * e_3_1)) + (9.0 * f_3_0))) / 64.0);
     float kappa_0 = (3.0 / (4.0 * (s_0 + s_1)));
     float kappa_1 = (3.0 / (4.0 * (s_1 + s_2)));

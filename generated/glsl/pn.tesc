@@ -10,6 +10,15 @@ layout(vertices = 1) out;
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 const uint TABLE_WIDTH = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+const uint TABLE_BLOCK_ROWS = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+const uint TABLE_TEXTURE_WIDTH = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+const uint TABLE_TEXTURE_HEIGHT = 4096u;
+
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
 

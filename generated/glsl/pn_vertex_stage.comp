@@ -10,6 +10,15 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 const uint TABLE_WIDTH = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+const uint TABLE_BLOCK_ROWS = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+const uint TABLE_TEXTURE_WIDTH = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+const uint TABLE_TEXTURE_HEIGHT = 4096u;
+
 // Largest valence the table covers.
 const uint MAX_VALENCE = 32u;
 
@@ -110,7 +119,7 @@ void vertex_stage(uint vertex, uint out_base) {
         for (uint r = 0u; r < rows; r = (r + 1u)) {
             vec3 acc = vec3(0.0, 0.0, 0.0);
             for (uint k = 0u; k < slots; k = (k + 1u)) {
-                float w = texelFetch(stencil_table, ivec2(int(k), int((row_base + r))), 0).x;
+                float w = texelFetch(stencil_table, ivec2(int((k + (TABLE_WIDTH * ((row_base + r) / TABLE_BLOCK_ROWS)))), int(((row_base + r) % TABLE_BLOCK_ROWS))), 0).x;
                 if (w != 0.0) {
                     acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
                 }

@@ -206,6 +206,15 @@ void store_refined_positions(uint i, float3 v) {
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 static const uint TABLE_WIDTH = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+static const uint TABLE_BLOCK_ROWS = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+static const uint TABLE_TEXTURE_WIDTH = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+static const uint TABLE_TEXTURE_HEIGHT = 4096u;
+
 // Largest valence the table covers.
 static const uint MAX_VALENCE = 32u;
 
@@ -374,7 +383,7 @@ void vertex_stage(uint vertex, uint out_base) {
         for (uint r = 0u; r < rows; r += 1u) {
             float3 acc = float3(0.0f, 0.0f, 0.0f);
             for (uint k = 0u; k < slots; k += 1u) {
-                float w = stencil_table.Load(int3(int(k), int((row_base + r)), 0));
+                float w = stencil_table.Load(int3(int((k + (TABLE_WIDTH * ((row_base + r) / TABLE_BLOCK_ROWS)))), int(((row_base + r) % TABLE_BLOCK_ROWS)), 0));
                 if ((w != 0.0f)) {
                     acc = (acc + (fetch_positions(ring[(ring_base + k)]) * w));
                 }
@@ -393,7 +402,7 @@ void vertex_stage(uint vertex, uint out_base) {
             for (uint j = 0u; j < count; j += 1u) {
                 float3 acc = float3(0.0f, 0.0f, 0.0f);
                 for (uint k = 0u; k < sector_slots; k += 1u) {
-                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int(((sector_row + ((0u * (m + 1u)) + 0u)) + j)), 0));
+                    float w = stencil_table.Load(int3(int(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((0u * (m + 1u)) + 0u)) + j) / TABLE_BLOCK_ROWS)))), int((((sector_row + ((0u * (m + 1u)) + 0u)) + j) % TABLE_BLOCK_ROWS)), 0));
                     if ((w != 0.0f)) {
                         acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -403,7 +412,7 @@ void vertex_stage(uint vertex, uint out_base) {
             if ((j0 == 0u)) {
                 float3 acc = float3(0.0f, 0.0f, 0.0f);
                 for (uint k = 0u; k < sector_slots; k += 1u) {
-                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int((sector_row + ((1u * (m + 1u)) + 0u))), 0));
+                    float w = stencil_table.Load(int3(int(((SECTOR_COLUMN + k) + (TABLE_WIDTH * ((sector_row + ((1u * (m + 1u)) + 0u)) / TABLE_BLOCK_ROWS)))), int(((sector_row + ((1u * (m + 1u)) + 0u)) % TABLE_BLOCK_ROWS)), 0));
                     if ((w != 0.0f)) {
                         acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -413,7 +422,7 @@ void vertex_stage(uint vertex, uint out_base) {
             for (uint j = 0u; j < count; j += 1u) {
                 float3 acc = float3(0.0f, 0.0f, 0.0f);
                 for (uint k = 0u; k < sector_slots; k += 1u) {
-                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int(((sector_row + ((1u * (m + 1u)) + 1u)) + j)), 0));
+                    float w = stencil_table.Load(int3(int(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((1u * (m + 1u)) + 1u)) + j) / TABLE_BLOCK_ROWS)))), int((((sector_row + ((1u * (m + 1u)) + 1u)) + j) % TABLE_BLOCK_ROWS)), 0));
                     if ((w != 0.0f)) {
                         acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -423,7 +432,7 @@ void vertex_stage(uint vertex, uint out_base) {
             for (uint j = 0u; j < count; j += 1u) {
                 float3 acc = float3(0.0f, 0.0f, 0.0f);
                 for (uint k = 0u; k < sector_slots; k += 1u) {
-                    float w = stencil_table.Load(int3(int((SECTOR_COLUMN + k)), int(((sector_row + ((2u * (m + 1u)) + 1u)) + j)), 0));
+                    float w = stencil_table.Load(int3(int(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((2u * (m + 1u)) + 1u)) + j) / TABLE_BLOCK_ROWS)))), int((((sector_row + ((2u * (m + 1u)) + 1u)) + j) % TABLE_BLOCK_ROWS)), 0));
                     if ((w != 0.0f)) {
                         acc = (acc + (fetch_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -517,15 +526,15 @@ void extraordinary_patch(inout float3 cp_out[KMAX], uint face, uint cp_base) {
     float3 e_2_1 = fetch_vertex_out(((out_base_2 + ((1u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     float3 e_3_1 = fetch_vertex_out(((out_base_3 + ((1u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
     uint shape_1 = corner_valence[((face * 4u) + 1u)];
-    float c_1 = stencil_table.Load(int3(int(0u), int(((CONST_ROW_BASE + shape_1) - 3u)), 0));
+    float c_1 = stencil_table.Load(int3(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_1) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_1) - 3u) % TABLE_BLOCK_ROWS)), 0));
     uint shape_0 = corner_valence[((face * 4u) + 0u)];
-    float c_0 = stencil_table.Load(int3(int(0u), int(((CONST_ROW_BASE + shape_0) - 3u)), 0));
+    float c_0 = stencil_table.Load(int3(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_0) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_0) - 3u) % TABLE_BLOCK_ROWS)), 0));
     float3 r_0_0 = fetch_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + sector_0));
     uint shape_2 = corner_valence[((face * 4u) + 2u)];
-    float c_2 = stencil_table.Load(int3(int(0u), int(((CONST_ROW_BASE + shape_2) - 3u)), 0));
+    float c_2 = stencil_table.Load(int3(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_2) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_2) - 3u) % TABLE_BLOCK_ROWS)), 0));
     float3 r_1_0 = fetch_vertex_out(((out_base_1 + ((2u * n_1) + 1u)) + sector_1));
     uint shape_3 = corner_valence[((face * 4u) + 3u)];
-    float c_3 = stencil_table.Load(int3(int(0u), int(((CONST_ROW_BASE + shape_3) - 3u)), 0));
+    float c_3 = stencil_table.Load(int3(int((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_3) - 3u) / TABLE_BLOCK_ROWS)))), int((((CONST_ROW_BASE + shape_3) - 3u) % TABLE_BLOCK_ROWS)), 0));
     float3 r_2_0 = fetch_vertex_out(((out_base_2 + ((2u * n_2) + 1u)) + sector_2));
     float3 r_3_0 = fetch_vertex_out(((out_base_3 + ((2u * n_3) + 1u)) + sector_3));
     float3 r_0_1 = fetch_vertex_out(((out_base_0 + ((2u * n_0) + 1u)) + ((sector_0 + 1u) % n_0)));

@@ -206,6 +206,15 @@ void store_refined_positions(uint i, float3 v) {
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 static const uint TABLE_WIDTH = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+static const uint TABLE_BLOCK_ROWS = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+static const uint TABLE_TEXTURE_WIDTH = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+static const uint TABLE_TEXTURE_HEIGHT = 4096u;
+
 // Largest valence the table covers.
 static const uint MAX_VALENCE = 32u;
 
@@ -362,7 +371,7 @@ void vertex_stage(uint vertex, uint out_base) {
         for (uint r = 0u; r < rows; r += 1u) {
             float3 acc = float3(0.0f, 0.0f, 0.0f);
             for (uint k = 0u; k < slots; k += 1u) {
-                float w = stencil_table.Load(int3(int(k), int((row_base + r)), 0));
+                float w = stencil_table.Load(int3(int((k + (TABLE_WIDTH * ((row_base + r) / TABLE_BLOCK_ROWS)))), int(((row_base + r) % TABLE_BLOCK_ROWS)), 0));
                 if ((w != 0.0f)) {
                     acc = (acc + (fetch_positions(ring[(ring_base + k)]) * w));
                 }

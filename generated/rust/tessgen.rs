@@ -12,6 +12,15 @@ pub mod common {
     /// Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
     pub const TABLE_WIDTH: u32 = 99;
     
+    /// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+    pub const TABLE_BLOCK_ROWS: u32 = 4096;
+    
+    /// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+    pub const TABLE_TEXTURE_WIDTH: u32 = 198;
+    
+    /// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+    pub const TABLE_TEXTURE_HEIGHT: u32 = 4096;
+    
     /// Largest valence the table covers.
     pub const MAX_VALENCE: u32 = 32;
     

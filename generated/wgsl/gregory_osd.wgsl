@@ -203,6 +203,15 @@ fn load_vertex_out_ro(i: u32) -> vec3<f32> {
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 const TABLE_WIDTH: u32 = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+const TABLE_BLOCK_ROWS: u32 = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+const TABLE_TEXTURE_WIDTH: u32 = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+const TABLE_TEXTURE_HEIGHT: u32 = 4096u;
+
 // Largest valence the table covers.
 const MAX_VALENCE: u32 = 32u;
 
@@ -421,7 +430,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
         for (var r: u32 = 0u; r < rows; r = (r + 1u)) {
             var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
             for (var k: u32 = 0u; k < slots; k = (k + 1u)) {
-                let w: f32 = textureLoad(stencil_table, vec2<u32>(k, (row_base + r)), 0u).x;
+                let w: f32 = textureLoad(stencil_table, vec2<u32>((k + (TABLE_WIDTH * ((row_base + r) / TABLE_BLOCK_ROWS))), ((row_base + r) % TABLE_BLOCK_ROWS)), 0u).x;
                 if (w != 0.0f) {
                     acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
                 }
@@ -440,7 +449,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
             for (var j: u32 = 0u; j < count; j = (j + 1u)) {
                 var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
                 for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
-                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((0u * (m + 1u)) + 0u)) + j)), 0u).x;
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((0u * (m + 1u)) + 0u)) + j) / TABLE_BLOCK_ROWS))), (((sector_row + ((0u * (m + 1u)) + 0u)) + j) % TABLE_BLOCK_ROWS)), 0u).x;
                     if (w != 0.0f) {
                         acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -450,7 +459,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
             if (j0 == 0u) {
                 var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
                 for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
-                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), (sector_row + ((1u * (m + 1u)) + 0u))), 0u).x;
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>(((SECTOR_COLUMN + k) + (TABLE_WIDTH * ((sector_row + ((1u * (m + 1u)) + 0u)) / TABLE_BLOCK_ROWS))), ((sector_row + ((1u * (m + 1u)) + 0u)) % TABLE_BLOCK_ROWS)), 0u).x;
                     if (w != 0.0f) {
                         acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -460,7 +469,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
             for (var j: u32 = 0u; j < count; j = (j + 1u)) {
                 var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
                 for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
-                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((1u * (m + 1u)) + 1u)) + j)), 0u).x;
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((1u * (m + 1u)) + 1u)) + j) / TABLE_BLOCK_ROWS))), (((sector_row + ((1u * (m + 1u)) + 1u)) + j) % TABLE_BLOCK_ROWS)), 0u).x;
                     if (w != 0.0f) {
                         acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -470,7 +479,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
             for (var j: u32 = 0u; j < count; j = (j + 1u)) {
                 var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
                 for (var k: u32 = 0u; k < sector_slots; k = (k + 1u)) {
-                    let w: f32 = textureLoad(stencil_table, vec2<u32>((SECTOR_COLUMN + k), ((sector_row + ((2u * (m + 1u)) + 1u)) + j)), 0u).x;
+                    let w: f32 = textureLoad(stencil_table, vec2<u32>(((SECTOR_COLUMN + k) + (TABLE_WIDTH * (((sector_row + ((2u * (m + 1u)) + 1u)) + j) / TABLE_BLOCK_ROWS))), (((sector_row + ((2u * (m + 1u)) + 1u)) + j) % TABLE_BLOCK_ROWS)), 0u).x;
                     if (w != 0.0f) {
                         acc = (acc + (load_positions(ring[(sector_ring + k)]) * w));
                     }
@@ -564,15 +573,15 @@ fn extraordinary_patch(face: u32, cp_base: u32) {
     let e_2_1: vec3<f32> = load_vertex_out_ro(((out_base_2 + ((1u * n_2) + 1u)) + ((sector_2 + 1u) % n_2)));
     let e_3_1: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((1u * n_3) + 1u)) + ((sector_3 + 1u) % n_3)));
     let shape_1: u32 = corner_valence[((face * 4u) + 1u)];
-    let c_1: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_1) - 3u)), 0u).x;
+    let c_1: f32 = textureLoad(stencil_table, vec2<u32>((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_1) - 3u) / TABLE_BLOCK_ROWS))), (((CONST_ROW_BASE + shape_1) - 3u) % TABLE_BLOCK_ROWS)), 0u).x;
     let shape_0: u32 = corner_valence[((face * 4u) + 0u)];
-    let c_0: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_0) - 3u)), 0u).x;
+    let c_0: f32 = textureLoad(stencil_table, vec2<u32>((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_0) - 3u) / TABLE_BLOCK_ROWS))), (((CONST_ROW_BASE + shape_0) - 3u) % TABLE_BLOCK_ROWS)), 0u).x;
     let r_0_0: vec3<f32> = load_vertex_out_ro(((out_base_0 + ((2u * n_0) + 1u)) + sector_0));
     let shape_2: u32 = corner_valence[((face * 4u) + 2u)];
-    let c_2: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_2) - 3u)), 0u).x;
+    let c_2: f32 = textureLoad(stencil_table, vec2<u32>((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_2) - 3u) / TABLE_BLOCK_ROWS))), (((CONST_ROW_BASE + shape_2) - 3u) % TABLE_BLOCK_ROWS)), 0u).x;
     let r_1_0: vec3<f32> = load_vertex_out_ro(((out_base_1 + ((2u * n_1) + 1u)) + sector_1));
     let shape_3: u32 = corner_valence[((face * 4u) + 3u)];
-    let c_3: f32 = textureLoad(stencil_table, vec2<u32>(0u, ((CONST_ROW_BASE + shape_3) - 3u)), 0u).x;
+    let c_3: f32 = textureLoad(stencil_table, vec2<u32>((0u + (TABLE_WIDTH * (((CONST_ROW_BASE + shape_3) - 3u) / TABLE_BLOCK_ROWS))), (((CONST_ROW_BASE + shape_3) - 3u) % TABLE_BLOCK_ROWS)), 0u).x;
     let r_2_0: vec3<f32> = load_vertex_out_ro(((out_base_2 + ((2u * n_2) + 1u)) + sector_2));
     let r_3_0: vec3<f32> = load_vertex_out_ro(((out_base_3 + ((2u * n_3) + 1u)) + sector_3));
     let r_0_1: vec3<f32> = load_vertex_out_ro(((out_base_0 + ((2u * n_0) + 1u)) + ((sector_0 + 1u) % n_0)));

@@ -203,6 +203,15 @@ fn store_vertex_out(i: u32, v: vec3<f32>) {
 // Columns of the stencil table: 2·MAX_VALENCE + 1 ring slots, then the sector region (2·(MAX_VALENCE / 2) + 2 partial-ring slots).
 const TABLE_WIDTH: u32 = 99u;
 
+// Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.
+const TABLE_BLOCK_ROWS: u32 = 4096u;
+
+// Width of the stencil texture in texels: TABLE_WIDTH per column block.
+const TABLE_TEXTURE_WIDTH: u32 = 198u;
+
+// Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
+const TABLE_TEXTURE_HEIGHT: u32 = 4096u;
+
 // Largest valence the table covers.
 const MAX_VALENCE: u32 = 32u;
 
@@ -421,7 +430,7 @@ fn vertex_stage(vertex: u32, out_base: u32) {
         for (var r: u32 = 0u; r < rows; r = (r + 1u)) {
             var acc: vec3<f32> = vec3<f32>(0.0f, 0.0f, 0.0f);
             for (var k: u32 = 0u; k < slots; k = (k + 1u)) {
-                let w: f32 = textureLoad(stencil_table, vec2<u32>(k, (row_base + r)), 0u).x;
+                let w: f32 = textureLoad(stencil_table, vec2<u32>((k + (TABLE_WIDTH * ((row_base + r) / TABLE_BLOCK_ROWS))), ((row_base + r) % TABLE_BLOCK_ROWS)), 0u).x;
                 if (w != 0.0f) {
                     acc = (acc + (load_positions(ring[(ring_base + k)]) * w));
                 }

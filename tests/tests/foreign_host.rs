@@ -319,14 +319,24 @@ fn run_scheme(
             label: Some(scheme),
             source: wgpu::ShaderSource::Wgsl(wgsl.into()),
         });
-    // The stencil table from generated/table (width from the manifest).
+    // The stencil texture from generated/table, uploaded as it is (its
+    // size from the manifest).
     let table = std::fs::read(repo("generated/table/stencils.f32")).expect("stencils.f32");
     let manifest: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(repo("generated/table/stencils.json")).expect("stencils.json"),
     )
     .expect("manifest JSON");
-    let width = manifest["width"].as_u64().expect("manifest width") as u32;
-    let height = (table.len() / 4) as u32 / width;
+    let width = manifest["texture_width"]
+        .as_u64()
+        .expect("manifest texture_width") as u32;
+    let height = manifest["texture_height"]
+        .as_u64()
+        .expect("manifest texture_height") as u32;
+    assert_eq!(
+        table.len(),
+        4 * (width * height) as usize,
+        "stencils.f32 is the texture"
+    );
     let table_view = host.texture(width, height, &table);
     let map_view = host.texture(1, 1, &0f32.to_le_bytes());
 

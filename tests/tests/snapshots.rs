@@ -119,8 +119,14 @@ fn stencil_manifest_layout() {
         .file("table/stencils.f32")
         .map(|f| f.contents.len())
         .unwrap_or(0);
+    // The file is the texture: the logical rows wrapped into column blocks.
+    let get = |k: &str| m[k].as_u64().unwrap_or(0);
+    let blocks = get("height").div_ceil(get("block_rows"));
+    assert!(blocks > 1, "the table wraps (it outgrew one block)");
+    assert_eq!(get("texture_width"), blocks * get("width"));
+    assert_eq!(get("texture_height"), get("block_rows"));
     assert_eq!(
         bytes as u64,
-        m["height"].as_u64().unwrap_or(0) * m["width"].as_u64().unwrap_or(0) * 4
+        get("texture_width") * get("texture_height") * 4
     );
 }

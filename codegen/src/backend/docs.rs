@@ -158,15 +158,27 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
     s.push_str("## Stencil table texture\n\n");
     let _ = writeln!(
         s,
-        "`R32Float`, width {} (= 2·MAX_VALENCE + 1 ring slots, MAX_VALENCE = {}), height {} rows. \
-         Texel (x = ring slot, y = row); read with `textureLoad`/`texelFetch`/`Load`, never filtered. \
+        "`R32Float`, {} × {} texels. The logical table has {} rows of `TABLE_WIDTH` = {} columns \
+         (2·MAX_VALENCE + 1 = {} ring slots, MAX_VALENCE = {}, then from column {} the sector region); \
+         its rows wrap into column blocks of `TABLE_BLOCK_ROWS` = {} rows, so logical row r, column c is \
+         texel (x, y) = (c + TABLE_WIDTH·⌊r / TABLE_BLOCK_ROWS⌋, r mod TABLE_BLOCK_ROWS) — 4096 is the \
+         texture side Vulkan guarantees, and the table outgrew WebGPU's default 8192. Every shader reads \
+         with `textureLoad`/`texelFetch`/`Load` at that texel, never filtered. \
          Rows per scheme and valence: `ROW_BASE[n]` in each scheme's code and `schemes[].valence_row_base` \
          in `table/stencils.json`; per-valence constants at row `CONST_ROW_BASE + n − 3`. \
-         Upload `table/stencils.f32` as it is (`writeTexture` with `bytesPerRow` = 4·width; width and height are also \
-         in `table/stencils.json`) and bind it at `stencil_table` (binding 9).\n",
+         Upload `table/stencils.f32` as it is: it is the texture, row-major (`writeTexture` with \
+         `bytesPerRow` = 4·{}; `texture_width`, `texture_height` and `block_rows` are also in \
+         `table/stencils.json`, and `TABLE_TEXTURE_WIDTH`/`TABLE_TEXTURE_HEIGHT` in the code), and bind it \
+         at `stencil_table` (binding 9).\n",
+        table.texture_width(),
+        table.texture_height(),
+        table.height(),
         table.width,
+        table.sector_column,
         table.max_valence,
-        table.height()
+        table.sector_column,
+        crate::table::TABLE_BLOCK_ROWS,
+        table.texture_width()
     );
     s.push_str("## Per scheme\n\n");
     for (m, e) in &plan.schemes {

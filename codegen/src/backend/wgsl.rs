@@ -664,11 +664,14 @@ impl Dialect for Cx<'_, '_> {
                     format!("{var}[{idx}]")
                 }
             }
-            Expr::TableWeight(row, col) => format!(
-                "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
-                x(col),
-                x(row)
-            ),
+            Expr::TableWeight(row, col) => {
+                let (tx, ty) = crate::plan::flat::table_texel(row, col);
+                format!(
+                    "textureLoad(stencil_table, vec2<u32>({}, {}), 0u).x",
+                    x(&tx),
+                    x(&ty)
+                )
+            }
             Expr::Float(r, i) => format!("{}[{}]", self.w.read_var(*r, self.written), x(i)),
             Expr::Stage(StageIn::Param(n)) => param(n),
             Expr::Stage(StageIn::GlobalId) => "gid.x".into(),

@@ -19,6 +19,21 @@ pub fn common_module(table: &StencilTable) -> Module {
         ConstValue::U32(table.width),
     );
     m.add_const(
+        "TABLE_BLOCK_ROWS",
+        "Rows per column block of the stencil texture: logical row r, column c is texel (c + TABLE_WIDTH·(r / TABLE_BLOCK_ROWS), r % TABLE_BLOCK_ROWS), so the texture stays within the 4096-texel side every backend supports.",
+        ConstValue::U32(crate::table::TABLE_BLOCK_ROWS),
+    );
+    m.add_const(
+        "TABLE_TEXTURE_WIDTH",
+        "Width of the stencil texture in texels: TABLE_WIDTH per column block.",
+        ConstValue::U32(table.texture_width()),
+    );
+    m.add_const(
+        "TABLE_TEXTURE_HEIGHT",
+        "Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).",
+        ConstValue::U32(table.texture_height()),
+    );
+    m.add_const(
         "MAX_VALENCE",
         "Largest valence the table covers.",
         ConstValue::U32(table.max_valence),

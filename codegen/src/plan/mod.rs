@@ -225,7 +225,8 @@ pub enum Expr {
     /// Construct a struct from its fields, in order.
     Make(usize, Vec<Expr>),
     Fetch(Resource, Box<Expr>),
-    /// Stencil table texel `(row, column)`.
+    /// Stencil table weight at logical `(row, column)`; the texture texel it
+    /// reads is [`flat::table_texel`].
     TableWeight(Box<Expr>, Box<Expr>),
     /// Texel `(x, y)` (u32 column, row) of a 2-D texture resource, fetched
     /// exactly (no filtering): [`Resource::DisplaceMap`].
@@ -268,6 +269,9 @@ pub enum Named {
     /// `TABLE_WIDTH`: columns of the stencil table held as a row-major
     /// slice (Rust; [`flat::flat_index`]).
     TableWidth,
+    /// `TABLE_BLOCK_ROWS`: rows per column block of the stencil texture
+    /// ([`flat::table_texel`]).
+    TableBlockRows,
 }
 
 impl Named {
@@ -278,6 +282,7 @@ impl Named {
             Named::Kmax4 => "KMAX4",
             Named::ControlPoints => "CONTROL_POINTS",
             Named::TableWidth => "TABLE_WIDTH",
+            Named::TableBlockRows => "TABLE_BLOCK_ROWS",
         }
     }
 }

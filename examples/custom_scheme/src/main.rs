@@ -14,11 +14,20 @@ use generated::common::{Inputs, SchemeKernels};
 /// The generated WGSL, ready for `wgpu::ShaderSource::Wgsl`.
 pub const WGSL: &str = include_str!(concat!(env!("OUT_DIR"), "/wgsl/pccm_sigma.wgsl"));
 
+/// The logical table rows the CPU kernels index, unwrapped from the
+/// generated texture (rows wrap into column blocks of `TABLE_BLOCK_ROWS`).
 fn table() -> Vec<f32> {
-    include_bytes!(concat!(env!("OUT_DIR"), "/table/stencils.f32"))
+    use generated::common::{TABLE_BLOCK_ROWS, TABLE_TEXTURE_WIDTH, TABLE_WIDTH};
+    let texture: Vec<f32> = include_bytes!(concat!(env!("OUT_DIR"), "/table/stencils.f32"))
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        .collect()
+        .collect();
+    tessgen_runtime::kernels::unwrap_table(
+        &texture,
+        TABLE_WIDTH,
+        TABLE_TEXTURE_WIDTH,
+        TABLE_BLOCK_ROWS,
+    )
 }
 
 /// Vertex stage, patch stage and evaluation with the generated kernels,

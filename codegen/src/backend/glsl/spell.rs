@@ -128,11 +128,14 @@ impl Dialect for Cx<'_, '_> {
                     format!("{}[{idx}]", r.name())
                 }
             }
-            Expr::TableWeight(row, col) => format!(
-                "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
-                x(col),
-                x(row)
-            ),
+            Expr::TableWeight(row, col) => {
+                let (tx, ty) = crate::plan::flat::table_texel(row, col);
+                format!(
+                    "texelFetch(stencil_table, ivec2(int({}), int({})), 0).x",
+                    x(&tx),
+                    x(&ty)
+                )
+            }
             Expr::Stage(StageIn::TessCoord(k)) => {
                 // Quads: the patch's (u, v) is (gl_TessCoord.y, gl_TessCoord.x),
                 // see the layout declaration; triangles: barycentric as is.

@@ -168,11 +168,14 @@ impl Dialect for Hx<'_, '_> {
                     ),
                 }
             }
-            Expr::TableWeight(row, col) => format!(
-                "stencil_table.Load(int3(int({}), int({}), 0))",
-                x(col),
-                x(row)
-            ),
+            Expr::TableWeight(row, col) => {
+                let (tx, ty) = crate::plan::flat::table_texel(row, col);
+                format!(
+                    "stencil_table.Load(int3(int({}), int({}), 0))",
+                    x(&tx),
+                    x(&ty)
+                )
+            }
             // SV_DomainLocation: quads (u, v) = (x, y), triangles barycentric.
             Expr::Stage(StageIn::TessCoord(k)) => format!("uv.{}", ["x", "y", "z"][*k as usize]),
             Expr::Stage(StageIn::PatchInDraw) => cx.patch.to_string(),

@@ -289,11 +289,12 @@ impl<'v> VkMesh<'v> {
         Ok(())
     }
 
-    /// The stencil table as an `R32_SFLOAT` image (x = ring slot, y = row).
+    /// The stencil table as an `R32_SFLOAT` image, its rows wrapped into
+    /// column blocks (`kernels::table_texture`).
     pub(super) fn table(&mut self) -> Result<(), VkError> {
-        let table = kernels::table();
-        let width = kernels::common::TABLE_WIDTH;
-        let height = (table.len() as u32 / width).max(1);
+        let table = kernels::table_texture();
+        let width = kernels::common::TABLE_TEXTURE_WIDTH;
+        let height = kernels::common::TABLE_TEXTURE_HEIGHT;
         let mut img = Img::default();
         let made = self.r32_image(&mut img, "the stencil table", width, height, table);
         self.table_img = img;

@@ -189,10 +189,11 @@ impl<'g> GpuMesh<'g> {
             buffers.insert(b.binding, buf);
         }
 
-        // The stencil table as an R32Float texture (x = ring slot, y = row).
-        let table = kernels::table();
-        let width = kernels::common::TABLE_WIDTH;
-        let height = (table.len() as u32) / width;
+        // The stencil table as an R32Float texture, its rows wrapped into
+        // column blocks (`kernels::table_texture`).
+        let table = kernels::table_texture();
+        let width = kernels::common::TABLE_TEXTURE_WIDTH;
+        let height = kernels::common::TABLE_TEXTURE_HEIGHT;
         if width > limits.max_texture_dimension_2d || height > limits.max_texture_dimension_2d {
             return Err(GpuError::TableTooLarge {
                 width,
