@@ -493,6 +493,36 @@ fn unknown_slot() {
     );
 }
 
+/// A bicubic ordinary class beside a biquartic extraordinary one: their
+/// shared edges would be a cubic on one side and a quartic on the other.
+#[test]
+fn classes_with_boundaries_of_different_degree() {
+    let gregory4 = concat!(
+        "    patch extraordinary: gregory4 {\n",
+        "        out p[i] = v(i);\n",
+        "        out ep[i] = e(i, 0);\n",
+        "        out em[i] = e(i, 1);\n",
+        "        out m[i] = (e(i, 0) + e(i + 1, 1)) * 0.5;\n",
+        "        out fp[i] = f(i, 0);\n",
+        "        out fm[i] = f(i, 0);\n",
+        "        out g[i] = f(i, 0);\n",
+        "        out center = (f(0, 0) + f(2, 0)) * 0.5;\n",
+        "    }",
+    );
+    // The biquartic class alone compiles: the check is about the pair.
+    let alone = scheme("", &gregory4.replace("extraordinary", "ordinary"));
+    Scheme::from_source(&alone, MAX).unwrap_or_else(|e| panic!("{e}"));
+    let text = scheme("", &format!("{BICUBIC_OK}\n{gregory4}"));
+    expect_err(
+        &text,
+        "gregory4",
+        &[
+            "form `gregory4` has 5-point boundary curves but class `ordinary` uses `bicubic` with 4",
+            "boundaries of the same degree",
+        ],
+    );
+}
+
 #[test]
 fn unknown_form() {
     let text = scheme("", &BICUBIC_OK.replace("bicubic", "bspline"));
@@ -501,7 +531,7 @@ fn unknown_form() {
         "bspline",
         &[
             "unknown patch form `bspline`",
-            "`bicubic`, `cpatch`, `acc`, `gregory` or `tri_cubic`",
+            "`bicubic`, `cpatch`, `acc`, `gregory`, `gregory4` or `tri_cubic`",
         ],
     );
 }

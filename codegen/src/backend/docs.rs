@@ -211,6 +211,9 @@ pub fn readme(plan: &Plan, table: &StencilTable, command: &str) -> String {
                 crate::plan::form::Form::Gregory => {
                     "`5i + {P, E⁺, E⁻, F⁺, F⁻}` per corner i (OpenSubdiv order)"
                 }
+                crate::plan::form::Form::Gregory4 => {
+                    "`7i + {P, E⁺, E⁻, M, F⁺, F⁻, G}` per corner i, centre at 28 (biquartic Gregory net, quartic boundaries)"
+                }
                 crate::plan::form::Form::TriCubic => {
                     "`5i + {b, bn, bp, n, nm}` per corner i, centre at 15 (cubic triangle + quadratic normal field)"
                 }

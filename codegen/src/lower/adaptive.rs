@@ -104,21 +104,24 @@ pub fn bucket_level_fn() -> Function {
 
 /// `patch_edge_level(face, class, cp_base, k, max_level) -> u32` of a quad
 /// (`sides` 4) or triangle (`sides` 3) scheme; `curve_const` is the
-/// scheme's `EDGE_CURVE` constant.
+/// scheme's `EDGE_CURVE` constant, `points` entries per curve.
 ///
 /// The classify pass and the buffers it fills (`patch_levels`,
 /// `bucket_patches`) have four edge slots per patch whatever the domain, so
 /// the printers emit one entry for both. A triangle's slot 3 is not an edge:
 /// its level is 1, the smallest level, which leaves the bucket (the largest
 /// of the four) unchanged and which the triangle `eval_adaptive` never reads.
-pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
+pub fn patch_edge_level_fn(curve_const: usize, sides: u32, points: u32) -> Function {
     let mut f = Function::new(
         "patch_edge_level",
         if sides == 4 {
-            "Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the \
-             patch corners (EDGE_CURVE points 0 and 3: shared control points, the same bits in \
-             both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id \
-             face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level."
+            format!(
+                "Level of edge k (v_k -> v_(k+1)) of the patch of face `face`: its end points are the \
+                 patch corners (EDGE_CURVE points 0 and {}: shared control points, the same bits in \
+                 both patches), its vertices corner_vertex[4·face + k], [4·face + (k+1)%4], its id \
+                 face_edges[4·face + k]; tessgen_edge_factor_runtime, then tessgen_edge_level.",
+                points - 1
+            )
         } else {
             "Level of edge k (v_k -> v_(k+1)) of the triangle patch of face `face`: its end points \
              are the patch corners (EDGE_CURVE points 0 and 3: shared control points, the same \
@@ -126,6 +129,7 @@ pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
              its id face_edges[3·face + k]; tessgen_edge_factor_runtime, then \
              tessgen_edge_level. Slot k = 3 is not an edge (the classify buffers keep four slots \
              per patch): level 1, neutral for the bucket."
+                .to_string()
         },
     );
     let face = f.param("face", Ty::U32);
@@ -160,9 +164,12 @@ pub fn patch_edge_level_fn(curve_const: usize, sides: u32) -> Function {
     }
     f.body.extend([
         Stmt::Let(k1, bin(BinOp::Rem, add(l(k), u(1)), u(sides))),
-        Stmt::Let(curve, add(mul(l(class), u(4 * sides)), mul(l(k), u(4)))),
+        Stmt::Let(
+            curve,
+            add(mul(l(class), u(points * sides)), mul(l(k), u(points))),
+        ),
         Stmt::Let(a, corner(0)),
-        Stmt::Let(b, corner(3)),
+        Stmt::Let(b, corner(points as usize - 1)),
         Stmt::Let(
             va,
             fetch(Resource::CornerVertex, add(mul(l(face), u(sides)), l(k))),

@@ -97,24 +97,53 @@ pub fn common_module(table: &StencilTable) -> Module {
     m.functions.push(f);
 
     // The shared edge evaluator.
+    m.functions.push(edge_fn(4));
+    m.functions.push(edge_factor_fn(false));
+    m.functions.push(edge_factor_fn(true));
+    m.functions.push(crate::lower::adaptive::edge_level_fn());
+    m.functions.push(crate::lower::adaptive::bucket_level_fn());
+    m.functions.push(crate::lower::refine::refine_vertex_fn());
+    m.functions.push(patch_normal_fn());
+    m
+}
+
+/// The shared edge evaluator of boundary curves with `points` control
+/// points: `tessgen_edge` (cubic, in the common module) or `tessgen_edge4`
+/// (quartic, [`Form::Gregory4`](crate::plan::form::Form::Gregory4): emitted
+/// in the modules of the schemes that have such boundaries). Symmetric de
+/// Casteljau with integer-formed weights, `precise`: the two patches of an
+/// edge get the same bits (watertight.md Rules 1–2).
+pub(crate) fn edge_fn(points: usize) -> Function {
+    let degree = points - 1;
+    let (name, what) = if degree == 3 {
+        (
+            EDGE_FN.to_string(),
+            "cubic boundary curve `b0..b3`".to_string(),
+        )
+    } else {
+        (
+            format!("{EDGE_FN}{degree}"),
+            format!("degree-{degree} boundary curve `b0..b{degree}`"),
+        )
+    };
     let mut f = Function::new(
-        EDGE_FN,
-        "Point `i/level` along the cubic boundary curve `b0..b3`. The two patches of an edge \
-         call this with reversed points and `level - i`; both weights come from integers, so \
-         every lerp is `x·l + y·r` on one side and `y·r + x·l` on the other: the same bits. \
-         Corners return the corner point itself.",
+        name,
+        format!(
+            "Point `i/level` along the {what}. The two patches of an edge \
+             call this with reversed points and `level - i`; both weights come from integers, so \
+             every lerp is `x·l + y·r` on one side and `y·r + x·l` on the other: the same bits. \
+             Corners return the corner point itself."
+        ),
     );
     f.precise = true;
-    let b: Vec<LocalId> = (0..4).map(|i| f.param(format!("b{i}"), Ty::Vec3)).collect();
+    let b: Vec<LocalId> = (0..points)
+        .map(|i| f.param(format!("b{i}"), Ty::Vec3))
+        .collect();
     let i = f.param("i", Ty::U32);
     let level = f.param("level", Ty::U32);
     f.ret = Some(Ty::Vec3);
     let wl = f.local("l", Ty::F32);
     let wr = f.local("r", Ty::F32);
-    // The lerps are written out here rather than calling tessgen_cubic, so
-    // that `precise` on this function covers every operation of the path.
-    let c: Vec<LocalId> = (0..3).map(|k| f.local(format!("c{k}"), Ty::Vec3)).collect();
-    let d: Vec<LocalId> = (0..2).map(|k| f.local(format!("d{k}"), Ty::Vec3)).collect();
     f.body = vec![
         Stmt::If(
             bin(BinOp::Eq, l(i), u(0)),
@@ -123,7 +152,7 @@ pub fn common_module(table: &StencilTable) -> Module {
         ),
         Stmt::If(
             bin(BinOp::Eq, l(i), l(level)),
-            vec![Stmt::Return(l(b[3]))],
+            vec![Stmt::Return(l(b[degree]))],
             vec![],
         ),
         Stmt::Let(wr, div(to_f32(l(i)), to_f32(l(level)))),
@@ -138,23 +167,23 @@ pub fn common_module(table: &StencilTable) -> Module {
             )],
         ),
     ];
-    for k in 0..3 {
-        f.body
-            .push(Stmt::Let(c[k], lerp(l(b[k]), l(b[k + 1]), wl, wr)));
+    // The lerps are written out here rather than calling tessgen_cubic, so
+    // that `precise` on this function covers every operation of the path.
+    // Level k of the triangle is named c, d, e, …
+    let mut prev = b;
+    for (k, letter) in ('c'..).take(degree - 1).enumerate() {
+        let next: Vec<LocalId> = (0..degree - k)
+            .map(|j| f.local(format!("{letter}{j}"), Ty::Vec3))
+            .collect();
+        for (j, id) in next.iter().enumerate() {
+            f.body
+                .push(Stmt::Let(*id, lerp(l(prev[j]), l(prev[j + 1]), wl, wr)));
+        }
+        prev = next;
     }
-    for k in 0..2 {
-        f.body
-            .push(Stmt::Let(d[k], lerp(l(c[k]), l(c[k + 1]), wl, wr)));
-    }
-    f.body.push(Stmt::Return(lerp(l(d[0]), l(d[1]), wl, wr)));
-    m.functions.push(f);
-    m.functions.push(edge_factor_fn(false));
-    m.functions.push(edge_factor_fn(true));
-    m.functions.push(crate::lower::adaptive::edge_level_fn());
-    m.functions.push(crate::lower::adaptive::bucket_level_fn());
-    m.functions.push(crate::lower::refine::refine_vertex_fn());
-    m.functions.push(patch_normal_fn());
-    m
+    f.body
+        .push(Stmt::Return(lerp(l(prev[0]), l(prev[1]), wl, wr)));
+    f
 }
 
 /// `tessgen_patch_normal(a, b)`: the unit normal `a × b / |a × b|` of a quad

@@ -8,6 +8,7 @@ pub(crate) fn eval_fn(
     surfaces: &[usize],
     curve_const: usize,
     sides: u32,
+    edge_fn: FnRef,
 ) -> Function {
     let mut f = Function::new(
         "eval",
@@ -155,12 +156,18 @@ pub(crate) fn eval_fn(
             ],
         )
     };
+    // Cubic boundaries (4 points) or quartic ones (5, Form::Gregory4):
+    // every class of a scheme has the same.
+    let points = patches.first().map_or(4, |p| p.form.curve_points());
     let base = f.local("curve", Ty::U32);
-    let b: Vec<LocalId> = (0..4).map(|i| f.local(format!("b{i}"), Ty::Vec3)).collect();
+    let b: Vec<LocalId> = (0..points)
+        .map(|i| f.local(format!("b{i}"), Ty::Vec3))
+        .collect();
     let mut boundary = select;
+    let pts = points as u32;
     boundary.push(Stmt::Let(
         base,
-        add(mul(l(class), u(4 * sides)), mul(l(edge), u(4))),
+        add(mul(l(class), u(pts * sides)), mul(l(edge), u(pts))),
     ));
     for (k, bk) in b.iter().enumerate() {
         boundary.push(Stmt::Let(
@@ -178,8 +185,8 @@ pub(crate) fn eval_fn(
         sample,
         0,
         call(
-            FnRef::Common(common_fn::EDGE),
-            vec![l(b[0]), l(b[1]), l(b[2]), l(b[3]), l(t), l(level)],
+            edge_fn,
+            b.iter().map(|x| l(*x)).chain([l(t), l(level)]).collect(),
         ),
     ));
     // The boundary path can be compiled out (GLSL/HLSL only) as a negative

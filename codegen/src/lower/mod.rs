@@ -101,18 +101,34 @@ pub fn scheme_module(
             function: idx,
         });
     }
-    // Boundary curves of every class, flattened: [class][edge][4].
+    // Boundary curves of every class, flattened: [class][edge][points].
     let mut curves = Vec::new();
     for pe in &patches {
         for e in 0..pe.form.sides() {
             curves.extend(pe.form.edge_curve(e).iter().map(|&x| x as u32));
         }
     }
+    let points = patches.first().map_or(4, |p| p.form.curve_points());
     let curve_const = m.add_const(
         "EDGE_CURVE",
-        "Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.",
+        &if points == 4 {
+            "Control-point indices of each class's cubic boundary curves: [class][edge][4], edge k runs v_k → v_{k+1}.".to_string()
+        } else {
+            format!("Control-point indices of each class's boundary curves of degree {}: [class][edge][{points}], edge k runs v_k → v_{{k+1}}.", points - 1)
+        },
         ConstValue::U32Array(curves),
     );
+    // Quartic boundaries: the module's own shared edge evaluator and the
+    // quartic de Casteljau step of its surfaces (cubic schemes call the
+    // common ones and emit neither).
+    let (edge_fn, quartic) = if points == 4 {
+        (FnRef::Common(common_fn::EDGE), None)
+    } else {
+        m.functions.push(crate::lower::common::edge_fn(points));
+        m.functions.push(quartic_fn());
+        let n = m.functions.len();
+        (FnRef::Local(n - 2), Some(n - 1))
+    };
     let mut surfaces = Vec::new();
     // Triangle forms: the surface at float barycentric weights, per class.
     let mut surfaces_at = Vec::new();
@@ -122,6 +138,7 @@ pub fn scheme_module(
             Form::CPatch => cpatch_surface(pe.class),
             Form::Acc => acc_surface(pe.class),
             Form::Gregory => gregory_surface(pe.class),
+            Form::Gregory4 => gregory4_surface(pe.class, quartic.unwrap_or_default()),
             Form::TriCubic => {
                 let at = m.functions.len();
                 m.functions.push(tri_cubic_surface_at(pe.class));
@@ -135,7 +152,7 @@ pub fn scheme_module(
     let sides = s.facet.sides() as u32;
     let eval = m.functions.len();
     m.functions
-        .push(eval_fn(&patches, &surfaces, curve_const, sides));
+        .push(eval_fn(&patches, &surfaces, curve_const, sides, edge_fn));
     let eval_domain = if sides == 3 && surfaces_at.len() == patches.len() {
         m.functions.push(eval_domain_fn(eval, &surfaces_at));
         Some(m.functions.len() - 1)
@@ -182,6 +199,7 @@ pub fn scheme_module(
             .push(crate::lower::adaptive::patch_edge_level_fn(
                 curve_const,
                 sides,
+                points as u32,
             ));
         let eval_a = m.functions.len();
         m.functions

@@ -390,7 +390,8 @@ fn control(entries: &Entries, curve_const: usize, local: bool) -> Function {
     let mut factors = Vec::new();
     for k in 0..sides {
         let fk = f.local(format!("f_{k}"), Ty::F32);
-        let curve = add(mul(param("class"), u(4 * sides)), u(4 * k));
+        let pts = entries.curve_points();
+        let curve = add(mul(param("class"), u(pts * sides)), u(pts * k));
         let corner = |c: u32| add(mul(l(face), u(sides)), u(c));
         adaptive.push(Stmt::Let(
             fk,
@@ -403,7 +404,7 @@ fn control(entries: &Entries, curve_const: usize, local: bool) -> Function {
                     ),
                     fetch(
                         Resource::ControlPoints,
-                        Expr::ConstIndex(curve_const, Box::new(add(curve, u(3)))),
+                        Expr::ConstIndex(curve_const, Box::new(add(curve, u(pts - 1)))),
                     ),
                     fetch(Resource::CornerVertex, corner(k)),
                     fetch(Resource::CornerVertex, corner((k + 1) % sides)),

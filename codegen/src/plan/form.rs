@@ -2,8 +2,8 @@
 //! patch stage can produce, and what their control points mean.
 //!
 //! A form names its per-corner control-point slots (what a scheme's `out`
-//! statements must fill), how they are stored, and which four stored points
-//! make up the cubic boundary curve of each edge (the curve the shared edge
+//! statements must fill), how they are stored, and which stored points (four for a cubic, five for a quartic)
+//! make up the boundary curve of each edge (the curve the shared edge
 //! evaluator works on). How a form is *evaluated* is lowered into the Plan by
 //! [`crate::lower`]; printers never see a form.
 
@@ -27,6 +27,16 @@ pub enum Form {
     /// Gregory patch (`spec/gregory.md`): 20 points stored `5i + {p, ep, em,
     /// fp, fm}` (OpenSubdiv order), interior points blended rationally.
     Gregory,
+    /// Biquartic Gregory patch (`docs/g1cc.md` round 6): a 5×5 Bézier net
+    /// whose four twist points are rationally blended pairs, as in
+    /// [`Form::Gregory`]: 29 points stored `7i + {p, ep, em, m, fp, fm, g}`
+    /// and the centre `center` at 28. Per corner i: the corner `p`, the
+    /// boundary points next to it toward corner i+1 (`ep`) and i−1 (`em`),
+    /// the middle point `m` of edge i (i → i+1), the twist point serving
+    /// edge i (`fp`) and edge i−1 (`fm`), and the middle point `g` of the
+    /// row next to edge i. Its boundary curves are quartics (five points):
+    /// the shared edge evaluator is the quartic one.
+    Gregory4,
     /// Cubic Bézier triangle with a quadratic normal field (`spec/pn.md`):
     /// per corner i the vertex point `b`, the edge points next to it toward
     /// corner i+1 (`bn`) and i−1 (`bp`), the normal coefficient `n` and the
@@ -62,6 +72,7 @@ impl Form {
             "cpatch" => Some(Form::CPatch),
             "acc" => Some(Form::Acc),
             "gregory" => Some(Form::Gregory),
+            "gregory4" => Some(Form::Gregory4),
             "tri_cubic" => Some(Form::TriCubic),
             _ => None,
         }
@@ -73,12 +84,14 @@ impl Form {
             Form::CPatch => "cpatch",
             Form::Acc => "acc",
             Form::Gregory => "gregory",
+            Form::Gregory4 => "gregory4",
             Form::TriCubic => "tri_cubic",
         }
     }
 
     /// Every form name, for error messages.
-    pub const NAMES: &'static str = "`bicubic`, `cpatch`, `acc`, `gregory` or `tri_cubic`";
+    pub const NAMES: &'static str =
+        "`bicubic`, `cpatch`, `acc`, `gregory`, `gregory4` or `tri_cubic`";
 
     /// Corners of the facet the form covers (4 for quads, 3 for triangles).
     pub fn sides(self) -> usize {
@@ -92,7 +105,7 @@ impl Form {
     /// per-corner ones.
     pub fn single_slots(self) -> &'static [&'static str] {
         match self {
-            Form::TriCubic => &["center"],
+            Form::TriCubic | Form::Gregory4 => &["center"],
             _ => &[],
         }
     }
@@ -116,6 +129,7 @@ impl Form {
                 "b00", "b10", "b01", "b11", "da00", "da01", "da10", "da11", "db00", "db10",
             ],
             Form::Gregory => &["p", "ep", "em", "fp", "fm"],
+            Form::Gregory4 => &["p", "ep", "em", "m", "fp", "fm", "g"],
             Form::TriCubic => &["b", "bn", "bp", "n", "nm"],
         }
     }
@@ -200,27 +214,42 @@ impl Form {
             Form::Acc if slot < 4 => Form::Bicubic.storage_index(corner, slot),
             Form::Acc => 16 + 6 * corner + (slot - 4),
             Form::Gregory | Form::TriCubic => 5 * corner + slot,
+            Form::Gregory4 => 7 * corner + slot,
         }
     }
 
-    /// Stored indices of the cubic boundary curve of local edge `edge`
-    /// (`v_edge → v_{edge+1}`), in that direction.
-    pub fn edge_curve(self, edge: usize) -> [usize; 4] {
+    /// Points of each boundary curve: 4 (cubic) or 5 (quartic,
+    /// [`Form::Gregory4`]). Every class of a scheme must agree, because an
+    /// edge between two classes is one curve evaluated from both sides.
+    pub fn curve_points(self) -> usize {
+        match self {
+            Form::Gregory4 => 5,
+            _ => 4,
+        }
+    }
+
+    /// Stored indices of the boundary curve of local edge `edge`
+    /// (`v_edge → v_{edge+1}`), in that direction: [`Form::curve_points`]
+    /// of them.
+    pub fn edge_curve(self, edge: usize) -> Vec<usize> {
         let next = (edge + 1) % self.sides();
         match self {
             // b00 of corner k, b10 of corner k, b01 of corner k+1, b00 of corner k+1.
-            Form::Bicubic | Form::Acc => [
+            Form::Bicubic | Form::Acc => vec![
                 self.storage_index(edge, 0),
                 self.storage_index(edge, 1),
                 self.storage_index(next, 2),
                 self.storage_index(next, 0),
             ],
             // (v^i, t^i_0, t^{i+1}_1, v^{i+1}) — pccm.md §4.1.
-            Form::CPatch => [6 * edge, 6 * edge + 1, 6 * next + 2, 6 * next],
-            // (P_k, E_k⁺, E_{k+1}⁻, P_{k+1}) — gregory.md §2.
+            Form::CPatch => vec![6 * edge, 6 * edge + 1, 6 * next + 2, 6 * next],
             // (P_k, E_k⁺, E_{k+1}⁻, P_{k+1}) — gregory.md §2; the triangle's
             // (b_k, bn_k, bp_{k+1}, b_{k+1}) has the same layout.
-            Form::Gregory | Form::TriCubic => [5 * edge, 5 * edge + 1, 5 * next + 2, 5 * next],
+            Form::Gregory | Form::TriCubic => {
+                vec![5 * edge, 5 * edge + 1, 5 * next + 2, 5 * next]
+            }
+            // (P_k, E_k⁺, M_k, E_{k+1}⁻, P_{k+1}): the quartic boundary.
+            Form::Gregory4 => vec![7 * edge, 7 * edge + 1, 7 * edge + 3, 7 * next + 2, 7 * next],
         }
     }
 }
@@ -259,14 +288,20 @@ mod tests {
             Form::CPatch,
             Form::Acc,
             Form::Gregory,
+            Form::Gregory4,
             Form::TriCubic,
         ] {
             for e in 0..f.sides() {
                 let c = f.edge_curve(e);
+                assert_eq!(c.len(), f.curve_points());
                 assert_eq!(c[0], f.storage_index(e, 0));
-                assert_eq!(c[3], f.storage_index((e + 1) % f.sides(), 0));
+                assert_eq!(c[c.len() - 1], f.storage_index((e + 1) % f.sides(), 0));
             }
         }
+        // Gregory4: 29 points, the centre last; edge 1 is (P1, E1+, M1, E2-, P2).
+        assert_eq!(Form::Gregory4.num_points(), 29);
+        assert_eq!(Form::Gregory4.single_index(0), 28);
+        assert_eq!(Form::Gregory4.edge_curve(1), vec![7, 8, 10, 16, 14]);
         // Bicubic edge 0 is the row v = 0: G[0][0], G[1][0], G[2][0], G[3][0].
         assert_eq!(Form::Bicubic.edge_curve(0), [0, 4, 8, 12]);
         // Edge 2 runs v2 -> v3 along v = 1, u decreasing.

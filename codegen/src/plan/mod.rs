@@ -612,6 +612,17 @@ pub struct Entries {
     pub instanced: Vec<EntryItem>,
 }
 
+impl Entries {
+    /// Points of each boundary curve in `EDGE_CURVE` (the stride of its
+    /// `[class][edge]` entries): 4 for cubic boundaries, 5 for quartic ones
+    /// (every class of a scheme agrees; the front end checks it).
+    pub fn curve_points(&self) -> u32 {
+        self.patches
+            .first()
+            .map_or(4, |p| p.form.curve_points() as u32)
+    }
+}
+
 /// How an entry point is invoked.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EntryKind {

@@ -7,11 +7,13 @@ mod acc;
 mod bicubic;
 mod cpatch;
 mod gregory;
+mod gregory4;
 mod tri;
 pub(crate) use acc::*;
 pub(crate) use bicubic::*;
 pub(crate) use cpatch::*;
 pub(crate) use gregory::*;
+pub(crate) use gregory4::*;
 pub(crate) use tri::*;
 
 /// Integer-formed weight pair `((level - i)/level, i/level)`.
