@@ -86,6 +86,12 @@ pub fn builtin_schemes() -> Vec<SchemeSource> {
             "codegen/schemes/phong.tess",
             include_str!("../schemes/phong.tess"),
         ),
+        // Last, so the other schemes' table rows and generated code stay
+        // where they were.
+        SchemeSource::new(
+            "codegen/schemes/g1cc.tess",
+            include_str!("../schemes/g1cc.tess"),
+        ),
     ]
 }
 

@@ -39,10 +39,13 @@ Usage:
   python3 docs/verify/g1cc_quartic_verify.py --bound         # best unconstrained polynomials (~3 min)
   python3 docs/verify/g1cc_quartic_verify.py --sectors       # + meshes with boundaries and creases (~1 min)
   python3 docs/verify/g1cc_quartic_verify.py --holdout       # + valences 17..32 on held-out meshes (~1 min)
+  python3 docs/verify/g1cc_quartic_verify.py --tess PATH     # write the scheme file g1cc.tess + its checks (~10 s)
 """
+import functools
 import json
 import math
 import os
+import re
 import sys
 import time
 from math import comb
@@ -653,12 +656,12 @@ def bound(M=17, K=5):
     return out
 
 
-def sectors(table):
-    """Meshes with boundaries and creases: sectors_verify.py's sector treatment (docs/boundaries.md:
-    virtual rings, crease/corner v, sharp edge points, exact crease tangents for m >= 3) carried
-    over to this form's outputs; at sharp positions e and h are the crease curve's, degree
-    elevated (e = v + 3/4 (c1 - v), h = c1 / 2, c1 = (2p + q_j) / 3). A first probe: the per-valence
-    constants are the closed-mesh fit, used at the virtual valence n' = 2m."""
+def sector_probe(table):
+    """sectors_verify.py (returned) with this form registered as scheme 'g1cc_quartic': its
+    vertex block and sector overrides (docs/boundaries.md: virtual rings, crease/corner v, sharp
+    edge points, exact crease tangents for m >= 3) carried over to this form's outputs; at sharp
+    positions e and h are the crease curve's, degree elevated (e = v + 3/4 (c1 - v), h = c1 / 2,
+    c1 = (2p + q_j) / 3). The per-valence constants are the closed-mesh fit, at n' = 2m."""
     import sectors_verify as SV
 
     def block(P, n, hook):
@@ -688,6 +691,12 @@ def sectors(table):
             o['t'] = (False, SV.ov_t_exact_vec)
         return o
     SV.overrides = overrides
+    return SV
+
+
+def sectors(table):
+    """Meshes with boundaries and creases: the sector treatment of `sector_probe`. A first probe."""
+    SV = sector_probe(table)
     pts = [(SV.T9[ii], SV.T9[jj]) for jj in range(9) for ii in range(9)]
     pts += [(abs(SV.T9[ii] - SV.EPS_CORNER), abs(SV.T9[jj] - SV.EPS_CORNER)) for jj, ii in SV.CORNER_SAMPLES]
     W = basis([p[0] for p in pts], [p[1] for p in pts])
@@ -756,6 +765,269 @@ def holdout(table):
         print(f'  {key}: {math.sqrt((D ** 2).mean()):.3f} / {math.sqrt((A ** 2).mean()):.3f} (max {D.max():.1f} % / {A.max():.1f}°)')
 
 
+# ==================================================================== the scheme file (--tess)
+# The construction above in the scheme language (codegen/schemes/*.tess): each definition's text is
+# written to the file and, in `check_tess`, evaluated by Python as it stands (p[...] read from the
+# ring, sum(k, x) over k as an array axis, families as lists whose indices wrap).
+QP, DP = '(p[2 * k] - p)', '(p[2 * k + 1] - p)'
+
+
+def _angle(m, off):
+    """2 pi m (k - j + off / 2) / n, off = -1, 0, 1 half steps."""
+    if off == 0:
+        return f'{2 * m} * pi * (k - j) / n'
+    return ('' if m == 1 else f'{m} * ') + f"pi * (2 * (k - j) {'+' if off > 0 else '-'} 1) / n"
+
+
+def _harm(coef, fn, off, x, ms):
+    """coef_m * sum_k fn(angle_m) x_k for m in ms (m = 0: fn = 1), without the 1/n."""
+    return [f'{coef}{m} * sum(k, {x.strip("()")})' if m == 0 else f'{coef}{m} * sum(k, {fn}({_angle(m, off)}) * {x})'
+            for m in ms]
+
+
+CONSTS = [('c', 'cos(2 * pi / n)'), ('sigma', '1 / sqrt(4 + cos(pi / n) * cos(pi / n))')]
+# (keyword, name, expression) or ('//', '', comment); '\n' marks a line break
+VERTEX = [
+    ('//', '', 'B-spline face point, used by ordinary quads only.'),
+    ('', 'f[j]', '(4 * p + 2 * p[2 * j] + 2 * p[2 * j + 2] + p[2 * j + 1]) / 9'),
+    ('//', '', 'Catmull-Clark limit point, moved along the two symmetric ring directions.'),
+    ('', 'v', '(n * n * p + 4 * sum(k, p[2 * k]) + sum(k, p[2 * k + 1])) / (n * (n + 5))\n'
+     '+ PA * (p - sum(k, p[2 * k]) / n) + PB * (p - sum(k, p[2 * k + 1]) / n)'),
+    ('//', '', 'Limit tangent toward q_j, its edge and face parts scaled by A and B; e[j] = v + t[j] / 4.'),
+    ('let', 't[j]', 'sum(k,\nA * (1 + cos(pi / n) * sigma) / n * cos(2 * pi * (k - j) / n) * p[2 * k]\n'
+     '+ B * sigma / n * cos((2 * (k - j) + 1) * pi / n) * p[2 * k + 1])'),
+    ('', 'e[j]', 'v + t[j] / 4'),
+    ('//', '', 'hm = 2h, h = v/2 + cosine harmonics about edge j (an edge\'s middle point is\n'
+     '(hm_a + hm_b) / 2); harmonic m: (1/n) sum_k cos(2 pi m (k - j + o) / n) (x_k - p),\n'
+     'o = 0 for x = q, 1/2 for x = d.'),
+    ('', 'hm[j]', 'v + 2 * (' + '\n+ '.join(_harm('al', 'cos', 0, QP, range(NH + 1)) + _harm('be', 'cos', 1, DP, range(NH + 1)))
+     + ') / n'),
+    ('//', '', 'Sine harmonics about edge j: R_k of the row next to the edge (k = 1, 2, 3).'),
+] + [('vector', f'R{r}[j]', '(' + '\n+ '.join(_harm(f'R{r}q', 'sin', 0, 'p[2 * k]', range(1, NH + 1))
+                                               + _harm(f'R{r}d', 'sin', 1, 'p[2 * k + 1]', range(1, NH + 1))) + ') / n')
+     for r in (1, 2, 3)] + [
+    ('//', '', "Cosine harmonics about the face diagonal d_j: the corner's share of the patch centre."),
+    ('vector', 'gc[j]', '(' + '\n+ '.join(_harm('gq', 'cos', -1, QP, range(NH + 1)) + _harm('gd', 'cos', 0, DP, range(NH + 1)))
+     + ') / n')]
+OUTPUTS = ['f', 'v', 'e', 'hm', 'R1', 'R2', 'R3', 'gc']
+SECTOR_V = {'crease': '(p[0] + 4 * p + p[2 * m]) / 6', 'corner': 'p'}
+SHARP = [('e[j]', '(v + 2 * p + p[2 * j]) / 4'), ('hm[j]', '(2 * p + p[2 * j]) / 3')]
+CREASE_T = '''let th = pi / m;
+let lam = (cos(th) + 5 + sqrt((cos(th) + 9) * (cos(th) + 1))) / 16;
+let wf = 1 / (m * (3 + cos(th)));
+let we = 4 * (4 * lam - 1) * wf;
+let wc = ((3 * we / 8 + wf / 2) * cos(th / 2) / sin(th / 2)
+    + (lam - 0.75) * (we / 2 + 2 * wf) * sin(th))
+    / (8 * (lam - 0.75) * (lam - 0.5) - 1);
+let across = sum(k, (if k < m { 1 } else { 0 })
+        * (wf * (sin(k * th) + sin((k + 1) * th)) * (p[2 * k + 1] - p)
+            + we * sin(k * th) * (p[2 * k] - p)))
+    + wc * (p[0] + p[2 * m] - 2 * p);
+t[j] = if m < 3 {
+    t[j]
+} else {
+    cos(j * th) * (p[0] - p[2 * m]) / 2 + sin(j * th) * across
+};'''
+BOUNDARY = [
+    ('//', '', 'Edge i runs from corner i (its position 0) to corner i+1 (its position 1): its quartic\n'
+     'boundary is v(i), e(i, 0), mid[i], e(i + 1, 1), v(i + 1). Both faces of the edge add the\n'
+     'same two outputs, so the shared curve is the same bits.'),
+    ('', 'mid[i]', '(hm(i, 0) + hm(i + 1, 1)) * 0.5'),
+    ('out', 'p[i]', 'v(i)'), ('out', 'ep[i]', 'e(i, 0)'), ('out', 'em[i]', 'e(i, 1)'), ('out', 'm[i]', 'mid[i]')]
+ORDINARY = BOUNDARY + [
+    ('//', '', 'The interior from the cubic net (v, e3 = (4e - v) / 3, f), degree-elevated.'),
+    ('', 'b11[i]', '(4 * e(i, 0) + 4 * e(i, 1) - v(i) + 9 * f(i, 0)) / 16'),
+    ('out', 'fp[i]', 'b11[i]'), ('out', 'fm[i]', 'b11[i]'),
+    ('out', 'g[i]', '(4 * e(i, 0) - v(i) + 4 * e(i + 1, 1) - v(i + 1)\n+ 9 * f(i, 0) + 9 * f(i + 1, 0)) / 24'),
+    ('out', 'center', 'sum(k, f(k, 0)) / 4')]
+EXTRAORDINARY = BOUNDARY + [
+    ('//', '', 'The row next to edge i: b_k1 = P_k + rho_k / 2 + R_k(i, 0) - R_{4-k}(i + 1, 1), with\n'
+     'rho_k = (4 - k)/4 l0 tau_k + k/4 l1 tau_{k-1}, tau_k = P_{k+1} - P_k, l0 = 2 c(i) and\n'
+     'l1 = -2 c(i + 1): fp[i] is b_11 of edge i, g[i] its b_21, fm[i] the b_31 of edge i - 1.'),
+    ('out', 'fp[i]', 'e(i, 0) + (3 * c(i) * (mid[i] - e(i, 0)) - c(i + 1) * (e(i, 0) - v(i))) / 4\n'
+     '+ R1(i, 0) - R3(i + 1, 1)'),
+    ('out', 'g[i]', 'mid[i] + (c(i) * (e(i + 1, 1) - mid[i]) - c(i + 1) * (mid[i] - e(i, 0))) / 2\n'
+     '+ R2(i, 0) - R2(i + 1, 1)'),
+    ('out', 'fm[i]', 'e(i, 1) + (c(i - 1) * (v(i) - e(i, 1)) - 3 * c(i) * (e(i, 1) - mid[i - 1])) / 4\n'
+     '+ R3(i - 1, 0) - R1(i, 1)'),
+    ('out', 'center', 'sum(k, v(k) + gc(k, 0)) / 4')]
+HEADER = f'''g1cc: G¹ biquartic Gregory patches fitted to the Catmull-Clark limit (issue 20; docs/g1cc.md
+round 6, "The form"). Per vertex: v near the limit point, edge points e in the exact limit
+tangent plane, hm = 2h (the quartic boundary's middle point is (hm_a + hm_b) / 2, one output
+from each end), the antisymmetric vectors R1..R3 of the row next to an edge, and gc, the
+corner's share of the patch centre: 38 constants per valence, fitted by one linear
+least-squares solve against the exact limit (docs/verify/g1cc_quartic_table.json, wn = {FIT_WN:g}).
+G¹ for every value of the constants; ordinary quads are the bicubic B-spline, degree-elevated.
+Generated by `python3 docs/verify/g1cc_quartic_verify.py --tess codegen/schemes/g1cc.tess`;
+do not edit by hand.'''
+
+
+def _defs(defs, ind):
+    out = []
+    for kw, name, text in defs:
+        if kw == '//':
+            out += [ind + '// ' + s for s in text.split('\n')]
+            continue
+        out += (ind + (kw + ' ' if kw else '') + f'{name} = {text};').replace('\n', '\n' + ind + '    ').split('\n')
+    return out
+
+
+def _const(name, vals):
+    """`const NAME = if n == 3 { .. } else if .. else { <last row> };`, wrapped at 100 columns."""
+    ns = sorted(vals)
+    parts = [f'if n == {n} {{ {vals[n]!r} }}' for n in ns[:-1]] + [f'{{ {vals[ns[-1]]!r} }};']
+    lines, cur = [], f'    const {name} ='
+    for k, s in enumerate(parts):
+        s = s if k == 0 else 'else ' + s
+        if len(cur) + len(s) + 1 > 100:
+            lines.append(cur); cur = '       '
+        cur += ' ' + s
+    return lines + [cur]
+
+
+def write_tess(table, path):
+    ns = sorted(map(int, table))
+    assert ns == list(range(3, MAX_N + 1))
+    L = ['/// ' + s for s in HEADER.split('\n')] + ['scheme g1cc {', '    facet quad;', '']
+    L += [f'    const {name} = {text};' for name, text in CONSTS]
+    L += [f'    // The fitted constants of valences 3..{MAX_N}; valences above {MAX_N} take the n = {MAX_N} row.']
+    for nm in NAMES:
+        L += _const(nm, {n: table[str(n)][nm] for n in ns})
+    L += ['', '    vertex {'] + _defs(VERTEX, ' ' * 8) + ['    }', '']
+    L += ['    // Crease and corner vertices (docs/boundaries.md), as the --sectors probe of docs/g1cc.md',
+          "    // round 6: the crease and corner v; at the sharp edges the crease curve's cubic Bézier points",
+          '    // (v, c1 = (2p + q_j) / 3) degree-elevated, e = v + 3/4 (c1 - v) and hm = 2h = c1; for creases',
+          '    // of m ≥ 3 faces the exact limit tangents t = T_j of `gregory` (e = v + T_j / 4). Every other',
+          "    // output is the scheme's own on the virtual ring, with the constants of n' = 2m."]
+    for kind in ('crease', 'corner'):
+        L += [f'    sector {kind} {{', f'        v = {SECTOR_V[kind]};']
+        L += [f'        sharp {name} = {text};' for name, text in SHARP]
+        L += ['        ' + s if s else s for s in CREASE_T.split('\n')] if kind == 'crease' else []
+        L += ['    }']
+    for cls, defs in (('ordinary', ORDINARY), ('extraordinary', EXTRAORDINARY)):
+        L += ['', f'    patch {cls}: gregory4 {{'] + _defs(defs, ' ' * 8) + ['    }']
+    L += ['}']
+    with open(path, 'w') as fh:
+        fh.write('\n'.join(L) + '\n')
+    print(f'wrote {path} ({len(L)} lines)')
+
+
+class _Fam(list):
+    """A family over ring positions or corners: its indices wrap."""
+
+    def __getitem__(s, i): return list.__getitem__(s, i % len(s))
+
+
+class _Ring:
+    """p[i]: ring slot 1 + i mod 2n; an array of indices gives one row each."""
+
+    def __init__(s, P): s.P = P
+    def __getitem__(s, i): return s.P[1 + np.ravel(i) % (len(s.P) - 1)] if np.ndim(i) else s.P[1 + i % (len(s.P) - 1)]
+
+
+@functools.lru_cache(None)
+def _code(text):
+    return compile(re.sub(r'\bp\[', 'ring[', ' '.join(text.split())), '<tess>', 'eval')
+
+
+def _eval(text, ns):
+    return eval(_code(text), ns)
+
+
+def _consts(table, n):
+    C = dict(table[str(min(n, MAX_N))], n=n, pi=math.pi, cos=np.cos, sin=np.sin, sqrt=np.sqrt,
+             sum=lambda _, x: x.sum(0))
+    for name, text in CONSTS:
+        C[name] = _eval(text, C)
+    return C
+
+
+def _vertex(P, n, C, over=None, m=None):
+    """Every vertex definition at every ring position; over: name -> (sharp, text or fn(P, m, j))."""
+    ns = dict(C, p=P[0], ring=_Ring(P), k=np.arange(n)[:, None], m=m)
+    for _, name, text in (d for d in VERTEX if d[0] != '//'):
+        key = name.split('[')[0]
+        sharp, alt = (over or {}).get(key, (False, None))
+
+        def one(j):
+            ns['j'] = j
+            if alt is None or (sharp and j not in (0, m)):
+                return _eval(text, ns)
+            return alt(P, m, j) if callable(alt) else _eval(alt, ns)
+        ns[key] = _Fam(one(j) for j in range(n)) if '[' in name else one(None)
+    return ns
+
+
+def _tess_cps(defs, corners):
+    """The 29 points (KEYS order) by a patch block's texts; corners: [(vertex defs, n, j)] CCW."""
+    def reader(name):
+        def get(i, o=0):
+            if np.ndim(i):
+                return np.array([get(x, o) for x in np.ravel(i)])
+            V, n, ja = corners[i % 4]
+            return V[name][ja + o] if isinstance(V[name], _Fam) else V[name]
+        return get
+    ns = {name: reader(name) for name in OUTPUTS + ['c']}
+    ns.update(k=np.arange(4), sum=lambda _, x: x.sum(0))
+    out = {}
+    for kw, name, text in defs:
+        if kw != '//':
+            val = _Fam(_eval(text, dict(ns, i=i)) for i in range(4)) if '[' in name else _eval(text, ns)
+            (out if kw == 'out' else ns)[name.split('[')[0]] = val
+    hv = lambda i: 'h' if i % 2 == 0 else 'v'
+    cp = {(2, 2): out['center']}
+    for i in range(4):
+        cp.update({_slot(i, 0, 0): out['p'][i], _slot(i, 1, 0): out['ep'][i], _slot(i, 2, 0): out['m'][i],
+                   _slot(i - 1, 3, 0): out['em'][i], (hv(i), _slot(i, 1, 1)): out['fp'][i],
+                   _slot(i, 2, 1): out['g'][i], (hv(i - 1), _slot(i - 1, 3, 1)): out['fm'][i]})
+    assert len(cp) == len(KEYS)
+    return np.array([cp[key] for key in KEYS])
+
+
+def check_tess(table):
+    """The written texts against `patch` (closed meshes) and the --sectors probe (sector rows)."""
+    rng = np.random.default_rng(2026); lay = table_layout(table); ok = True
+    ref = lambda cs: np.array([x.c for x in map(patch(cs).get, KEYS)])
+    worst = 0.0; faces = 0
+    for n0 in range(3, MAX_N + 1):
+        for _ in range(4):
+            vals = [int(n) for n in np.roll([n0] + list(rng.integers(3, 9, 3)), faces)]
+            Ps = [rng.normal(0, 1, (2 * n + 1, 3)) for n in vals]; js = [int(rng.integers(n)) for n in vals]
+            mine = _tess_cps(EXTRAORDINARY, [(_vertex(P, n, _consts(table, n)), n, j) for P, n, j in zip(Ps, vals, js)])
+            worst = max(worst, float(np.abs(mine - ref([(Vertex(lay, P, n), j) for P, n, j in zip(Ps, vals, js)])).max()))
+            faces += 1
+    print(f'--tess: extraordinary class vs patch(), {faces} faces of random rings (valences 3..{MAX_N} at one corner, '
+          f'3..8 at the others): max |diff| {worst:.2e}')
+    ok &= worst < 1e-12
+    V, F = torus_grid(seed=5); mesh = G.Mesh(V, F); worst = 0.0
+    for fi in range(len(F)):
+        cs = [mesh.slot(fi, i) for i in range(4)]
+        Ps = [mesh.V[[x] + mesh.rings[x]] for x, _, _ in cs]
+        mine = _tess_cps(ORDINARY, [(_vertex(P, 4, _consts(table, 4)), 4, j) for P, (_, _, j) in zip(Ps, cs)])
+        worst = max(worst, float(np.abs(mine - ref([(Vertex(lay, P, 4), j) for P, (_, _, j) in zip(Ps, cs)])).max()))
+    print(f'--tess: ordinary class vs patch(), {len(F)} faces of a noisy regular torus: max |diff| {worst:.2e}')
+    ok &= worst < 1e-12
+    SV = sector_probe(table); worst = 0.0
+    for kind in ('crease', 'corner'):
+        for m in range(1, MAX_N // 2 + 1):
+            n, rows = SV.virtual_valence(m), SV.sector_rows('g1cc_quartic', kind, m)
+            over = dict({'v': (False, SECTOR_V[kind])}, **{nm[:-3]: (True, tx) for nm, tx in SHARP})
+            if kind == 'crease' and m >= 3:
+                over['t'] = (False, SV.ov_t_exact_vec)
+            D = _vertex(SV.virtual_ring(m), n, _consts(table, n), over, m)
+            for a, b, s in [('v', 'v', 1), ('e', 'e', 1), ('hm', 'h', 2), ('R1', 'R1', 1), ('R2', 'R2', 1),
+                            ('R3', 'R3', 1), ('gc', 'g', 1)]:
+                x = np.array([D[a][j] for j in range(m + 1)]) if a != 'v' else D[a]
+                worst = max(worst, float(np.abs(x - s * rows[b]).max()))
+    same_t = ' '.join(CREASE_T.split()) in ' '.join(open(os.path.join(HERE, '..', '..', 'codegen', 'schemes',
+                                                                       'gregory.tess')).read().split())
+    print(f'--tess: sector rows vs the --sectors probe (crease and corner, m = 1..{MAX_N // 2}): max |diff| {worst:.2e}; '
+          f"crease tangents = gregory.tess's text: {'yes' if same_t else 'NO'}")
+    ok &= worst < 1e-12 and same_t
+    print('--tess checks:', 'PASS' if ok else 'FAIL')
+    return ok
+
+
 def golden(table, meshes):
     out = dict(scheme='g1cc (round 6, biquartic Gregory)', note='float64; control points in KEYS order '
                '(grid (a, b) with a along u, then the twist pairs (h = horizontal-edge point, v = vertical)); '
@@ -781,6 +1053,10 @@ def golden(table, meshes):
 
 
 def main():
+    if '--tess' in sys.argv:
+        table = json.load(open(TABLE_PATH))['table']
+        write_tess(table, sys.argv[sys.argv.index('--tess') + 1])
+        sys.exit(0 if check_tess(table) else 1)
     if '--fit' in sys.argv:
         table = fit()
         json.dump(dict(note=f'g1cc round 6 constants, fitted by g1cc_quartic_verify.py --fit (wn = {FIT_WN:g})',

@@ -14,7 +14,7 @@ const uint TABLE_WIDTH = 99u;
 const uint TABLE_BLOCK_ROWS = 4096u;
 
 // Width of the stencil texture in texels: TABLE_WIDTH per column block.
-const uint TABLE_TEXTURE_WIDTH = 198u;
+const uint TABLE_TEXTURE_WIDTH = 297u;
 
 // Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
 const uint TABLE_TEXTURE_HEIGHT = 4096u;

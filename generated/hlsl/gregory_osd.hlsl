@@ -210,7 +210,7 @@ static const uint TABLE_WIDTH = 99u;
 static const uint TABLE_BLOCK_ROWS = 4096u;
 
 // Width of the stencil texture in texels: TABLE_WIDTH per column block.
-static const uint TABLE_TEXTURE_WIDTH = 198u;
+static const uint TABLE_TEXTURE_WIDTH = 297u;
 
 // Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
 static const uint TABLE_TEXTURE_HEIGHT = 4096u;

@@ -207,7 +207,7 @@ const TABLE_WIDTH: u32 = 99u;
 const TABLE_BLOCK_ROWS: u32 = 4096u;
 
 // Width of the stencil texture in texels: TABLE_WIDTH per column block.
-const TABLE_TEXTURE_WIDTH: u32 = 198u;
+const TABLE_TEXTURE_WIDTH: u32 = 297u;
 
 // Height of the stencil texture in texels (at most TABLE_BLOCK_ROWS).
 const TABLE_TEXTURE_HEIGHT: u32 = 4096u;

@@ -82,6 +82,13 @@ const FILES: &[&str] = &[
     "glsl/phong_patch.comp",
     "glsl/phong_eval.comp",
     "glsl/phong_refine.comp",
+    "glsl/g1cc.vert",
+    "glsl/g1cc.tesc",
+    "glsl/g1cc.tese",
+    "glsl/g1cc_vertex_stage.comp",
+    "glsl/g1cc_patch.comp",
+    "glsl/g1cc_eval.comp",
+    "glsl/g1cc_refine.comp",
 ];
 
 #[test]
@@ -177,5 +184,13 @@ fn glsl_phong() {
     let out = build();
     for path in files_of("phong") {
         insta::assert_snapshot!(name(&path), text(&out, &path));
+    }
+}
+
+#[test]
+fn glsl_g1cc() {
+    let out = build();
+    for path in FILES.iter().filter(|p| p.starts_with("glsl/g1cc")) {
+        insta::assert_snapshot!(name(path), text(&out, path));
     }
 }

@@ -39,7 +39,8 @@ fn hlsl_files_are_one_per_scheme() {
             "hlsl/gregory_osd.hlsl",
             "hlsl/pn.hlsl",
             "hlsl/stpn.hlsl",
-            "hlsl/phong.hlsl"
+            "hlsl/phong.hlsl",
+            "hlsl/g1cc.hlsl"
         ]
     );
 }
@@ -90,4 +91,10 @@ fn hlsl_stpn() {
 fn hlsl_phong() {
     let out = build();
     insta::assert_snapshot!("hlsl_phong_hlsl", text(&out, "hlsl/phong.hlsl"));
+}
+
+#[test]
+fn hlsl_g1cc() {
+    let out = build();
+    insta::assert_snapshot!("hlsl_g1cc_hlsl", text(&out, "hlsl/g1cc.hlsl"));
 }

@@ -35,6 +35,7 @@ fn wgsl_files() {
         paths,
         [
             "wgsl/acc.wgsl",
+            "wgsl/g1cc.wgsl",
             "wgsl/gregory.wgsl",
             "wgsl/gregory_osd.wgsl",
             "wgsl/pccm.wgsl",
@@ -87,4 +88,9 @@ fn wgsl_stpn() {
 #[test]
 fn wgsl_phong() {
     insta::assert_snapshot!("wgsl_phong_wgsl", text(&build(), "wgsl/phong.wgsl"));
+}
+
+#[test]
+fn wgsl_g1cc() {
+    insta::assert_snapshot!("wgsl_g1cc_wgsl", text(&build(), "wgsl/g1cc.wgsl"));
 }
