@@ -14,7 +14,7 @@ use tessgen_runtime::Mesh;
 pub(crate) struct CompareArgs {
     /// Input OBJ mesh (OpenSubdiv tags applied; non-quads and semi-sharp creases through the refinement, as `tessellate` runs them).
     mesh: PathBuf,
-    /// Comma-separated schemes (regular, pccm, acc, gregory, gregory-osd).
+    /// Comma-separated schemes (regular, pccm, acc, gregory, gregory-osd, g1cc).
     #[arg(long, default_value = "pccm", value_delimiter = ',', value_parser = parse_scheme)]
     schemes: Vec<String>,
     /// Level for the smoothness and watertightness columns (the limit comparison uses the reference's grid; the geometric normal jump is always estimated at level 128).

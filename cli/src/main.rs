@@ -53,7 +53,7 @@ enum Command {
 pub(crate) struct RenderArgs {
     /// Input OBJ mesh, tags applied (non-quads and semi-sharp creases refined uniformly, holes left out).
     mesh: PathBuf,
-    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
+    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd, g1cc).
     #[arg(long, default_value = "pccm", value_parser = parse_scheme)]
     scheme: String,
     /// Tessellation level N of every base face (a refined face runs at N/2 per step).
@@ -90,7 +90,7 @@ pub(crate) struct RenderArgs {
 struct BenchArgs {
     /// Input OBJ mesh (closed, all quads).
     mesh: PathBuf,
-    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd).
+    /// Patch scheme (regular, pccm, acc, gregory, gregory-osd, g1cc).
     #[arg(long, default_value = "pccm", value_parser = parse_scheme)]
     scheme: String,
     /// Comma-separated tessellation levels.
@@ -205,7 +205,7 @@ struct TessellateArgs {
     /// Wavefront OBJ file (manifold; quads, triangles, n-gons; OpenSubdiv `t` tags).
     #[arg(value_name = "MESH")]
     mesh: PathBuf,
-    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd (quads; `regular` only handles faces whose corners all have valence 4), pn, stpn, phong (triangles).
+    /// Patch scheme: regular, pccm, acc, gregory, gregory-osd, g1cc (quads; `regular` only handles faces whose corners all have valence 4), pn, stpn, phong (triangles).
     #[arg(long, value_parser = parse_scheme)]
     scheme: String,
     /// Triangle schemes (pn, stpn, phong): split each quad along its v0–v2 diagonal first.

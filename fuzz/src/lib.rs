@@ -42,7 +42,7 @@ use tessgen_runtime::{cpu, Mesh, Topology};
 const MAX_INPUT: usize = 64 * 1024;
 
 /// The built-in schemes, in the order [`mesh`] picks them.
-pub const SCHEMES: [&str; 8] = [
+pub const SCHEMES: [&str; 9] = [
     "regular",
     "pccm",
     "acc",
@@ -51,6 +51,7 @@ pub const SCHEMES: [&str; 8] = [
     "pn",
     "stpn",
     "phong",
+    "g1cc",
 ];
 
 /// OBJ text (and its `t` tags) through the loader, the topology and a

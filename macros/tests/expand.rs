@@ -128,6 +128,7 @@ fn macro_scheme_sits_beside_the_builtins() {
             "pn",
             "stpn",
             "phong",
+            "g1cc",
             "pccm_sigma"
         ]
     );

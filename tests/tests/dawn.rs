@@ -63,7 +63,7 @@ fn every_wgsl_entry_point_builds_on_dawn() {
         std::fs::write(wgsl.join(name), &f.contents).expect("write wgsl");
         names.push(name.to_string_lossy().into_owned());
     }
-    assert_eq!(names.len(), 8, "{names:?}");
+    assert_eq!(names.len(), 9, "{names:?}");
     let run = Command::new("node")
         .arg(dir.join("check.mjs"))
         .arg("--compat")

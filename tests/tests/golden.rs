@@ -1,6 +1,7 @@
 //! Golden values: the generated CPU kernels reproduce the float64 reference
 //! values of `spec/pccm_reference.json` and `spec/schemes_reference.json`
-//! (copied to tests/data/spec) within f32 accuracy.
+//! (copied to tests/data/spec), and `spec/g1cc_reference.json`
+//! (docs/verify/g1cc_quartic_verify.py --golden), within f32 accuracy.
 
 mod common;
 
@@ -766,4 +767,121 @@ fn sector_rows_match_sectors_reference() {
         }
     }
     assert!(checked > 1000, "only {checked} weights checked");
+}
+
+/// Storage index in the `gregory4` form of a point of g1cc's golden net,
+/// keyed as the verification script writes it: `(a, b)` (a along u) or
+/// `('h' | 'v', (a, b))`, the twist point serving the horizontal or the
+/// vertical edge at that grid position. Worked out here from the form's
+/// definition (plan/form.rs), independently of the lowering's own map: per
+/// corner i `7i + {p, ep, em, m, fp, fm, g}`, the centre at 28.
+fn g1cc_storage(key: &str) -> usize {
+    let d: Vec<usize> = key
+        .chars()
+        .filter_map(|c| c.to_digit(10))
+        .map(|x| x as usize)
+        .collect();
+    let (a, b) = (d[0], d[1]);
+    // Point k of edge i at `depth` rows inside: edge 0 along v = 0, 1
+    // along u = 1, 2 along v = 1 backwards, 3 along u = 0 backwards.
+    let at = |i: usize, k: usize, depth: usize| match i % 4 {
+        0 => (k, depth),
+        1 => (4 - depth, k),
+        2 => (4 - k, 4 - depth),
+        _ => (depth, 4 - k),
+    };
+    if key.contains('h') || key.contains('v') {
+        let corner = (0..4)
+            .find(|&i| at(i, 1, 1) == (a, b))
+            .expect("twist position");
+        // Corner i's fp serves edge i (horizontal for even i), fm edge i − 1.
+        let horizontal = key.contains('h');
+        let fp = (corner % 2 == 0) == horizontal;
+        return 7 * corner + if fp { 4 } else { 5 };
+    }
+    if (a, b) == (2, 2) {
+        return 28;
+    }
+    for i in 0..4 {
+        for (slot, (edge, k, depth)) in [
+            (0, (i, 0, 0)),
+            (1, (i, 1, 0)),
+            (2, ((i + 3) % 4, 3, 0)),
+            (3, (i, 2, 0)),
+            (6, (i, 2, 1)),
+        ] {
+            if at(edge, k, depth) == (a, b) {
+                return 7 * i + slot;
+            }
+        }
+    }
+    panic!("no g1cc slot at {key}")
+}
+
+/// g1cc (docs/g1cc.md round 6): on one face per extraordinary valence of
+/// the closed shared meshes (3 on catmark_cube, 5 on catmark_righthanded, 6
+/// on catmark_toroidal_tet), the 29 control points through the whole CPU
+/// pipeline (vertex stage, patch stage), and position and exact-derivative
+/// normal at six (u, v) samples, corners and edges included, against the
+/// float64 values of the verification script.
+#[test]
+fn g1cc_matches_g1cc_reference() {
+    use tessgen_runtime::{cpu, Topology};
+    let g = common::json("spec/g1cc_reference.json");
+    let scheme = kernels::scheme("g1cc").expect("scheme");
+    let keys: Vec<&str> = g["keys"]
+        .as_array()
+        .expect("keys")
+        .iter()
+        .map(|k| k.as_str().expect("key"))
+        .collect();
+    assert_eq!(keys.len(), 29);
+    let mut slots: Vec<usize> = keys.iter().map(|k| g1cc_storage(k)).collect();
+    slots.sort_unstable();
+    assert_eq!(
+        slots,
+        (0..29).collect::<Vec<_>>(),
+        "the key map is a permutation"
+    );
+    let mut worst = Worst::default();
+    let cases = g["cases"].as_array().expect("cases");
+    assert_eq!(cases.len(), 3);
+    for case in cases {
+        let name = case["mesh"].as_str().expect("mesh");
+        let face = case["face"].as_u64().expect("face") as usize;
+        let mesh = common::mesh(name);
+        let scale = common::bbox_diagonal(&mesh);
+        let topo = Topology::build(&mesh, &cpu::topology_options()).expect("topology");
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::from_array(*p))
+            .collect();
+        let patches = cpu::construct(&topo, &positions, scheme).expect("construct");
+        let base = patches.cp_offsets[face] as usize;
+        let class = patches.face_class[face];
+        let cp = &patches.control_points[base..base + 29];
+        for (k, want) in case["control_points"]
+            .as_array()
+            .expect("control points")
+            .iter()
+            .enumerate()
+        {
+            let e = rel(cp[g1cc_storage(keys[k])], v3(want), scale);
+            assert!(e < 1e-5, "{name} face {face}: point {} off by {e}", keys[k]);
+            worst.cp = worst.cp.max(e);
+        }
+        for s in case["eval"].as_array().expect("eval") {
+            let uv = Value::Array(vec![s["u"].clone(), s["v"].clone()]);
+            let (iu, iv) = grid(&uv);
+            let out = (scheme.eval)(&patches.control_points, class, base as u32, iu, iv, LEVEL);
+            let e = rel(out.position, v3(&s["position"]), scale);
+            let a = angle_deg(out.normal, v3(&s["normal"]));
+            assert!(e < 1e-5, "{name} face {face} at {uv}: position off by {e}");
+            assert!(a < 1e-3, "{name} face {face} at {uv}: normal off by {a}°");
+            worst.pos = worst.pos.max(e);
+            worst.angle = worst.angle.max(a);
+        }
+    }
+    println!("g1cc golden: worst {worst:?}");
 }

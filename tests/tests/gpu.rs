@@ -44,11 +44,11 @@ fn gpu_matches_cpu_and_is_watertight() {
     check_meshes("pccm", common::CLOSED_MESHES, LEVELS);
 }
 
-/// ACC, Gregory and the OpenSubdiv Gregory variant through the same WGSL
-/// path.
+/// ACC, Gregory, the OpenSubdiv Gregory variant and g1cc through the same
+/// WGSL path.
 #[test]
 fn gpu_acc_and_gregory_match_cpu_and_are_watertight() {
-    for scheme in ["acc", "gregory", "gregory_osd"] {
+    for scheme in ["acc", "gregory", "gregory_osd", "g1cc"] {
         check_meshes(scheme, common::CLOSED_MESHES, LEVELS);
     }
 }

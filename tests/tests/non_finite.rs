@@ -12,7 +12,7 @@ use tessgen_runtime::mesh::{MeshError, MAX_COORDINATE, MAX_EXTENT};
 use tessgen_runtime::tessellate::{Error, Output, Request, Session};
 use tessgen_runtime::{Mesh, Tessellation};
 
-const QUAD_SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
+const QUAD_SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd", "g1cc"];
 
 fn cpu(mesh: &Mesh, scheme: &str, level: u32) -> Result<Output, Error> {
     let request = Request::uniform(scheme, level);

@@ -49,7 +49,7 @@ const OPEN_MESHES: &[&str] = &[
 
 /// Quad schemes that apply to every face (`regular` is added where every
 /// face is ordinary).
-const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
+const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd", "g1cc"];
 
 const LEVEL: u32 = 4;
 

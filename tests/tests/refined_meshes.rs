@@ -23,7 +23,7 @@ use tessgen_runtime::tessellate::refined::RefineError;
 use tessgen_runtime::tessellate::{Backend, Error, Output, Request, Session};
 use tessgen_runtime::Mesh;
 
-const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd"];
+const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd", "g1cc"];
 const POLYGON_MESHES: &[&str] = &["catmark_nonquads", "catmark_smoothtris0"];
 const LEVEL: u32 = 4;
 

@@ -72,12 +72,13 @@ fn normals_agree_across_patch_boundaries() {
     }
 }
 
-/// ACC's tangent-patch normals and Gregory's (both variants) true normals
-/// are continuous across every patch edge (acc.md §4, gregory.md §3): the
-/// two sides agree up to f32 rounding (< 0.05°) at every shared sample.
+/// ACC's tangent-patch normals and the true normals of Gregory (both
+/// variants) and g1cc are continuous across every patch edge (acc.md §4,
+/// gregory.md §3, docs/g1cc.md): the two sides agree up to f32 rounding
+/// (< 0.05°) at every shared sample.
 #[test]
 fn acc_and_gregory_normals_agree_across_patch_boundaries() {
-    for scheme in ["acc", "gregory", "gregory_osd"] {
+    for scheme in ["acc", "gregory", "gregory_osd", "g1cc"] {
         for name in common::CLOSED_MESHES {
             let w = boundary_normal_angles(name, scheme);
             println!("{scheme} {name}: worst normal angle ordinary|ordinary {:.2e}°, extraordinary|ordinary {:.2e}°, extraordinary|extraordinary {:.2e}°", w[0], w[1], w[2]);
@@ -275,7 +276,7 @@ fn regular_torus_is_the_catmull_clark_limit() {
     let mesh = common::mesh("catmark_torus");
     let diag = common::bbox_diagonal(&mesh) as f64;
     let (n, limit) = common::cc_limit("catmark_torus");
-    for scheme in ["regular", "pccm", "acc", "gregory", "gregory_osd"] {
+    for scheme in ["regular", "pccm", "acc", "gregory", "gregory_osd", "g1cc"] {
         let t = common::grid(&mesh, &Request::uniform(scheme, (n - 1) as u32)).expect("tessellate");
         assert_eq!(t.positions.len(), limit.len());
         let (mut dp, mut da) = (0.0f64, 0.0f64);

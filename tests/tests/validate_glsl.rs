@@ -132,6 +132,7 @@ fn builtin_schemes_validate() {
         paths,
         expected_paths(&[
             "acc",
+            "g1cc",
             "gregory",
             "gregory_osd",
             "pccm",

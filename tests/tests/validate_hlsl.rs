@@ -263,8 +263,8 @@ fn printer_lists_the_expected_entry_points() {
 fn builtin_schemes_compile_and_validate() {
     let out = build(Builder::new().builtin_schemes());
     let modules = validate(&out);
-    // regular, pccm, acc, gregory, gregory_osd, pn, stpn, phong: every entry point of each.
-    assert_eq!(modules.len(), 8 * EXPECTED.len());
+    // regular, pccm, acc, gregory, gregory_osd, pn, stpn, phong, g1cc: every entry point of each.
+    assert_eq!(modules.len(), 9 * EXPECTED.len());
     cleanup(&modules);
 }
 

@@ -334,6 +334,7 @@ fn builtin_schemes_validate() {
         paths(&files),
         [
             "wgsl/acc.wgsl",
+            "wgsl/g1cc.wgsl",
             "wgsl/gregory.wgsl",
             "wgsl/gregory_osd.wgsl",
             "wgsl/pccm.wgsl",

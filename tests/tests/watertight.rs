@@ -49,10 +49,11 @@ fn pccm_big_mesh_welds_closed() {
     check_levels(common::BIG_MESH, "pccm", &[1, 2, 3, 7, 8]);
 }
 
-/// ACC, Gregory and its OpenSubdiv variant on every closed shared mesh.
+/// ACC, Gregory, its OpenSubdiv variant and g1cc (quartic boundaries) on
+/// every closed shared mesh.
 #[test]
 fn acc_and_gregory_closed_meshes_weld_closed() {
-    for scheme in ["acc", "gregory", "gregory_osd"] {
+    for scheme in ["acc", "gregory", "gregory_osd", "g1cc"] {
         for name in common::CLOSED_MESHES {
             check(name, scheme);
         }

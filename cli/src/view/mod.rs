@@ -35,7 +35,7 @@ use state::{Action, Change, MetricKind, Orbit, Settings};
 pub(crate) struct ViewArgs {
     /// Input OBJ mesh, tags applied (non-quads and semi-sharp creases refined uniformly, holes left out).
     pub mesh: std::path::PathBuf,
-    /// Patch scheme to start with (pccm, acc, gregory, gregory-osd, regular); Tab switches.
+    /// Patch scheme to start with (pccm, acc, gregory, gregory-osd, g1cc, regular); Tab switches.
     #[arg(long, default_value = "pccm", value_parser = crate::parse_scheme)]
     pub scheme: String,
     /// Tessellation level N of every base face to start with; + and - change it.

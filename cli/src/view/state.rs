@@ -4,7 +4,7 @@
 
 /// The quad schemes `view` cycles through, in this order (`regular` only
 /// where every face is regular: see [`Settings::new`]).
-pub(crate) const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd", "regular"];
+pub(crate) const SCHEMES: &[&str] = &["pccm", "acc", "gregory", "gregory_osd", "g1cc", "regular"];
 
 /// The adaptive metric the viewer computes per frame from its camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -381,6 +381,8 @@ mod tests {
         s.apply(action_for("shift+tab").unwrap());
         s.apply(action_for("shift+tab").unwrap());
         assert_eq!(s.scheme(), "pccm");
+        s.apply(Action::PrevScheme);
+        assert_eq!(s.scheme(), "g1cc");
         s.apply(Action::PrevScheme);
         assert_eq!(s.scheme(), "gregory_osd");
         assert!(Settings::new("regular", 8, true, home())
