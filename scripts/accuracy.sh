@@ -14,7 +14,7 @@ for group in closed open; do
   echo
   first=1
   for m in ${!group}; do
-    schemes=pccm,acc,gregory,gregory-osd
+    schemes=pccm,acc,gregory,gregory-osd,g1cc
     # `regular` only where every face is regular.
     case $m in catmark_torus|catmark_single_crease) schemes=$schemes,regular ;; esac
     out=$("$bin" compare "tests/data/meshes/$m.obj" --schemes "$schemes" --reference "$ref" "$@" 2>/dev/null)

@@ -8,7 +8,7 @@ out=docs/images/heatmaps
 mkdir -p "$out"
 for mesh in catmark_cube catmark_righthanded catmark_toroidal_tet; do
   cargo run --quiet --release -p tessgen -- compare "tests/data/meshes/$mesh.obj" \
-    --schemes pccm,acc,gregory,gregory-osd --reference tests/data/cc_limit \
+    --schemes pccm,acc,gregory,gregory-osd,g1cc --reference tests/data/cc_limit \
     --heatmap "$out/$mesh.png" --size 320x240 > /dev/null
 done
 ls -la "$out"

@@ -5,7 +5,7 @@
 // Include with `include!(concat!(env!("OUT_DIR"), "/rust/tessgen.rs"));`.
 
 /// Shared by every scheme: the edge evaluator, the cubic de Casteljau step, table layout.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod common {
     use glam::Vec3;
     
@@ -320,7 +320,7 @@ pub mod common {
 
 /// Regular bicubic patches: the uniform bicubic B-spline of an all-valence-4
 /// quad, converted to Bezier form (spec/regular.md §5). Only ordinary quads.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod regular {
     use glam::Vec3;
     use super::common::*;
@@ -838,7 +838,7 @@ pub mod regular {
 /// PCCM c-patches (Ni, Yeo, Myles, Goel, Peters 2008): bicubic patches on
 /// ordinary quads, four C1-joined quartic triangles ("c-patch") on quads with an
 /// extraordinary corner. Math and golden values: spec/pccm.md.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod pccm {
     use glam::Vec3;
     use super::common::*;
@@ -1564,7 +1564,7 @@ pub mod pccm {
 /// Ordinary quads use the regular bicubic patch (the two coincide there, and
 /// its derivatives are the tangent patches). Math and golden values:
 /// spec/acc.md.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod acc {
     use glam::Vec3;
     use super::common::*;
@@ -2240,7 +2240,7 @@ pub mod acc {
 /// corners and tangent planes at the Catmull-Clark limit. Ordinary quads use
 /// the regular bicubic patch (the Gregory patch reduces to it there). Math
 /// and golden values: spec/gregory.md.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod gregory {
     use glam::Vec3;
     use super::common::*;
@@ -2941,7 +2941,7 @@ pub mod gregory {
 /// P + 1/(n·λ_n) Σ cos(2π(i−j)/n)·e_i over the ACC edge points, so surfaces
 /// match OpenSubdiv's legacy Gregory patches. Its corner tangent plane is not
 /// the Catmull-Clark limit plane (up to 1.8° off); it is still G¹ across edges.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod gregory_osd {
     use glam::Vec3;
     use super::common::*;
@@ -3642,7 +3642,7 @@ pub mod gregory_osd {
 /// with a quadratic normal field whose mid-edge coefficient is the corrected
 /// (reflected) one of spec/pn.md §2. Positions are C⁰ across edges, the
 /// normal field is continuous.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod pn {
     use glam::Vec3;
     use super::common::*;
@@ -4155,7 +4155,7 @@ pub mod pn {
 /// of the crease build the same curve. Every other edge is shared by two
 /// triangles of the same sector, which agree on the side. With neutral tags
 /// (Δ = 0, θ = σ = β = 0) every control point equals plain PN.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod stpn {
     use glam::Vec3;
     use super::common::*;
@@ -4703,7 +4703,7 @@ pub mod stpn {
 /// tangent planes, a quadratic triangle (spec/pn.md §4), stored degree-raised
 /// to the cubic triangle form. Shading normal: Phong-interpolated corner
 /// normals, normalize(Σ w_i N_i).
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod phong {
     use glam::Vec3;
     use super::common::*;
@@ -5210,7 +5210,7 @@ pub mod phong {
 /// G¹ for every value of the constants; ordinary quads are the bicubic B-spline, degree-elevated.
 /// Generated by `python3 docs/verify/g1cc_quartic_verify.py --tess codegen/schemes/g1cc.tess`;
 /// do not edit by hand.
-#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, clippy::all, clippy::pedantic)]
+#[allow(dead_code, unused_variables, unused_mut, unused_parens, unused_assignments, non_snake_case, clippy::all, clippy::pedantic)]
 pub mod g1cc {
     use glam::Vec3;
     use super::common::*;

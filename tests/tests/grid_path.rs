@@ -102,7 +102,7 @@ fn degenerate_patches_grid_path_matches_per_sample_path() {
         ("catmark_torus", &["regular", "pccm", "gregory"][..]),
         (
             "catmark_cube",
-            &["pccm", "acc", "gregory", "gregory_osd"][..],
+            &["pccm", "acc", "gregory", "gregory_osd", "g1cc"][..],
         ),
     ] {
         degenerate_mesh(mesh_name, schemes);
@@ -183,7 +183,7 @@ fn signed_zero_control_points_keep_their_bits() {
 
 #[test]
 fn every_quad_class_is_covered() {
-    for name in ["pccm", "acc", "gregory", "gregory_osd"] {
+    for name in ["pccm", "acc", "gregory", "gregory_osd", "g1cc"] {
         let k = cpu::scheme(name).expect("scheme");
         let mut seen = vec![false; k.classes.len()];
         for mesh_name in QUAD_MESHES {

@@ -21,7 +21,8 @@
 //! generated `eval` also keeps the surface normal and replaces only the
 //! position. The extraordinary forms have their own lanes: `cpatch`
 //! (PCCM, [`super::grid_cpatch`]), `acc` ([`super::grid_acc`]) and
-//! `gregory` (`gregory`, `gregory_osd`: [`super::grid_gregory`]). A form
+//! `gregory` (`gregory`, `gregory_osd`: [`super::grid_gregory`]) and
+//! `gregory4` (`g1cc`, both classes: [`super::grid_gregory4`]). A form
 //! none of these knows (a user scheme's) runs the generated `eval` per
 //! sample, walking the grid row by row instead of decoding each sample
 //! index.
@@ -42,6 +43,7 @@ use super::grid_acc::acc_patch;
 use super::grid_cpatch::cpatch_patch;
 use super::grid_flat::{bicubic_flat16, bicubic_flat8, ROW_EDGES};
 use super::grid_gregory::gregory_patch;
+use super::grid_gregory4::gregory4_patch;
 use super::grid_tri::tri_cubic_patch;
 #[cfg(target_arch = "x86_64")]
 use super::grid_tri::tri_cubic_patch_avx2;
@@ -71,6 +73,9 @@ pub(crate) enum Path {
     /// The Gregory form: outer row curves per column, the blend per sample
     /// ([`super::grid_gregory`]).
     Gregory,
+    /// The biquartic Gregory form (`g1cc`): the three twist-free row curves
+    /// per column, the blends per sample ([`super::grid_gregory4`]).
+    Gregory4,
     /// Any other form: the generated `eval` per sample.
     PerSample,
 }
@@ -91,6 +96,12 @@ pub(crate) fn class_paths(kernels: &SchemeKernels) -> Vec<Path> {
                 Path::Acc
             } else if kernels.sides == 4 && c.form == "gregory" && c.control_points == 20 {
                 Path::Gregory
+            } else if kernels.sides == 4
+                && c.form == "gregory4"
+                && c.control_points == 29
+                && kernels.edge_curve.len() == 20 * kernels.classes.len()
+            {
+                Path::Gregory4
             } else {
                 Path::PerSample
             }
@@ -229,8 +240,44 @@ pub(crate) fn patch_grid(
             };
             quad_form(lanes, kernels, isa, w, cp, class, level, pos, nrm)
         }
+        Path::Gregory4 => {
+            let mut g = [Vec3::ZERO; 29];
+            g.copy_from_slice(&cp[..29]);
+            let mut curve = [0u32; 20];
+            curve.copy_from_slice(&kernels.edge_curve[class as usize * 20..][..20]);
+            let degenerate = match isa {
+                Isa::Baseline => gregory4_patch::<false>(&g, &curve, w, level, pos, nrm),
+                #[cfg(target_arch = "x86_64")]
+                // SAFETY: `Isa::Avx2` and `Isa::Avx512` are only produced
+                // after `is_x86_feature_detected!("avx2")`.
+                Isa::Avx2 | Isa::Avx512 => unsafe {
+                    gregory4_patch_avx2(&g, &curve, w, level, pos, nrm)
+                },
+            };
+            if degenerate {
+                per_sample(kernels, cp, class, level, pos, nrm);
+            }
+        }
         Path::PerSample => per_sample(kernels, cp, class, level, pos, nrm),
     }
+}
+
+/// [`gregory4_patch`] compiled with AVX2 enabled (the AVX2 and AVX-512
+/// copies: rows of at most N + 1 samples gain nothing from 16 lanes).
+///
+/// # Safety
+/// AVX2 must be available.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn gregory4_patch_avx2(
+    g: &[Vec3; 29],
+    curve: &[u32; 20],
+    w: &LevelWeights,
+    level: u32,
+    pos: &mut [Vec3],
+    nrm: &mut [Vec3],
+) -> bool {
+    gregory4_patch::<true>(g, curve, w, level, pos, nrm)
 }
 
 /// One patch of a quad form with its own lanes (`P` control points):

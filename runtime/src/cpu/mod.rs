@@ -19,6 +19,7 @@ mod grid_cpatch;
 mod grid_eval;
 mod grid_flat;
 mod grid_gregory;
+mod grid_gregory4;
 mod grid_tri;
 mod lanes;
 mod patch_flat;
