@@ -228,8 +228,8 @@ fn quad_border4(
         let c = |k: usize| quartic(b.map(|p| p.to_array()[k]), l, r).0;
         Vec3::new(c(0), c(1), c(2))
     };
-    for t in 0..=n {
-        pos[t] = edge(0, t);
+    for (t, p) in pos.iter_mut().enumerate().take(width) {
+        *p = edge(0, t);
     }
     for t in 1..=n {
         pos[t * width + n] = edge(1, t);
