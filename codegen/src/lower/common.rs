@@ -109,7 +109,7 @@ pub fn common_module(table: &StencilTable) -> Module {
 
 /// The shared edge evaluator of boundary curves with `points` control
 /// points: `tessgen_edge` (cubic, in the common module) or `tessgen_edge4`
-/// (quartic, [`Form::Gregory4`](crate::plan::form::Form::Gregory4): emitted
+/// (quartic, [`Form::Gregory4`]: emitted
 /// in the modules of the schemes that have such boundaries). Symmetric de
 /// Casteljau with integer-formed weights, `precise`: the two patches of an
 /// edge get the same bits (watertight.md Rules 1–2).

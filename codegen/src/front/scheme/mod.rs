@@ -170,6 +170,34 @@ pub struct PatchClass {
     pub singles: Vec<usize>,
 }
 
+impl PatchClass {
+    /// An edge between an ordinary and an extraordinary face is one curve
+    /// that both evaluate with the one shared edge evaluator, so every
+    /// class of a scheme needs boundaries of the same degree: refuse `self`
+    /// (its form named at `span`) beside an `earlier` class with another.
+    fn check_boundary_degree(&self, earlier: &[PatchClass], span: Span) -> Result<(), SchemeError> {
+        let Some(q) = earlier
+            .iter()
+            .find(|q| q.form.curve_points() != self.form.curve_points())
+        else {
+            return Ok(());
+        };
+        err(
+            span,
+            format!(
+                "form `{}` has {}-point boundary curves but class `{}` uses `{}` with {}: \
+                 the two faces of an edge evaluate one shared curve, so every class of a \
+                 scheme needs boundaries of the same degree",
+                self.form.name(),
+                self.form.curve_points(),
+                q.class.name(),
+                q.form.name(),
+                q.form.curve_points()
+            ),
+        )
+    }
+}
+
 /// A checked scheme.
 #[derive(Clone, Debug)]
 pub struct Scheme {

@@ -109,27 +109,7 @@ impl Resolver {
                     format!("patch class `{}` given twice", p.class),
                 );
             }
-            // An edge between an ordinary and an extraordinary face is one
-            // curve that both evaluate with the one shared edge evaluator:
-            // the classes' boundaries must be of the same degree.
-            if let Some(q) = patches
-                .iter()
-                .find(|q: &&PatchClass| q.form.curve_points() != pc.form.curve_points())
-            {
-                return err(
-                    p.form.span(),
-                    format!(
-                        "form `{}` has {}-point boundary curves but class `{}` uses `{}` with {}: \
-                         the two faces of an edge evaluate one shared curve, so every class of a \
-                         scheme needs boundaries of the same degree",
-                        pc.form.name(),
-                        pc.form.curve_points(),
-                        q.class.name(),
-                        q.form.name(),
-                        q.form.curve_points()
-                    ),
-                );
-            }
+            pc.check_boundary_degree(&patches, p.form.span())?;
             patches.push(pc);
         }
         Ok(Scheme {
