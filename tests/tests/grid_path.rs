@@ -433,3 +433,26 @@ fn evaluating_only_the_emitting_faces_changes_no_bit() {
         }
     }
 }
+
+/// The open and tagged meshes (boundaries, creases, corners: sector
+/// vertex outputs, one-face corners whose tangents are parallel): both
+/// paths at every level, for every quad scheme the mesh runs as is.
+#[test]
+fn open_meshes_grid_path_matches_per_sample_path() {
+    for mesh_name in ["catmark_tent", "catmark_xord_boundary", "catmark_car"] {
+        let mesh = common::mesh(mesh_name);
+        let (topo, positions) = common::topo_positions(&mesh);
+        for name in kernels::scheme_names() {
+            let k = cpu::scheme(name).expect("scheme");
+            if k.sides != 4 {
+                continue;
+            }
+            let patches = match cpu::construct(&topo, &positions, k) {
+                Ok(p) => p,
+                Err(cpu::TessError::ExtraordinaryFace { .. }) => continue,
+                Err(e) => panic!("{name} on {mesh_name}: {e}"),
+            };
+            same_bits(&format!("{name} on {mesh_name}"), &patches);
+        }
+    }
+}
