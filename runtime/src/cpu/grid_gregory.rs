@@ -29,6 +29,84 @@ use glam::Vec3;
 /// Per corner `k`: the indices of its face points `(fp, fm)`.
 const FACE_POINTS: [(usize, usize); 4] = [(3, 4), (8, 9), (13, 14), (18, 19)];
 
+/// The per-strip column data of a Gregory-type grid path (lanes over the
+/// columns): the integers `iu`, `N − iu` as f32, the level's weights, and
+/// the u-factors of the twist slots' Bernstein weights — `ua` for corners
+/// 0 and 3, `ub` for corners 1 and 2.
+pub(crate) struct TwistColumns<const L: usize> {
+    pub(crate) iu: [f32; L],
+    pub(crate) niu: [f32; L],
+    pub(crate) lu: [f32; L],
+    pub(crate) ru: [f32; L],
+    pub(crate) ua: [f32; L],
+    pub(crate) ub: [f32; L],
+}
+
+/// One grid row's data: `iv`, `N − iv` as f32, the weights, and the
+/// v-factors of the Bernstein weights (`va` corners 0 and 1, `vb` 2 and 3).
+pub(crate) struct TwistRow {
+    pub(crate) ivf: f32,
+    pub(crate) nivf: f32,
+    pub(crate) lv: f32,
+    pub(crate) rv: f32,
+    pub(crate) va: f32,
+    pub(crate) vb: f32,
+}
+
+/// Per corner and lane of a twist pair (`gregory` and `gregory4` alike):
+/// the blend weights `a`, `b` and the scalar factors `su`, `sv` of the
+/// corner's derivative terms.
+pub(crate) struct TwistBlends<const L: usize> {
+    pub(crate) a: [[f32; L]; 4],
+    pub(crate) b: [[f32; L]; 4],
+    pub(crate) su: [[f32; L]; 4],
+    pub(crate) sv: [[f32; L]; 4],
+}
+
+/// Stage 1 of the Gregory-type grid paths, per corner and lane: the
+/// integer weights, the blend (a select at ws = 0), the Bernstein weight
+/// and the two scalar factors of the corner's derivative terms, as the
+/// generated code groups them: ((±w/N · inv_s2) · bw). `nf` is N as f32.
+#[inline(always)]
+pub(crate) fn twist_blends<const L: usize>(
+    c: &TwistColumns<L>,
+    r: &TwistRow,
+    nf: f32,
+) -> TwistBlends<L> {
+    let mut t = TwistBlends {
+        a: [[0.0f32; L]; 4],
+        b: [[0.0f32; L]; 4],
+        su: [[0.0f32; L]; 4],
+        sv: [[0.0f32; L]; 4],
+    };
+    for j in 0..4 {
+        for k in 0..L {
+            // (wp, wm, wp/N, wm/N, Bernstein weight) of corner j.
+            let (wp, wm, wpf, wmf, bw) = match j {
+                0 => (c.iu[k], r.ivf, c.ru[k], r.rv, c.ua[k] * r.va),
+                1 => (r.ivf, c.niu[k], r.rv, c.lu[k], c.ub[k] * r.va),
+                2 => (c.niu[k], r.nivf, c.lu[k], r.lv, c.ub[k] * r.vb),
+                _ => (r.nivf, c.iu[k], r.lv, c.ru[k], c.ua[k] * r.vb),
+            };
+            // The integers are exact in f32, so their f32 sum is the
+            // generated `(wp + wm) as f32`.
+            let ws = wp + wm;
+            let some = ws > 0.0f32;
+            t.a[j][k] = if some { wp / ws } else { 0.5f32 };
+            t.b[j][k] = if some { wm / ws } else { 0.5f32 };
+            let sf = ws / nf;
+            let inv = if some { 1.0f32 / (sf * sf) } else { 0.0f32 };
+            (t.su[j][k], t.sv[j][k]) = match j {
+                0 => ((wmf * inv) * bw, ((-wpf) * inv) * bw),
+                1 => ((wpf * inv) * bw, (wmf * inv) * bw),
+                2 => (((-wmf) * inv) * bw, (wpf * inv) * bw),
+                _ => (((-wpf) * inv) * bw, ((-wmf) * inv) * bw),
+            };
+        }
+    }
+    t
+}
+
 /// A `gregory` patch's grid: the surface everywhere, then the border
 /// positions. Whether a sample's tangents were parallel (the caller then
 /// redoes the patch per sample, as for the other forms).
@@ -96,6 +174,14 @@ fn gregory_strip<const L: usize, const V: bool>(
     let fm: [[f32; 3]; 4] = FACE_POINTS.map(|(_, m)| comp(m));
     let dfm: [Vec3; 4] = FACE_POINTS.map(|(p, m)| cp[p] - cp[m]);
     let (c2, c6, c16, c12) = (comp(2), comp(6), comp(16), comp(12));
+    let cols = TwistColumns {
+        iu,
+        niu,
+        lu,
+        ru,
+        ua,
+        ub,
+    };
     let m = (width - c0).min(L);
     let mut degenerate = false;
     for iv in 0..width {
@@ -106,39 +192,16 @@ fn gregory_strip<const L: usize, const V: bool>(
         let va = (3.0f32 * rv) * (lv * lv);
         let vb = (3.0f32 * (rv * rv)) * lv;
         let mut out = [[0.0f32; L]; 6];
-        // Stage 1, per corner and lane: the integer weights, the blend
-        // (a select at ws = 0), the Bernstein weight and the two scalar
-        // factors of the corner's derivative terms, as the generated code
-        // groups them: ((±w/N · inv_s2) · bw).
-        let mut a = [[0.0f32; L]; 4];
-        let mut b = [[0.0f32; L]; 4];
-        let mut su = [[0.0f32; L]; 4];
-        let mut sv = [[0.0f32; L]; 4];
-        for j in 0..4 {
-            for k in 0..L {
-                // (wp, wm, wp/N, wm/N, Bernstein weight) of corner j.
-                let (wp, wm, wpf, wmf, bw) = match j {
-                    0 => (iu[k], ivf, ru[k], rv, ua[k] * va),
-                    1 => (ivf, niu[k], rv, lu[k], ub[k] * va),
-                    2 => (niu[k], nivf, lu[k], lv, ub[k] * vb),
-                    _ => (nivf, iu[k], lv, ru[k], ua[k] * vb),
-                };
-                // The integers are exact in f32, so their f32 sum is the
-                // generated `(wp + wm) as f32`.
-                let ws = wp + wm;
-                let some = ws > 0.0f32;
-                a[j][k] = if some { wp / ws } else { 0.5f32 };
-                b[j][k] = if some { wm / ws } else { 0.5f32 };
-                let sf = ws / nf;
-                let inv = if some { 1.0f32 / (sf * sf) } else { 0.0f32 };
-                (su[j][k], sv[j][k]) = match j {
-                    0 => ((wmf * inv) * bw, ((-wpf) * inv) * bw),
-                    1 => ((wpf * inv) * bw, (wmf * inv) * bw),
-                    2 => (((-wmf) * inv) * bw, (wpf * inv) * bw),
-                    _ => (((-wpf) * inv) * bw, ((-wmf) * inv) * bw),
-                };
-            }
-        }
+        // Stage 1: the blends and their derivative factors.
+        let row = TwistRow {
+            ivf,
+            nivf,
+            lv,
+            rv,
+            va,
+            vb,
+        };
+        let TwistBlends { a, b, su, sv } = twist_blends(&cols, &row, nf);
         // Stage 2, per component and lane: the interior points, the inner
         // row curves (row 1 = cubic(cp2, x0, x1, cp6), row 2 = cubic(cp16,
         // x3, x2, cp12)), the de Casteljau steps along v, du and dv.

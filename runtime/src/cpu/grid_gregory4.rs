@@ -16,6 +16,7 @@
 //! `tests/tests/grid_path.rs` checks this against the per-sample path bit
 //! for bit.
 
+use super::grid_gregory::{twist_blends, TwistBlends, TwistColumns, TwistRow};
 use super::lanes::{patch_normal, store_lanes, strips, LevelWeights, HALF, LANES};
 use glam::Vec3;
 
@@ -119,6 +120,14 @@ fn gregory4_strip<const L: usize, const V: bool>(
     let dfm: [Vec3; 4] = TWIST.map(|(p, m)| cp[p] - cp[m]);
     let r1 = ROW1.map(comp);
     let r3 = ROW3.map(comp);
+    let cols = TwistColumns {
+        iu,
+        niu,
+        lu,
+        ru,
+        ua,
+        ub,
+    };
     let m = (width - c0).min(L);
     let mut degenerate = false;
     for iv in 0..width {
@@ -129,39 +138,16 @@ fn gregory4_strip<const L: usize, const V: bool>(
         let va = (4.0f32 * rv) * ((lv * lv) * lv);
         let vb = (4.0f32 * ((rv * rv) * rv)) * lv;
         let mut out = [[0.0f32; L]; 6];
-        // Stage 1, per corner and lane: the integer weights, the blend (a
-        // select at ws = 0), the Bernstein weight and the two scalar
-        // factors of the corner's derivative terms, as the generated code
-        // groups them: ((±w/N · inv_s2) · bw).
-        let mut a = [[0.0f32; L]; 4];
-        let mut b = [[0.0f32; L]; 4];
-        let mut su = [[0.0f32; L]; 4];
-        let mut sv = [[0.0f32; L]; 4];
-        for j in 0..4 {
-            for k in 0..L {
-                // (wp, wm, wp/N, wm/N, Bernstein weight) of corner j.
-                let (wp, wm, wpf, wmf, bw) = match j {
-                    0 => (iu[k], ivf, ru[k], rv, ua[k] * va),
-                    1 => (ivf, niu[k], rv, lu[k], ub[k] * va),
-                    2 => (niu[k], nivf, lu[k], lv, ub[k] * vb),
-                    _ => (nivf, iu[k], lv, ru[k], ua[k] * vb),
-                };
-                // The integers are exact in f32, so their f32 sum is the
-                // generated `(wp + wm) as f32`.
-                let ws = wp + wm;
-                let some = ws > 0.0f32;
-                a[j][k] = if some { wp / ws } else { 0.5f32 };
-                b[j][k] = if some { wm / ws } else { 0.5f32 };
-                let sf = ws / nf;
-                let inv = if some { 1.0f32 / (sf * sf) } else { 0.0f32 };
-                (su[j][k], sv[j][k]) = match j {
-                    0 => ((wmf * inv) * bw, ((-wpf) * inv) * bw),
-                    1 => ((wpf * inv) * bw, (wmf * inv) * bw),
-                    2 => (((-wmf) * inv) * bw, (wpf * inv) * bw),
-                    _ => (((-wpf) * inv) * bw, ((-wmf) * inv) * bw),
-                };
-            }
-        }
+        // Stage 1: the blends and their derivative factors.
+        let row = TwistRow {
+            ivf,
+            nivf,
+            lv,
+            rv,
+            va,
+            vb,
+        };
+        let TwistBlends { a, b, su, sv } = twist_blends(&cols, &row, nf);
         // Stage 2, per component and lane: the blends, rows 1 and 3, the
         // de Casteljau steps along v, du and dv.
         let mut du = [[0.0f32; L]; 3];
